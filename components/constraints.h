@@ -1,0 +1,22 @@
+#pragma once
+// Kinematic constraints, applied by projection in the solver: a held node keeps its velocity on the
+// held axes at zero (Baraff & Witkin's filter), so no penalty stiffness enters the system.
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace xcut {
+
+struct FixedBox {
+    Eigen::Vector3d min;   ///< [m]
+    Eigen::Vector3d max;   ///< [m]
+    uint8_t axes = 7;      ///< bit mask of held axes (x=1, y=2, z=4)
+};
+
+struct Constraints {
+    std::vector<FixedBox> boxes;
+    std::vector<int> nodes;            ///< explicitly fixed node indices (all axes)
+};
+
+}  // namespace xcut

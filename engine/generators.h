@@ -1,0 +1,26 @@
+#pragma once
+// Built-in structured meshes, parameterized by element size, for scenes and benchmarks.
+#include <Eigen/Core>
+#include <cstdint>
+
+#include "engine/mesh_data.h"
+
+namespace xcut {
+
+struct GridSpec {
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< min corner [m]
+    Eigen::Vector3d size = Eigen::Vector3d::Ones();    ///< extent [m] (2D: z ignored)
+    Eigen::Vector3i cells = Eigen::Vector3i::Ones();   ///< cells per axis
+    double jitter = 0.0;      ///< interior nodes moved by up to jitter * cell size (irregular meshes)
+    uint64_t seed = 1;        ///< jitter's random seed (reproducible)
+};
+
+/// Box of hexahedral cells, each split into 6 tetrahedra around its main diagonal (Kuhn): conforming
+/// because every cell is split the same way. Tet count = 6 * cells.prod().
+MeshData generate_box(const GridSpec& spec);
+/// Rectangle in the xy plane, each cell split into 2 triangles. Triangle count = 2 * cx * cy.
+MeshData generate_plate(const GridSpec& spec);
+/// Cells per axis so that the cell edge is close to `element_size` (at least one cell per axis).
+Eigen::Vector3i cells_for_size(const Eigen::Vector3d& size, double element_size);
+
+}  // namespace xcut

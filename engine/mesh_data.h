@@ -1,0 +1,26 @@
+#pragma once
+// A mesh as read from a file or made by a generator, before it becomes components. Units: metres.
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+namespace xcut {
+
+struct MeshData {
+    int dim = 3;                                 ///< 3: tetrahedra; 2: triangles in the xy plane (z = 0)
+    std::vector<Eigen::Vector3d> points;         ///< [m]
+    std::vector<std::array<int, 4>> cells;       ///< node indices; triangles use the first three, [3] = -1
+    std::string source;                          ///< file name or generator name, for messages
+
+    int nodes_per_cell() const { return dim == 3 ? 4 : 3; }
+};
+
+/// Rejects meshes the physics cannot run on: no cells, NaN/inf coordinates, out-of-range or repeated
+/// indices, inverted or zero-volume (zero-area) cells. Cells of negative orientation are not
+/// silently flipped: the file is wrong, and the message says which cell. Throws InputError naming
+/// `mesh.source` and the cell. `rel_tol`: a cell whose volume is below rel_tol * (longest edge)^dim
+/// is degenerate.
+void validate_mesh(const MeshData& mesh, double rel_tol = 1e-12);
+
+}  // namespace xcut

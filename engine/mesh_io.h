@@ -1,0 +1,16 @@
+#pragma once
+// Mesh readers: Gmsh .msh (ASCII 2.2 and 4.1), TetGen .node/.ele, and closed OBJ/STL surfaces
+// tetrahedralized with TetGen's library. Every error is an InputError naming the file and line.
+#include <string>
+
+#include "engine/mesh_data.h"
+
+namespace xcut {
+
+MeshData read_gmsh(const std::string& path);
+MeshData read_tetgen(const std::string& node_path, const std::string& ele_path);
+MeshData read_surface_tetrahedralize(const std::string& path, double max_volume, double min_ratio = 1.5);
+/// Dispatches on the extension (.msh, .node, .ele, .obj, .stl) and validates the result.
+MeshData read_mesh_file(const std::string& path, double max_volume);
+
+}  // namespace xcut

@@ -1,0 +1,121 @@
+#include "engine/output.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fmt/os.h>
+
+#include "engine/error.h"
+
+namespace xcut {
+namespace {
+
+double now_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+int vtk_cell_type(int dim) { return dim == 3 ? 10 : 5; }  // VTK_TETRA, VTK_TRIANGLE
+
+}  // namespace
+
+void write_vtu(const World& world, const std::string& path) {
+    const Nodes& n = world.nodes;
+    const Elements& el = world.elements;
+    const int npe = el.nodes_per_element();
+    auto out = fmt::output_file(path);
+    out.print("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
+    out.print("<UnstructuredGrid>\n<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n.count(), el.count());
+    out.print("<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+    for (const Vec3& p : n.position) out.print("{:.10g} {:.10g} {:.10g}\n", p.x(), p.y(), p.z());
+    out.print("</DataArray>\n</Points>\n<PointData Vectors=\"displacement\">\n");
+    out.print("<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+    for (int i = 0; i < n.count(); ++i) {
+        const Vec3 u = n.position[i] - n.rest[i];
+        out.print("{:.10g} {:.10g} {:.10g}\n", u.x(), u.y(), u.z());
+    }
+    out.print("</DataArray>\n<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+    for (const Vec3& v : n.velocity) out.print("{:.10g} {:.10g} {:.10g}\n", v.x(), v.y(), v.z());
+    out.print("</DataArray>\n<DataArray type=\"UInt8\" Name=\"fixed\" format=\"ascii\">\n");
+    for (uint8_t f : n.fixed) out.print("{} ", int(f));
+    out.print("\n</DataArray>\n</PointData>\n<CellData>\n<DataArray type=\"Float64\" Name=\"rest_volume\" format=\"ascii\">\n");
+    for (double v : el.rest_volume) out.print("{:.10g} ", v);
+    out.print("\n</DataArray>\n</CellData>\n<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
+    for (const auto& c : el.nodes) {
+        for (int a = 0; a < npe; ++a) out.print("{} ", c[a]);
+        out.print("\n");
+    }
+    out.print("</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n");
+    for (int e = 0; e < el.count(); ++e) out.print("{} ", (e + 1) * npe);
+    out.print("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+    for (int e = 0; e < el.count(); ++e) out.print("{} ", vtk_cell_type(el.dim));
+    out.print("\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+}
+
+void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& frames) {
+    auto out = fmt::output_file(path);
+    out.print("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n");
+    for (const auto& [t, file] : frames)
+        out.print("<DataSet timestep=\"{:.10g}\" part=\"0\" file=\"{}\"/>\n", t, file);
+    out.print("</Collection>\n</VTKFile>\n");
+}
+
+OutputWriter::OutputWriter(const World& world) : dir_(world.output.directory), stem_(world.output.name) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir_, ec);
+    if (ec) throw InputError(dir_, "output.directory", "cannot create the directory: " + ec.message());
+    if (world.output.metrics_csv) {
+        csv_.open(dir_ + "/" + stem_ + "_metrics.csv");
+        if (!csv_) throw InputError(dir_, "output.directory", "cannot write the metrics CSV");
+        csv_ << "step,time_s,dt_s,dofs,cg_iterations,cg_residual,kinetic_J,elastic_J,gravity_work_J,step_ms";
+        for (const std::string& s : world.metrics.system_names) csv_ << "," << s << "_ms";
+        csv_ << "\n";
+    }
+}
+
+void OutputWriter::write_frame(const World& world) {
+    if (!world.output.vtu) return;
+    const std::string file = fmt::format("{}_{:06d}.vtu", stem_, world.step);
+    write_vtu(world, dir_ + "/" + file);
+    frames_.emplace_back(world.time, file);
+    write_pvd(dir_ + "/" + stem_ + ".pvd", frames_);
+}
+
+void OutputWriter::after_step(const World& world) {
+    const StepMetrics& m = world.metrics.current;
+    if (csv_.is_open()) {
+        csv_ << fmt::format("{},{:.9g},{:.9g},{},{},{:.3e},{:.9e},{:.9e},{:.9e},{:.4f}", m.step, m.time, m.dt,
+                            m.dofs, m.cg_iterations, m.cg_residual, m.kinetic_energy, m.elastic_energy,
+                            m.gravity_work, m.step_ms);
+        for (double ms : m.system_ms) csv_ << fmt::format(",{:.4f}", ms);
+        csv_ << "\n";
+    }
+    if (world.step % world.output.every == 0) write_frame(world);
+}
+
+void OutputWriter::finish() {
+    if (csv_.is_open()) csv_.flush();
+}
+
+ProgressBar::ProgressBar(std::string label, int total)
+    : label_(std::move(label)), total_(total), enabled_(isatty(fileno(stderr)) != 0), start_(now_seconds()) {}
+
+void ProgressBar::update(int done) {
+    if (!enabled_ || total_ <= 0) return;
+    const double elapsed = now_seconds() - start_;
+    const int percent = static_cast<int>(100.0 * done / total_);
+    if (elapsed < 1.0 || percent == last_percent_) return;
+    last_percent_ = percent;
+    const int width = 30, filled = width * done / total_;
+    const double eta = done > 0 ? elapsed * (total_ - done) / done : 0.0;
+    fmt::print(stderr, "\r{} [{:<{}}] {:3d}% {}/{} eta {:.0f}s ", label_, std::string(filled, '#'), width, percent,
+               done, total_, eta);
+}
+
+void ProgressBar::finish() {
+    if (enabled_ && last_percent_ >= 0) fmt::print(stderr, "\n");
+}
+
+}  // namespace xcut

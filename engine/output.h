@@ -1,0 +1,51 @@
+#pragma once
+// Output of a run: a ParaView series (.pvd indexing one .vtu per frame) and a metrics CSV with one
+// row per step. Written by the OutputSystem, which runs only when the scene asks for output.
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/scheduler.h"
+#include "engine/world.h"
+
+namespace xcut {
+
+/// Writes the mesh of `world` at its current positions as a VTK UnstructuredGrid (ASCII XML) with
+/// point fields displacement [m], velocity [m/s], fixed, and cell fields volume [m^3].
+void write_vtu(const World& world, const std::string& path);
+/// Writes the .pvd collection listing (time, file) pairs.
+void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& frames);
+
+class OutputWriter {
+public:
+    explicit OutputWriter(const World& world);
+    /// Called after each step: a CSV row, and a frame every `every` steps (and at step 0).
+    void after_step(const World& world);
+    void write_frame(const World& world);
+    void finish();
+    std::string directory() const { return dir_; }
+
+private:
+    std::string dir_;
+    std::string stem_;
+    std::ofstream csv_;
+    std::vector<std::pair<double, std::string>> frames_;
+};
+
+/// Prints a one-line progress bar to stderr when it is a terminal and the run lasts over a second.
+class ProgressBar {
+public:
+    ProgressBar(std::string label, int total);
+    void update(int done);
+    void finish();
+
+private:
+    std::string label_;
+    int total_;
+    bool enabled_;
+    double start_;
+    int last_percent_ = -1;
+};
+
+}  // namespace xcut

@@ -1,0 +1,54 @@
+#pragma once
+// A thin OpenMP layer. Work is split statically, and every reduction is summed in a fixed order of
+// fixed-size blocks, so a result never depends on how many threads ran it (bit-identical for 1 and 2
+// threads). No floating-point atomics anywhere.
+#include <omp.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+
+namespace xcut {
+
+/// Number of threads systems use; set once from --threads (default 2).
+void set_thread_count(int threads);
+int thread_count();
+
+/// Calls body(i) for i in [0, count), split statically over the threads. Below min_parallel items
+/// the loop runs serially: forking costs more than it saves.
+template <class Body>
+inline void parallel_for(int count, Body&& body, int min_parallel = 2048) {
+    if (count < min_parallel || thread_count() == 1) {
+        for (int i = 0; i < count; ++i) body(i);
+        return;
+    }
+#pragma omp parallel for schedule(static) num_threads(thread_count())
+    for (int i = 0; i < count; ++i) body(i);
+}
+
+/// Sum of term(i) over [0, count) in a fixed association order: 64 blocks, each summed serially,
+/// then the block sums summed serially. Independent of the thread count.
+template <class Term>
+inline double deterministic_sum(int count, Term&& term) {
+    constexpr int kBlocks = 64;
+    std::array<double, kBlocks> partial{};
+    const int per = (count + kBlocks - 1) / kBlocks;
+    parallel_for(
+        kBlocks,
+        [&](int b) {
+            const int lo = b * per, hi = std::min(count, lo + per);
+            double s = 0.0;
+            for (int i = lo; i < hi; ++i) s += term(i);
+            partial[b] = s;
+        },
+        count >= 8192 ? 1 : kBlocks + 1);
+    double total = 0.0;
+    for (double p : partial) total += p;
+    return total;
+}
+
+inline double deterministic_dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    return deterministic_sum(static_cast<int>(a.size()), [&](int i) { return a[i] * b[i]; });
+}
+
+}  // namespace xcut

@@ -1,0 +1,186 @@
+#include "engine/scene.h"
+
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "engine/error.h"
+#include "engine/json_fields.h"
+#include "engine/mesh_io.h"
+#include "engine/setup.h"
+
+namespace xcut {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Applies one "a.b.c=value" override; the value is JSON, or a bare string if it does not parse.
+void apply_override(nlohmann::json& root, const std::string& file, const std::string& item) {
+    const size_t eq = item.find('=');
+    if (eq == std::string::npos || eq == 0) throw InputError(file, "--set " + item, "expected field.path=value");
+    const std::string path = item.substr(0, eq), text = item.substr(eq + 1);
+    nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
+    if (value.is_discarded()) value = text;
+    nlohmann::json* at = &root;
+    std::stringstream ss(path);
+    std::string part;
+    while (std::getline(ss, part, '.')) {
+        if (part.empty() || !at->is_object()) throw InputError(file, "--set " + path, "not an object field path");
+        at = &(*at)[part];
+    }
+    *at = value;
+}
+
+MeshSpec read_mesh(const JsonFields& m, const fs::path& scene_dir) {
+    MeshSpec spec;
+    m.allow_only({"generator", "origin", "size", "cells", "element_size", "jitter", "seed", "file", "max_volume"});
+    if (m.has("file") == m.has("generator")) m.fail("file", "give exactly one of \"file\" or \"generator\"");
+    if (m.has("file")) {
+        const fs::path p = m.string("file", "");
+        spec.file = (p.is_absolute() ? p : scene_dir / p).lexically_normal().string();
+        spec.max_volume = m.number("max_volume", 0.0, 0.0);
+        return spec;
+    }
+    spec.generator = m.choice("generator", "box", {"box", "plate"});
+    GridSpec& g = spec.grid;
+    g.origin = m.vec3("origin", Eigen::Vector3d::Zero());
+    g.size = m.required_vec3("size");
+    const int dims = spec.generator == "plate" ? 2 : 3;
+    for (int k = 0; k < dims; ++k)
+        if (!(g.size[k] > 0.0)) m.fail(fmt::format("size[{}]", k), "must be > 0");
+    if (m.has("cells") == m.has("element_size"))
+        m.fail("element_size", "give exactly one of \"element_size\" [m] or \"cells\"");
+    if (m.has("cells")) {
+        const std::vector<int> c = m.int_list("cells");
+        if (c.size() != 3) m.fail("cells", "expected 3 integers");
+        for (int k = 0; k < 3; ++k)
+            if (c[k] < 1 || c[k] > 2000) m.fail(fmt::format("cells[{}]", k), "must be in [1, 2000]");
+        g.cells = Eigen::Vector3i(c[0], c[1], c[2]);
+    } else {
+        const double h = m.required_number("element_size", 1e-9);
+        g.cells = cells_for_size(g.size, h);
+    }
+    if (dims == 2) g.cells.z() = 1;
+    const double count = double(g.cells.x()) * g.cells.y() * g.cells.z();
+    if (count * (dims == 3 ? 6 : 2) > 2e7) m.fail("element_size", fmt::format("gives {:.3g} elements (max 2e7)", count * 6));
+    g.jitter = m.number("jitter", 0.0, 0.0, 0.3);
+    g.seed = static_cast<uint64_t>(m.integer("seed", 1, 0));
+    return spec;
+}
+
+uint8_t read_axes(const JsonFields& f, const std::string& key) {
+    const std::string s = f.string(key, "xyz");
+    uint8_t mask = 0;
+    for (char c : s) {
+        if (c < 'x' || c > 'z') f.fail(key, fmt::format("\"{}\": use letters x, y, z", s));
+        mask |= uint8_t(1u << (c - 'x'));
+    }
+    if (mask == 0) f.fail(key, "must name at least one axis");
+    return mask;
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path, "file", "cannot open the scene file");
+    nlohmann::json root;
+    try {
+        root = nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw InputError(path, "JSON", fmt::format("not valid JSON (byte {}): {}", e.byte, e.what()));
+    }
+    for (const auto& o : overrides) apply_override(root, path, o);
+
+    Scene scene;
+    scene.file = path;
+    const JsonFields top(root, path, "");
+    top.allow_only({"name", "description", "mesh", "material", "gravity", "constraints", "solver", "steps",
+                    "duration", "output"});
+    scene.name = top.string("name", fs::path(path).stem().string());
+    if (!top.has("mesh")) top.fail("mesh", "required field is missing");
+    scene.mesh = read_mesh(top.object("mesh"), fs::path(path).parent_path());
+
+    const JsonFields mat = top.object("material");
+    mat.allow_only({"name", "young", "poisson", "density", "thickness"});
+    scene.material.name = mat.string("name", "skin");
+    scene.material.young = mat.number("young", 1.0e4, 1e-12);
+    scene.material.poisson = mat.number("poisson", 0.3, -0.999, 0.4999);
+    scene.material.density = mat.number("density", 1000.0, 1e-12);
+    scene.material.thickness = mat.number("thickness", 1.0e-3, 1e-12);
+
+    scene.gravity = top.vec3("gravity", Eigen::Vector3d::Zero());
+
+    const JsonFields con = top.object("constraints");
+    con.allow_only({"fixed_boxes", "fixed_nodes"});
+    for (const JsonFields& b : con.array_of_objects("fixed_boxes")) {
+        b.allow_only({"min", "max", "axes"});
+        FixedBox box{b.required_vec3("min"), b.required_vec3("max"), read_axes(b, "axes")};
+        if ((box.min.array() > box.max.array()).any()) b.fail("max", "every component must be >= min");
+        scene.constraints.boxes.push_back(box);
+    }
+    scene.constraints.nodes = con.int_list("fixed_nodes");
+
+    const JsonFields sol = top.object("solver");
+    sol.allow_only({"dt", "mode", "cg_tolerance", "cg_max_iterations", "dt_min", "dt_max", "damping"});
+    SolverSettings& s = scene.solver;
+    s.dt = sol.number("dt", 1e-2, 1e-9, 10.0);
+    s.realtime = sol.choice("mode", "fixed", {"fixed", "realtime"}) == "realtime";
+    s.cg_tolerance = sol.number("cg_tolerance", 1e-6, 1e-16, 1.0);
+    s.cg_max_iterations = sol.integer("cg_max_iterations", 200, 1, 1000000);
+    s.dt_min = sol.number("dt_min", 1e-4, 1e-9, 10.0);
+    s.dt_max = sol.number("dt_max", 4e-2, s.dt_min, 10.0);
+    const JsonFields damp = sol.object("damping");
+    damp.allow_only({"mass", "stiffness"});
+    s.damping_mass = damp.number("mass", 0.0, 0.0);
+    s.damping_stiffness = damp.number("stiffness", 0.0, 0.0);
+
+    if (top.has("steps") && top.has("duration")) top.fail("duration", "give \"steps\" or \"duration\", not both");
+    scene.steps = top.integer("steps", 100, 0, 100000000);
+    if (top.has("duration"))
+        scene.steps = static_cast<int>(std::ceil(top.required_number("duration", 0.0, 1e6) / s.dt - 1e-9));
+
+    const JsonFields out = top.object("output");
+    out.allow_only({"directory", "every", "vtu", "metrics_csv"});
+    scene.output.directory = out.string("directory", "out/" + scene.name);
+    scene.output.name = scene.name;
+    scene.output.every = out.integer("every", 10, 1);
+    scene.output.vtu = out.boolean("vtu", true);
+    scene.output.metrics_csv = out.boolean("metrics_csv", true);
+    return scene;
+}
+
+MeshData load_scene_mesh(const Scene& scene) {
+    const MeshSpec& m = scene.mesh;
+    MeshData mesh;
+    if (!m.file.empty()) {
+        mesh = read_mesh_file(m.file, m.max_volume);
+    } else {
+        mesh = m.generator == "plate" ? generate_plate(m.grid) : generate_box(m.grid);
+        validate_mesh(mesh);
+    }
+    return mesh;
+}
+
+World build_world(const Scene& scene) {
+    World world;
+    world.materials.list = {scene.material};
+    world.gravity = scene.gravity;
+    world.constraints = scene.constraints;
+    world.solver = scene.solver;
+    world.output = scene.output;
+    const MeshData mesh = load_scene_mesh(scene);
+    for (size_t i = 0; i < scene.constraints.nodes.size(); ++i)
+        if (scene.constraints.nodes[i] >= static_cast<int>(mesh.points.size()))
+            throw InputError(scene.file, fmt::format("constraints.fixed_nodes[{}]", i),
+                             fmt::format("node {} does not exist (mesh has {} nodes)", scene.constraints.nodes[i],
+                                         mesh.points.size()));
+    if (mesh.dim == 2 && world.gravity.z() != 0.0)
+        throw InputError(scene.file, "gravity", "a 2D (plate) scene lies in the xy plane: gravity[2] must be 0");
+    build_bodies(world, mesh);
+    return world;
+}
+
+}  // namespace xcut

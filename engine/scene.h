@@ -1,0 +1,40 @@
+#pragma once
+// Scene files: JSON, schema in docs/scene-format.md. Loading checks every field and names the file
+// and field path of any error; building turns the scene into a World ready to step.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/generators.h"
+#include "engine/mesh_data.h"
+#include "engine/world.h"
+
+namespace xcut {
+
+struct MeshSpec {
+    std::string generator;     ///< "box" | "plate"; empty when a file is given
+    GridSpec grid;
+    std::string file;          ///< resolved path of a mesh file
+    double max_volume = 0.0;   ///< surfaces tetrahedralized with TetGen: max tet volume [m^3]; 0: none
+};
+
+struct Scene {
+    std::string file;          ///< the scene file, for messages
+    std::string name;
+    MeshSpec mesh;
+    Material material;
+    Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+    Constraints constraints;
+    SolverSettings solver;
+    int steps = 100;
+    OutputSettings output;
+};
+
+/// `overrides`: "field.path=json-value" pairs (from --set) applied to the JSON before it is read.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+/// Reads or generates the mesh (validated) for the scene.
+MeshData load_scene_mesh(const Scene& scene);
+/// The world for a scene: components, constraints, settings.
+World build_world(const Scene& scene);
+
+}  // namespace xcut

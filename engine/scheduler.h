@@ -1,0 +1,40 @@
+#pragma once
+// Systems declare what they read and write; the scheduler keeps, in pipeline order, those whose
+// inputs the world holds, and drops the rest, so a scene pays nothing for what it does not use.
+// (The idea of flecs' matching and EnTT's organizer, without their machinery: we have a handful of
+// fixed component kinds.) Systems run one after another; each parallelizes inside with OpenMP,
+// which on two cores keeps both busy without inter-system synchronization.
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/world.h"
+
+namespace xcut {
+
+struct SystemDesc {
+    std::string name;
+    uint32_t reads = 0;     ///< every one must be present for the system to run
+    uint32_t writes = 0;
+    std::function<void(World&)> run;
+};
+
+class Scheduler {
+public:
+    void add(SystemDesc system) { all_.push_back(std::move(system)); }
+    /// Keeps the systems whose reads the world holds; call after the world is built.
+    void build(World& world);
+    /// One simulation step: runs the scheduled systems in order, timing each into world.metrics.
+    void step(World& world);
+    /// The schedule as printed at start-up.
+    std::string describe(const World& world) const;
+    const std::vector<SystemDesc>& scheduled() const { return scheduled_; }
+
+private:
+    std::vector<SystemDesc> all_;
+    std::vector<SystemDesc> scheduled_;
+};
+
+}  // namespace xcut

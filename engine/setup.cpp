@@ -1,0 +1,62 @@
+#include "engine/setup.h"
+
+#include <Eigen/LU>
+
+namespace xcut {
+
+void build_bodies(World& world, const MeshData& mesh) {
+    Nodes& nodes = world.nodes;
+    const int n = static_cast<int>(mesh.points.size());
+    nodes.rest = mesh.points;
+    nodes.position = mesh.points;
+    nodes.velocity.assign(n, Vec3::Zero());
+    nodes.mass.assign(n, 0.0);
+    nodes.fixed.assign(n, 0);
+
+    Elements& el = world.elements;
+    el.dim = mesh.dim;
+    el.nodes = mesh.cells;
+    const int m = static_cast<int>(mesh.cells.size());
+    el.rest_volume.resize(m);
+    el.dm_inv.assign(m, Mat3::Identity());
+    el.rotation.assign(m, Mat3::Identity());
+    el.material.assign(m, 0);
+    const int npe = el.nodes_per_element();
+    for (int e = 0; e < m; ++e) {
+        const auto& c = el.nodes[e];
+        const Material& mat = world.materials.list[el.material[e]];
+        if (el.dim == 3) {
+            Mat3 Dm;
+            for (int k = 0; k < 3; ++k) Dm.col(k) = nodes.rest[c[k + 1]] - nodes.rest[c[0]];
+            el.rest_volume[e] = Dm.determinant() / 6.0;
+            el.dm_inv[e] = Dm.inverse();
+        } else {
+            Eigen::Matrix2d Dm;
+            for (int k = 0; k < 2; ++k) Dm.col(k) = (nodes.rest[c[k + 1]] - nodes.rest[c[0]]).head<2>();
+            el.rest_volume[e] = 0.5 * Dm.determinant() * mat.thickness;
+            el.dm_inv[e].topLeftCorner<2, 2>() = Dm.inverse();
+        }
+        const double share = mat.density * el.rest_volume[e] / npe;
+        for (int a = 0; a < npe; ++a) nodes.mass[c[a]] += share;
+    }
+    build_incidence(world);
+    apply_constraints(world);
+}
+
+void apply_constraints(World& world) {
+    Nodes& nodes = world.nodes;
+    for (int i = 0; i < nodes.count(); ++i) {
+        uint8_t flags = world.elements.dim == 2 ? 4 : 0;
+        for (const FixedBox& b : world.constraints.boxes) {
+            const Vec3& p = nodes.rest[i];
+            if ((p.array() >= b.min.array()).all() && (p.array() <= b.max.array()).all()) flags |= b.axes;
+        }
+        nodes.fixed[i] = flags;
+    }
+    for (int i : world.constraints.nodes) nodes.fixed[i] = 7;
+    // A node no element touches would have zero mass: hold it so the system stays SPD.
+    for (int i = 0; i < nodes.count(); ++i)
+        if (nodes.mass[i] <= 0.0) nodes.fixed[i] = 7;
+}
+
+}  // namespace xcut

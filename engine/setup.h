@@ -1,0 +1,17 @@
+#pragma once
+// Turns a validated mesh into the world's node and element components: rest shape gradients, rest
+// volumes, lumped masses, identity rotations, constraint flags and the node -> element incidence.
+#include "engine/mesh_data.h"
+#include "engine/world.h"
+
+namespace xcut {
+
+/// Fills world.nodes and world.elements from `mesh` (all elements use material 0 unless
+/// `material_of_cell` is given). Lumped mass: each element's rho V split equally over its nodes
+/// (exact total mass; the standard lumping for linear simplices).
+void build_bodies(World& world, const MeshData& mesh);
+
+/// Sets nodes.fixed from world.constraints (boxes and node lists); in 2D every node's z is held.
+void apply_constraints(World& world);
+
+}  // namespace xcut

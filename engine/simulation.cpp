@@ -1,0 +1,47 @@
+#include "engine/simulation.h"
+
+#include <algorithm>
+
+#include "systems/force_system.h"
+#include "systems/solver_system.h"
+
+namespace xcut {
+
+void register_systems(Scheduler& scheduler, Simulation& sim) {
+    scheduler.add(force_system());
+    scheduler.add(solver_system());
+    scheduler.add({"OutputSystem", kNodes | kElements | kOutput, 0, [&sim](World& w) {
+                       if (sim.output) sim.output->after_step(w);
+                   }});
+}
+
+std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output) {
+    auto sim = std::make_unique<Simulation>();
+    sim->world = build_world(scene);
+    if (!with_output) sim->world.output.directory.clear();
+    register_systems(sim->scheduler, *sim);
+    sim->scheduler.build(sim->world);
+    if (!sim->world.output.directory.empty()) {
+        sim->output = std::make_unique<OutputWriter>(sim->world);
+        sim->output->write_frame(sim->world);
+    }
+    return sim;
+}
+
+void step_simulation(Simulation& sim) {
+    sim.scheduler.step(sim.world);
+    SolverSettings& s = sim.world.solver;
+    if (s.realtime) s.dt = std::clamp(sim.world.metrics.current.step_ms * 1e-3, s.dt_min, s.dt_max);
+}
+
+void run_simulation(Simulation& sim, int steps, bool progress) {
+    ProgressBar bar("run", progress ? steps : 0);
+    for (int i = 0; i < steps; ++i) {
+        step_simulation(sim);
+        bar.update(i + 1);
+    }
+    bar.finish();
+    if (sim.output) sim.output->finish();
+}
+
+}  // namespace xcut

@@ -1,0 +1,82 @@
+#pragma once
+// The world owns every component array of a scene and the per-step work buffers. It has no
+// behaviour beyond saying which component kinds it holds: systems do the work.
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "components/constraints.h"
+#include "components/elements.h"
+#include "components/material.h"
+#include "components/metrics.h"
+#include "components/nodes.h"
+
+namespace xcut {
+
+/// Component kinds, as bits: systems declare reads and writes with them, and the scheduler drops a
+/// system whose inputs the world does not hold.
+enum ComponentBit : uint32_t {
+    kNodes = 1u << 0,
+    kElements = 1u << 1,
+    kMaterials = 1u << 2,
+    kConstraints = 1u << 3,
+    kGravity = 1u << 4,
+    kForces = 1u << 5,       ///< per-step force and preconditioner buffers
+    kOutput = 1u << 6,       ///< output settings (series, metrics CSV)
+    kMetrics = 1u << 7,
+};
+const char* component_name(uint32_t bit);
+std::string component_list(uint32_t mask);
+
+struct SolverSettings {
+    double dt = 1e-3;              ///< time step [s]; the initial one in real-time mode
+    double cg_tolerance = 1e-6;    ///< relative residual |r| / |b| at which CG stops [-]
+    int cg_max_iterations = 200;
+    bool realtime = false;         ///< adapt dt to the measured step time (paper §4.3)
+    double dt_min = 1e-4;          ///< real-time mode bounds [s]
+    double dt_max = 4e-2;
+    double damping_mass = 0.0;       ///< Rayleigh alpha [1/s]: D = alpha M + beta K
+    double damping_stiffness = 0.0;  ///< Rayleigh beta [s]
+};
+
+/// Per-step buffers: the solver's right-hand side pieces and the Jacobi preconditioner.
+struct ForceState {
+    Eigen::VectorXd force;                          ///< 3 per DOF node [N]: elastic + gravity
+    Eigen::VectorXd stiffness_diagonal;             ///< diag(K) [N/m]
+    std::vector<std::array<Vec3, 4>> element_buffer;  ///< per-element nodal terms before gathering
+    Eigen::VectorXd last_dv;                        ///< previous step's velocity change: CG's first guess
+    double elastic_energy = 0.0;                    ///< [J]
+};
+
+struct OutputSettings {
+    std::string directory;          ///< where the series and CSV go; empty: no output
+    std::string name = "xcut";      ///< file stem
+    int every = 10;                 ///< write a frame every N steps
+    bool vtu = true;
+    bool metrics_csv = true;
+};
+
+struct World {
+    Nodes nodes;
+    Elements elements;
+    Incidence incidence;
+    Materials materials;
+    Constraints constraints;
+    Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< [m/s^2]
+    SolverSettings solver;
+    ForceState forces;
+    OutputSettings output;
+    Metrics metrics;
+
+    double time = 0.0;   ///< [s]
+    int step = 0;
+
+    /// Which component kinds this world holds (non-empty).
+    uint32_t present() const;
+};
+
+/// Builds the node -> element incidence (CSR) from the element connectivity.
+void build_incidence(World& world);
+
+}  // namespace xcut

@@ -1,0 +1,150 @@
+#include "systems/force_system.h"
+
+#include "engine/parallel.h"
+#include "systems/corotational_kernel.h"
+#include "systems/polar_decomposition.h"
+
+namespace xcut {
+namespace {
+
+LameParameters lame_of(const Material& m, int dim) {
+    return {dim == 3 ? m.lambda() : m.lambda_plane_stress(), m.mu()};
+}
+
+std::array<Vec3, 4> gather_vectors(const std::array<int, 4>& ids, int npe, const Vec3* v) {
+    std::array<Vec3, 4> out;
+    for (int a = 0; a < 4; ++a) out[a] = a < npe ? v[ids[a]] : Vec3::Zero();
+    return out;
+}
+
+/// Calls body(e, R_D, dm_inv_D) with the element's matrices at the mesh's dimension D.
+template <int D, class Body>
+void for_each_element(World& world, Body&& body) {
+    Elements& el = world.elements;
+    parallel_for(el.count(), [&](int e) {
+        const MatD<D> dm_inv = el.dm_inv[e].template topLeftCorner<D, D>();
+        body(e, dm_inv);
+    });
+}
+
+template <int D>
+void update_rotations_dim(World& world) {
+    Elements& el = world.elements;
+    const Vec3* x = world.nodes.position.data();
+    for_each_element<D>(world, [&](int e, const MatD<D>& dm_inv) {
+        const MatD<D> F = edge_matrix<D>(gather_vectors(el.nodes[e], D + 1, x)) * dm_inv;
+        if constexpr (D == 3) {
+            el.rotation[e] = extract_rotation(F, el.rotation[e]);
+        } else {
+            el.rotation[e].setIdentity();
+            el.rotation[e].template topLeftCorner<2, 2>() = extract_rotation(F);
+        }
+    });
+}
+
+template <int D>
+void compute_forces_dim(World& world, std::vector<double>& energy) {
+    Elements& el = world.elements;
+    auto& buf = world.forces.element_buffer;
+    const Vec3* x = world.nodes.position.data();
+    for_each_element<D>(world, [&](int e, const MatD<D>& dm_inv) {
+        const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
+        const LameParameters lame = lame_of(world.materials.list[el.material[e]], D);
+        energy[e] = corotational_forces<D>(gather_vectors(el.nodes[e], D + 1, x), dm_inv, R,
+                                           el.rest_volume[e], lame, buf[e]);
+    });
+}
+
+template <int D>
+void stiffness_diagonal_dim(World& world) {
+    Elements& el = world.elements;
+    auto& buf = world.forces.element_buffer;
+    for_each_element<D>(world, [&](int e, const MatD<D>& dm_inv) {
+        const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
+        corotational_stiffness_diagonal<D>(dm_inv, R, el.rest_volume[e],
+                                           lame_of(world.materials.list[el.material[e]], D), buf[e]);
+    });
+}
+
+template <int D>
+void stiffness_product_dim(World& world, const Eigen::VectorXd& p) {
+    Elements& el = world.elements;
+    auto& buf = world.forces.element_buffer;
+    const Vec3* pv = reinterpret_cast<const Vec3*>(p.data());
+    for_each_element<D>(world, [&](int e, const MatD<D>& dm_inv) {
+        const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
+        corotational_stiffness_product<D>(gather_vectors(el.nodes[e], D + 1, pv), dm_inv, R,
+                                          el.rest_volume[e],
+                                          lame_of(world.materials.list[el.material[e]], D), buf[e]);
+    });
+}
+
+void ensure_buffers(World& world) {
+    const int n3 = 3 * world.nodes.count();
+    ForceState& fs = world.forces;
+    if (fs.force.size() != n3) fs.force.setZero(n3);
+    if (fs.stiffness_diagonal.size() != n3) fs.stiffness_diagonal.setZero(n3);
+    fs.element_buffer.resize(world.elements.count());
+}
+
+}  // namespace
+
+void gather_element_terms(const World& world, Eigen::VectorXd& out) {
+    const Incidence& inc = world.incidence;
+    const auto& buf = world.forces.element_buffer;
+    out.resize(3 * world.nodes.count());
+    parallel_for(world.nodes.count(), [&](int i) {
+        Vec3 s = Vec3::Zero();
+        for (int k = inc.offset[i]; k < inc.offset[i + 1]; ++k) s += buf[inc.entry[k] >> 2][inc.entry[k] & 3];
+        out.segment<3>(3 * i) = s;
+    });
+}
+
+void update_rotations(World& world) {
+    if (world.elements.dim == 3) {
+        update_rotations_dim<3>(world);
+    } else {
+        update_rotations_dim<2>(world);
+    }
+}
+
+void compute_forces(World& world) {
+    ensure_buffers(world);
+    ForceState& fs = world.forces;
+    std::vector<double> energy(world.elements.count());
+    if (world.elements.dim == 3) {
+        compute_forces_dim<3>(world, energy);
+    } else {
+        compute_forces_dim<2>(world, energy);
+    }
+    gather_element_terms(world, fs.force);
+    fs.elastic_energy = deterministic_sum(static_cast<int>(energy.size()), [&](int e) { return energy[e]; });
+    const Nodes& nodes = world.nodes;
+    parallel_for(nodes.count(), [&](int i) { fs.force.segment<3>(3 * i) += nodes.mass[i] * world.gravity; });
+
+    if (world.elements.dim == 3) {
+        stiffness_diagonal_dim<3>(world);
+    } else {
+        stiffness_diagonal_dim<2>(world);
+    }
+    gather_element_terms(world, fs.stiffness_diagonal);
+}
+
+void stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) {
+    ensure_buffers(world);
+    if (world.elements.dim == 3) {
+        stiffness_product_dim<3>(world, p);
+    } else {
+        stiffness_product_dim<2>(world, p);
+    }
+    gather_element_terms(world, out);
+}
+
+SystemDesc force_system() {
+    return {"ForceSystem", kNodes | kElements | kMaterials, kForces | kElements, [](World& w) {
+                update_rotations(w);
+                compute_forces(w);
+            }};
+}
+
+}  // namespace xcut

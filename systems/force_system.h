@@ -1,0 +1,24 @@
+#pragma once
+// ForceSystem: corotational linear FEM forces (paper App. B, eq. 10), matrix-free.
+// Per step it updates each element's rotation (polar decomposition of F, frozen for the rest of the
+// step), the elastic and gravity forces, the strain energy and diag(K) for the preconditioner.
+// It also provides the stiffness action K p that the implicit solver calls in every CG iteration.
+#include <Eigen/Core>
+
+#include "engine/scheduler.h"
+#include "engine/world.h"
+
+namespace xcut {
+
+/// R of every element from the current positions (warm-started from the previous R).
+void update_rotations(World& world);
+/// world.forces.{force, stiffness_diagonal, elastic_energy} from positions, rotations and gravity.
+void compute_forces(World& world);
+/// out = K p (K = -df/dx with rotations frozen, positive semi-definite), 3 entries per node.
+void stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out);
+/// Sums per-element nodal terms into per-node entries in a fixed order (node -> element incidence).
+void gather_element_terms(const World& world, Eigen::VectorXd& out);
+
+SystemDesc force_system();
+
+}  // namespace xcut

@@ -1,0 +1,102 @@
+#include "systems/solver_system.h"
+
+#include "engine/parallel.h"
+#include "systems/force_system.h"
+
+namespace xcut {
+
+Eigen::VectorXd free_mask(const World& world) {
+    const Nodes& nodes = world.nodes;
+    Eigen::VectorXd mask(3 * nodes.count());
+    for (int i = 0; i < nodes.count(); ++i)
+        for (int k = 0; k < 3; ++k) mask[3 * i + k] = (nodes.fixed[i] >> k) & 1 ? 0.0 : 1.0;
+    return mask;
+}
+
+void project_constraints(const World& world, Eigen::Ref<Eigen::VectorXd> v) {
+    const Nodes& nodes = world.nodes;
+    for (int i = 0; i < nodes.count(); ++i)
+        for (int k = 0; k < 3; ++k)
+            if ((nodes.fixed[i] >> k) & 1) v[3 * i + k] = 0.0;
+}
+
+void implicit_euler_step(World& world) {
+    Nodes& nodes = world.nodes;
+    const SolverSettings& s = world.solver;
+    const int n3 = 3 * nodes.count();
+    const double h = s.dt;
+    const double mass_scale = 1.0 + h * s.damping_mass;
+    const double stiff_scale = h * h + h * s.damping_stiffness;
+
+    Eigen::Map<Eigen::VectorXd> v(nodes.velocity[0].data(), n3);
+    Eigen::Map<Eigen::VectorXd> x(nodes.position[0].data(), n3);
+    Eigen::VectorXd m3(n3);
+    for (int i = 0; i < nodes.count(); ++i) m3.segment<3>(3 * i).setConstant(nodes.mass[i]);
+
+    Eigen::VectorXd kv;
+    stiffness_product(world, v, kv);
+    const Eigen::VectorXd b = h * world.forces.force - stiff_scale * kv - h * s.damping_mass * m3.cwiseProduct(v);
+    const Eigen::VectorXd inv_diag =
+        (mass_scale * m3 + stiff_scale * world.forces.stiffness_diagonal).cwiseInverse();
+
+    Eigen::VectorXd& dv = world.forces.last_dv;
+    if (dv.size() != n3) dv.setZero(n3);
+    auto apply = [&](const Eigen::VectorXd& p, Eigen::VectorXd& out) {
+        stiffness_product(world, p, out);
+        out = mass_scale * m3.cwiseProduct(p) + stiff_scale * out;
+    };
+    const Eigen::VectorXd mask = free_mask(world);
+    const CgResult cg = conjugate_gradient(apply, b, inv_diag, mask, s.cg_tolerance, s.cg_max_iterations, dv);
+    v += dv;
+    project_constraints(world, v);
+    x += h * v;
+
+    world.time += h;
+    ++world.step;
+    StepMetrics& m = world.metrics.current;
+    m.step = world.step;
+    m.time = world.time;
+    m.dt = h;
+    m.cg_iterations = cg.iterations;
+    m.cg_residual = cg.relative_residual;
+    m.dofs = static_cast<int>(mask.sum());
+    m.elastic_energy = world.forces.elastic_energy;
+    m.kinetic_energy = 0.5 * deterministic_sum(n3, [&](int i) { return m3[i] * v[i] * v[i]; });
+    m.gravity_work = deterministic_sum(nodes.count(), [&](int i) {
+        return nodes.mass[i] * world.gravity.dot(nodes.position[i] - nodes.rest[i]);
+    });
+}
+
+StaticResult static_solve(World& world, double tolerance, int max_newton, double cg_tolerance,
+                          int cg_max_iterations) {
+    const int n3 = 3 * world.nodes.count();
+    Eigen::Map<Eigen::VectorXd> x(world.nodes.position[0].data(), n3);
+    const Eigen::VectorXd mask = free_mask(world);
+    StaticResult result;
+    double f0 = -1.0;
+    for (; result.newton_iterations < max_newton; ++result.newton_iterations) {
+        update_rotations(world);
+        compute_forces(world);
+        const Eigen::VectorXd f = world.forces.force.cwiseProduct(mask);
+        const double fnorm = std::sqrt(deterministic_dot(f, f));
+        if (f0 < 0.0) f0 = fnorm;
+        result.residual = f0 > 0.0 ? fnorm / f0 : 0.0;
+        if (fnorm <= tolerance * f0 || fnorm == 0.0) {
+            result.converged = true;
+            break;
+        }
+        Eigen::VectorXd dx = Eigen::VectorXd::Zero(n3);
+        const Eigen::VectorXd inv_diag = world.forces.stiffness_diagonal.cwiseMax(1e-300).cwiseInverse();
+        auto apply = [&](const Eigen::VectorXd& p, Eigen::VectorXd& out) { stiffness_product(world, p, out); };
+        result.cg_iterations +=
+            conjugate_gradient(apply, f, inv_diag, mask, cg_tolerance, cg_max_iterations, dx).iterations;
+        x += dx;
+    }
+    return result;
+}
+
+SystemDesc solver_system() {
+    return {"SolverSystem", kNodes | kElements | kForces, kNodes, implicit_euler_step};
+}
+
+}  // namespace xcut

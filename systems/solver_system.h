@@ -1,0 +1,54 @@
+#pragma once
+// SolverSystem: one implicit (backward) Euler step, linearized once (Baraff & Witkin 1998), with
+// Rayleigh damping D = alpha M + beta K and the rotations frozen (corotational, paper §4.3):
+//
+//   [(1 + h alpha) M + (h^2 + h beta) K] dv = h f - (h^2 + h beta) K v - h alpha M v,
+//   v <- v + dv,  x <- x + h v.
+//
+// K is never assembled: CG calls the ForceSystem's matrix-free product. Jacobi preconditioner
+// (diagonal of the system matrix). Held axes are removed by projecting residual and search direction
+// (the filter of Baraff & Witkin), so constraints add no stiffness and the system stays SPD.
+// CG starts from the previous step's dv; its dot products are summed in a fixed order, so a step is
+// bit-identical for any thread count.
+#include <Eigen/Core>
+
+#include "engine/scheduler.h"
+#include "engine/world.h"
+
+namespace xcut {
+
+struct CgResult {
+    int iterations = 0;
+    double relative_residual = 0.0;
+};
+
+/// Solves A x = b for SPD A given as a product, with held entries projected out. `x` holds the first
+/// guess on entry. Stops at |r| <= tol |b| or max_iterations.
+template <class Product>
+CgResult conjugate_gradient(Product&& apply, const Eigen::VectorXd& b, const Eigen::VectorXd& inv_diag,
+                            const Eigen::VectorXd& free_mask, double tol, int max_iterations,
+                            Eigen::VectorXd& x);
+
+/// Applies the constraint filter: zero the velocity of held axes.
+void project_constraints(const World& world, Eigen::Ref<Eigen::VectorXd> v);
+/// The 3N mask (1 free, 0 held) from the nodes' fixed flags.
+Eigen::VectorXd free_mask(const World& world);
+
+void implicit_euler_step(World& world);
+
+struct StaticResult {
+    int newton_iterations = 0;
+    int cg_iterations = 0;         ///< summed over the Newton iterations
+    double residual = 0.0;         ///< |f_free| / |f_free at start| reached
+    bool converged = false;
+};
+/// Static equilibrium f(x) = 0 on the free axes: Newton iterations with the corotational stiffness
+/// (rotations refreshed per iteration), each solved by Jacobi-CG to `cg_tolerance`. For
+/// verification problems (patch test, cantilever); velocities are left untouched.
+StaticResult static_solve(World& world, double tolerance, int max_newton, double cg_tolerance,
+                          int cg_max_iterations);
+SystemDesc solver_system();
+
+}  // namespace xcut
+
+#include "systems/conjugate_gradient.inl"

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Installs xcut's build and test dependencies from Debian 12's packages (run as root).
+# Every library comes from Debian; nothing is vendored or downloaded from elsewhere.
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends \
+  build-essential cmake ninja-build pkg-config git \
+  libeigen3-dev libembree-dev libfcl-dev libccd-dev libomp-dev \
+  nlohmann-json3-dev libcli11-dev libfmt-dev libspdlog-dev \
+  libgtest-dev libgmock-dev libbenchmark-dev libtet1.5-dev \
+  zlib1g-dev libpng-dev libstb-dev python3 python3-matplotlib
