@@ -121,6 +121,25 @@ std::vector<int> JsonFields::int_list(const std::string& key) const {
     return out;
 }
 
+std::vector<Eigen::Vector3d> JsonFields::vec3_list(const std::string& key) const {
+    std::vector<Eigen::Vector3d> out;
+    if (!has(key)) return out;
+    const auto& v = get(key);
+    if (!v.is_array()) fail(key, "expected an array of [x, y, z] points");
+    for (size_t i = 0; i < v.size(); ++i) {
+        const std::string item = fmt::format("{}[{}]", key, i);
+        if (!v[i].is_array() || v[i].size() != 3) fail(item, fmt::format("expected [x, y, z], got {}", v[i].dump()));
+        Eigen::Vector3d p;
+        for (int k = 0; k < 3; ++k) {
+            if (!v[i][k].is_number() || !std::isfinite(v[i][k].get<double>()))
+                fail(fmt::format("{}[{}]", item, k), "expected a finite number");
+            p[k] = v[i][k].get<double>();
+        }
+        out.push_back(p);
+    }
+    return out;
+}
+
 void JsonFields::allow_only(std::initializer_list<const char*> known) const {
     for (auto it = object_->begin(); it != object_->end(); ++it) {
         bool ok = false;

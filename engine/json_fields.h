@@ -34,6 +34,8 @@ public:
     Eigen::Vector3d vec3(const std::string& key, const Eigen::Vector3d& fallback) const;
     Eigen::Vector3d required_vec3(const std::string& key) const;
     std::vector<int> int_list(const std::string& key) const;
+    /// An array of [x, y, z] points.
+    std::vector<Eigen::Vector3d> vec3_list(const std::string& key) const;
 
     /// Throws if the object has a key not in `known`.
     void allow_only(std::initializer_list<const char*> known) const;

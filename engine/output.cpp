@@ -25,9 +25,20 @@ void write_vtu(const World& world, const std::string& path) {
     const Nodes& n = world.nodes;
     const Elements& el = world.elements;
     const int npe = el.nodes_per_element();
+    // Cells: every element that carries material (weight > 0): uncut mesh elements and the virtual
+    // elements of cut ones, so ParaView shows the opening. Cell fields say which is which.
+    std::vector<int> cells;
+    for (int e = 0; e < el.count(); ++e)
+        if (el.weight[e] > 0.0) cells.push_back(e);
+    std::vector<int> side(el.count(), 0), parent(el.count());
+    for (int e = 0; e < world.mesh_elements; ++e) parent[e] = e;
+    for (int v = 0; v < world.virtual_elements.count(); ++v) {
+        side[world.virtual_elements.element[v]] = world.virtual_elements.side[v];
+        parent[world.virtual_elements.element[v]] = world.virtual_elements.parent[v];
+    }
     auto out = fmt::output_file(path);
     out.print("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
-    out.print("<UnstructuredGrid>\n<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n.count(), el.count());
+    out.print("<UnstructuredGrid>\n<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n.count(), cells.size());
     out.print("<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
     for (const Vec3& p : n.position) out.print("{:.10g} {:.10g} {:.10g}\n", p.x(), p.y(), p.z());
     out.print("</DataArray>\n</Points>\n<PointData Vectors=\"displacement\">\n");
@@ -40,17 +51,24 @@ void write_vtu(const World& world, const std::string& path) {
     for (const Vec3& v : n.velocity) out.print("{:.10g} {:.10g} {:.10g}\n", v.x(), v.y(), v.z());
     out.print("</DataArray>\n<DataArray type=\"UInt8\" Name=\"fixed\" format=\"ascii\">\n");
     for (uint8_t f : n.fixed) out.print("{} ", int(f));
-    out.print("\n</DataArray>\n</PointData>\n<CellData>\n<DataArray type=\"Float64\" Name=\"rest_volume\" format=\"ascii\">\n");
-    for (double v : el.rest_volume) out.print("{:.10g} ", v);
+    out.print("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"enriched_dof\" format=\"ascii\">\n");
+    for (int i = 0; i < n.count(); ++i) out.print("{} ", i >= world.mesh_nodes ? 1 : 0);
+    out.print("\n</DataArray>\n</PointData>\n<CellData Scalars=\"side\">\n");
+    out.print("<DataArray type=\"Int8\" Name=\"side\" format=\"ascii\">\n");
+    for (int e : cells) out.print("{} ", side[e]);
+    out.print("\n</DataArray>\n<DataArray type=\"Int32\" Name=\"parent\" format=\"ascii\">\n");
+    for (int e : cells) out.print("{} ", parent[e]);
+    out.print("\n</DataArray>\n<DataArray type=\"Float64\" Name=\"volume_fraction\" format=\"ascii\">\n");
+    for (int e : cells) out.print("{:.6g} ", el.weight[e]);
     out.print("\n</DataArray>\n</CellData>\n<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
-    for (const auto& c : el.nodes) {
-        for (int a = 0; a < npe; ++a) out.print("{} ", c[a]);
+    for (int e : cells) {
+        for (int a = 0; a < npe; ++a) out.print("{} ", el.nodes[e][a]);
         out.print("\n");
     }
     out.print("</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n");
-    for (int e = 0; e < el.count(); ++e) out.print("{} ", (e + 1) * npe);
+    for (size_t c = 0; c < cells.size(); ++c) out.print("{} ", (c + 1) * npe);
     out.print("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    for (int e = 0; e < el.count(); ++e) out.print("{} ", vtk_cell_type(el.dim));
+    for (size_t c = 0; c < cells.size(); ++c) out.print("{} ", vtk_cell_type(el.dim));
     out.print("\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
 }
 

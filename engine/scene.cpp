@@ -1,5 +1,6 @@
 #include "engine/scene.h"
 
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
@@ -81,6 +82,22 @@ uint8_t read_axes(const JsonFields& f, const std::string& key) {
     return mask;
 }
 
+/// A 3D cut polygon must be planar and have area; a 2D segment must have length.
+void check_cut_polygon(const JsonFields& c, const std::vector<Eigen::Vector3d>& poly) {
+    double size = 0.0;
+    for (const auto& p : poly) size = std::max(size, (p - poly[0]).norm());
+    if (!(size > 0.0)) c.fail("polygon", "all points coincide");
+    if (poly.size() == 2) return;
+    Eigen::Vector3d n = Eigen::Vector3d::Zero(), centre = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < poly.size(); ++i) n += poly[i].cross(poly[(i + 1) % poly.size()]), centre += poly[i];
+    centre /= static_cast<double>(poly.size());
+    if (!(n.norm() > 1e-12 * size * size)) c.fail("polygon", "has zero area (points on one line)");
+    n.normalize();
+    for (size_t i = 0; i < poly.size(); ++i)
+        if (std::abs((poly[i] - centre).dot(n)) > 1e-9 * size)
+            c.fail(fmt::format("polygon[{}]", i), "is off the polygon's plane: cut polygons must be planar");
+}
+
 }  // namespace
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
@@ -98,7 +115,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     scene.file = path;
     const JsonFields top(root, path, "");
     top.allow_only({"name", "description", "mesh", "material", "gravity", "constraints", "solver", "steps",
-                    "duration", "output"});
+                    "duration", "output", "cuts"});
     scene.name = top.string("name", fs::path(path).stem().string());
     if (!top.has("mesh")) top.fail("mesh", "required field is missing");
     scene.mesh = read_mesh(top.object("mesh"), fs::path(path).parent_path());
@@ -142,6 +159,16 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     if (top.has("duration"))
         scene.steps = static_cast<int>(std::ceil(top.required_number("duration", 0.0, 1e6) / s.dt - 1e-9));
 
+    for (const JsonFields& c : top.array_of_objects("cuts")) {
+        c.allow_only({"time", "polygon"});
+        ScriptedCut cut;
+        cut.time = c.number("time", 0.0, 0.0);
+        cut.polygon = c.vec3_list("polygon");
+        if (cut.polygon.size() < 2) c.fail("polygon", "needs 2 points (a segment, 2D) or at least 3 (a planar polygon, 3D)");
+        check_cut_polygon(c, cut.polygon);
+        scene.cuts.push_back(cut);
+    }
+
     const JsonFields out = top.object("output");
     out.allow_only({"directory", "every", "vtu", "metrics_csv"});
     scene.output.directory = out.string("directory", "out/" + scene.name);
@@ -179,6 +206,14 @@ World build_world(const Scene& scene) {
                                          mesh.points.size()));
     if (mesh.dim == 2 && world.gravity.z() != 0.0)
         throw InputError(scene.file, "gravity", "a 2D (plate) scene lies in the xy plane: gravity[2] must be 0");
+    for (size_t i = 0; i < scene.cuts.size(); ++i) {
+        const size_t need = mesh.dim == 2 ? 2 : 3;
+        if ((mesh.dim == 2) != (scene.cuts[i].polygon.size() == 2) || scene.cuts[i].polygon.size() < need)
+            throw InputError(scene.file, fmt::format("cuts[{}].polygon", i),
+                             mesh.dim == 2 ? "a 2D scene is cut by a segment: give exactly 2 points"
+                                           : "a 3D scene is cut by a planar polygon: give at least 3 points");
+    }
+    world.cut_plan.cuts = scene.cuts;
     build_bodies(world, mesh);
     return world;
 }

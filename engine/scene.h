@@ -28,6 +28,7 @@ struct Scene {
     SolverSettings solver;
     int steps = 100;
     OutputSettings output;
+    std::vector<ScriptedCut> cuts;   ///< "cuts": programmatic XFEM cuts
 };
 
 /// `overrides`: "field.path=json-value" pairs (from --set) applied to the JSON before it is read.

@@ -21,7 +21,7 @@ void build_bodies(World& world, const MeshData& mesh) {
     el.dm_inv.assign(m, Mat3::Identity());
     el.rotation.assign(m, Mat3::Identity());
     el.material.assign(m, 0);
-    const int npe = el.nodes_per_element();
+    el.weight.assign(m, 1.0);
     for (int e = 0; e < m; ++e) {
         const auto& c = el.nodes[e];
         const Material& mat = world.materials.list[el.material[e]];
@@ -36,11 +36,25 @@ void build_bodies(World& world, const MeshData& mesh) {
             el.rest_volume[e] = 0.5 * Dm.determinant() * mat.thickness;
             el.dm_inv[e].topLeftCorner<2, 2>() = Dm.inverse();
         }
-        const double share = mat.density * el.rest_volume[e] / npe;
-        for (int a = 0; a < npe; ++a) nodes.mass[c[a]] += share;
     }
+    world.mesh_nodes = n;
+    world.mesh_elements = m;
+    lump_masses(world);
     build_incidence(world);
+    world.mesh_incidence = world.incidence;
     apply_constraints(world);
+}
+
+void lump_masses(World& world) {
+    Nodes& nodes = world.nodes;
+    const Elements& el = world.elements;
+    const int npe = el.nodes_per_element();
+    nodes.mass.assign(nodes.count(), 0.0);
+    for (int e = 0; e < el.count(); ++e) {
+        const double share =
+            world.materials.list[el.material[e]].density * el.rest_volume[e] * el.weight[e] / npe;
+        for (int a = 0; a < npe; ++a) nodes.mass[el.nodes[e][a]] += share;
+    }
 }
 
 void apply_constraints(World& world) {

@@ -11,6 +11,11 @@ namespace xcut {
 /// (exact total mass; the standard lumping for linear simplices).
 void build_bodies(World& world, const MeshData& mesh);
 
+/// Lumped masses from the elements: rho V weight / (nodes per element) to each node. For a cut
+/// element this is the phantom-node lumping: each side's share goes to that side's vertices, which
+/// equals the block-diagonal lumping of Menouillard et al. (IJNME 74, 2008) in the enriched DOFs.
+void lump_masses(World& world);
+
 /// Sets nodes.fixed from world.constraints (boxes and node lists); in 2D every node's z is held.
 void apply_constraints(World& world);
 

@@ -2,12 +2,16 @@
 
 #include <algorithm>
 
+#include "systems/enrichment_system.h"
 #include "systems/force_system.h"
+#include "systems/scripted_cut_system.h"
 #include "systems/solver_system.h"
 
 namespace xcut {
 
 void register_systems(Scheduler& scheduler, Simulation& sim) {
+    scheduler.add(scripted_cut_system());
+    scheduler.add(enrichment_system());
     scheduler.add(force_system());
     scheduler.add(solver_system());
     scheduler.add({"OutputSystem", kNodes | kElements | kOutput, 0, [&sim](World& w) {

@@ -12,6 +12,9 @@ const char* component_name(uint32_t bit) {
         case kForces: return "Forces";
         case kOutput: return "Output";
         case kMetrics: return "Metrics";
+        case kCutPlan: return "CutPlan";
+        case kCutEvents: return "CutEvents";
+        case kXfem: return "Xfem";
         default: return "?";
     }
 }
@@ -34,6 +37,8 @@ uint32_t World::present() const {
     if (!constraints.boxes.empty() || !constraints.nodes.empty()) mask |= kConstraints;
     if (gravity.squaredNorm() > 0.0) mask |= kGravity;
     if (!output.directory.empty()) mask |= kOutput;
+    if (!cut_plan.cuts.empty()) mask |= kCutPlan | kCutEvents;
+    if (cuts.count() > 0) mask |= kXfem;
     return mask;
 }
 

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "components/constraints.h"
+#include "components/cut_elements.h"
+#include "components/cut_plan.h"
 #include "components/elements.h"
 #include "components/material.h"
 #include "components/metrics.h"
@@ -25,6 +27,9 @@ enum ComponentBit : uint32_t {
     kForces = 1u << 5,       ///< per-step force and preconditioner buffers
     kOutput = 1u << 6,       ///< output settings (series, metrics CSV)
     kMetrics = 1u << 7,
+    kCutPlan = 1u << 8,      ///< scripted cuts
+    kCutEvents = 1u << 9,    ///< the queue of splits; present when the scene has any cutter
+    kXfem = 1u << 10,        ///< cut elements, virtual elements, enriched DOFs
 };
 const char* component_name(uint32_t bit);
 std::string component_list(uint32_t mask);
@@ -60,7 +65,10 @@ struct OutputSettings {
 struct World {
     Nodes nodes;
     Elements elements;
-    Incidence incidence;
+    Incidence incidence;        ///< DOF node -> force element (mesh and virtual elements)
+    Incidence mesh_incidence;   ///< mesh node -> mesh element, fixed topology for neighbour queries
+    int mesh_nodes = 0;         ///< nodes [0, mesh_nodes) are the mesh's; after them, enriched DOFs
+    int mesh_elements = 0;      ///< elements [0, mesh_elements) are the mesh's; after them, virtual
     Materials materials;
     Constraints constraints;
     Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< [m/s^2]
@@ -69,6 +77,13 @@ struct World {
     OutputSettings output;
     Metrics metrics;
 
+    CutPlan cut_plan;
+    std::vector<CutEvent> pending_cuts;   ///< splits queued by cutters, applied by the EnrichmentSystem
+    CutElements cuts;
+    VirtualElements virtual_elements;
+    EnrichedDofs enriched;
+
+    bool verbose = false;  ///< systems may log events (cuts) to stdout
     double time = 0.0;   ///< [s]
     int step = 0;
 

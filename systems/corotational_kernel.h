@@ -16,6 +16,9 @@
 
 #include "components/nodes.h"
 
+// Hot kernels: force inlining so the per-element loop compiles to one straight block.
+#define XCUT_INLINE inline __attribute__((always_inline))
+
 namespace xcut {
 
 template <int D>
@@ -30,7 +33,7 @@ struct LameParameters {
 
 /// Edge matrix [x1-x0, x2-x0(, x3-x0)] of an element's nodes.
 template <int D>
-inline MatD<D> edge_matrix(const std::array<Vec3, 4>& x) {
+XCUT_INLINE MatD<D> edge_matrix(const std::array<Vec3, 4>& x) {
     MatD<D> Ds;
     for (int c = 0; c < D; ++c) Ds.col(c) = (x[c + 1] - x[0]).template head<D>();
     return Ds;
@@ -38,14 +41,14 @@ inline MatD<D> edge_matrix(const std::array<Vec3, 4>& x) {
 
 /// Stress of a local displacement gradient H: sigma = lambda tr(eps) I + 2 mu eps, eps = sym(H).
 template <int D>
-inline MatD<D> linear_stress(const MatD<D>& H, const LameParameters& lame) {
+XCUT_INLINE MatD<D> linear_stress(const MatD<D>& H, const LameParameters& lame) {
     const MatD<D> eps = 0.5 * (H + H.transpose());
     return lame.lambda * eps.trace() * MatD<D>::Identity() + 2.0 * lame.mu * eps;
 }
 
 /// Scatters V R sigma g_j to the element's nodes: out_j = scale * R sigma g_j, with g_0 = -sum.
 template <int D>
-inline void scatter_stress(const MatD<D>& R, const MatD<D>& sigma, const MatD<D>& dm_inv, double scale,
+XCUT_INLINE void scatter_stress(const MatD<D>& R, const MatD<D>& sigma, const MatD<D>& dm_inv, double scale,
                            std::array<Vec3, 4>& out) {
     const MatD<D> Q = scale * R * sigma * dm_inv.transpose();  // columns: nodes 1..D
     VecD<D> sum = VecD<D>::Zero();
@@ -60,7 +63,7 @@ inline void scatter_stress(const MatD<D>& R, const MatD<D>& sigma, const MatD<D>
 
 /// Elastic forces f_j = -V R sigma g_j and strain energy V (mu eps:eps + lambda/2 tr(eps)^2) [J].
 template <int D>
-inline double corotational_forces(const std::array<Vec3, 4>& x, const MatD<D>& dm_inv, const MatD<D>& R,
+XCUT_INLINE double corotational_forces(const std::array<Vec3, 4>& x, const MatD<D>& dm_inv, const MatD<D>& R,
                                   double volume, const LameParameters& lame, std::array<Vec3, 4>& force) {
     const MatD<D> F = edge_matrix<D>(x) * dm_inv;
     const MatD<D> H = R.transpose() * F - MatD<D>::Identity();
@@ -72,7 +75,7 @@ inline double corotational_forces(const std::array<Vec3, 4>& x, const MatD<D>& d
 
 /// Stiffness action out_j = sum_k K_jk p_k = V R sigma(R^T P) g_j (K positive semi-definite).
 template <int D>
-inline void corotational_stiffness_product(const std::array<Vec3, 4>& p, const MatD<D>& dm_inv,
+XCUT_INLINE void corotational_stiffness_product(const std::array<Vec3, 4>& p, const MatD<D>& dm_inv,
                                            const MatD<D>& R, double volume, const LameParameters& lame,
                                            std::array<Vec3, 4>& out) {
     const MatD<D> H = R.transpose() * (edge_matrix<D>(p) * dm_inv);

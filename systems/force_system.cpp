@@ -51,7 +51,7 @@ void compute_forces_dim(World& world, std::vector<double>& energy) {
         const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
         const LameParameters lame = lame_of(world.materials.list[el.material[e]], D);
         energy[e] = corotational_forces<D>(gather_vectors(el.nodes[e], D + 1, x), dm_inv, R,
-                                           el.rest_volume[e], lame, buf[e]);
+                                           el.rest_volume[e] * el.weight[e], lame, buf[e]);
     });
 }
 
@@ -61,7 +61,7 @@ void stiffness_diagonal_dim(World& world) {
     auto& buf = world.forces.element_buffer;
     for_each_element<D>(world, [&](int e, const MatD<D>& dm_inv) {
         const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
-        corotational_stiffness_diagonal<D>(dm_inv, R, el.rest_volume[e],
+        corotational_stiffness_diagonal<D>(dm_inv, R, el.rest_volume[e] * el.weight[e],
                                            lame_of(world.materials.list[el.material[e]], D), buf[e]);
     });
 }
@@ -74,7 +74,7 @@ void stiffness_product_dim(World& world, const Eigen::VectorXd& p) {
     for_each_element<D>(world, [&](int e, const MatD<D>& dm_inv) {
         const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
         corotational_stiffness_product<D>(gather_vectors(el.nodes[e], D + 1, pv), dm_inv, R,
-                                          el.rest_volume[e],
+                                          el.rest_volume[e] * el.weight[e],
                                           lame_of(world.materials.list[el.material[e]], D), buf[e]);
     });
 }

@@ -28,6 +28,7 @@ int run_command(const RunOptions& o) {
     if (!o.output.empty()) scene.output.directory = o.output;
     const int steps = o.steps >= 0 ? o.steps : scene.steps;
     auto sim = make_simulation(scene);
+    sim->world.verbose = true;
     const World& w = sim->world;
     fmt::print("scene {} ({}): {} nodes, {} {}, {} threads, dt {} s ({}), {} steps\n", scene.name, o.scene,
                w.nodes.count(), w.elements.count(), w.elements.dim == 3 ? "tetrahedra" : "triangles",

@@ -1,0 +1,70 @@
+#pragma once
+// XFEM state (paper §3.1, §3.2, App. A). A cut element keeps its nodes; each of its nodes gains one
+// enriched DOF a_j (shifted Heaviside, eq. 9), and the element is carried from then on by two
+// *virtual elements* (the alternative mesh, Fig. 3-5), one per side of the cut.
+//
+// Storage follows the paper's Fig. 4: in place of a_j we store the real position of the vertex of
+// the virtual element on the other side of the cut (the "phantom" copy of node j), as an extra DOF
+// node appended after the mesh nodes. With H_j the node's side, eq. 6 gives
+//   H_j = +1:  p_aj = x_j,          p_bj = x_j - a_j = y_j   ->  a_j = x_j - y_j
+//   H_j = -1:  p_aj = x_j + a_j = y_j,  p_bj = x_j           ->  a_j = y_j - x_j
+// a linear, invertible change of variables, so forces, stiffness and implicit Euler steps are those
+// of eq. 1-5 (tests/test_xfem_element.cpp checks this against the paper's formulas to 1e-12).
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "components/nodes.h"
+
+namespace xcut {
+
+/// One entry per cut mesh element.
+struct CutElements {
+    std::vector<int> element;                    ///< the mesh element that was cut
+    std::vector<double> fraction_above;          ///< exact V_a / V of the rest shape [-]
+    std::vector<std::array<Vec3, 4>> points;     ///< edge intersection points, rest configuration [m]
+    std::vector<std::array<int8_t, 4>> point_edge;  ///< local edge (0..5; 2D 0..2) of each point, -1 unused
+    std::vector<std::array<int, 2>> virtual_element;  ///< [above, below]: indices into VirtualElements
+
+    std::vector<int> cut_of_element;             ///< per mesh element: index here, -1 if uncut
+
+    int count() const { return static_cast<int>(element.size()); }
+};
+
+/// The alternative mesh: two per cut element. Each is also a force element (in Elements, after the
+/// mesh elements) whose vertices are real or phantom DOF nodes, with weight V_s/V and its own
+/// rotation R_s (eq. 2, 3).
+struct VirtualElements {
+    std::vector<int> parent;       ///< mesh element it comes from
+    std::vector<int8_t> side;      ///< +1 above (H > 0), -1 below
+    std::vector<int> element;      ///< its force element index in Elements
+
+    int count() const { return static_cast<int>(parent.size()); }
+};
+
+/// Enriched DOFs, per mesh node.
+struct EnrichedDofs {
+    std::vector<int8_t> sign;          ///< H_j: +1 above, -1 below, 0 not yet met by a cut
+    std::vector<uint8_t> enriched;     ///< node belongs to a cut element
+    std::vector<uint8_t> front_fixed;  ///< crack-front rule (§3.5) holds a_j = 0: no phantom (yet)
+    std::vector<int> phantom;          ///< DOF node holding the other side's vertex, -1 if none
+    std::vector<int> node_of_phantom;  ///< per phantom (index - mesh_nodes): its mesh node
+
+    int count() const { return static_cast<int>(node_of_phantom.size()); }
+};
+
+/// A split requested by a cutter: an element and the cut surface through it, as node levels
+/// (signed distances to the cut surface, current configuration [m]) and edge crossing points.
+struct CutEvent {
+    int element = -1;
+    std::array<double, 4> level{};        ///< per local node; sign gives H_j unless already set
+    std::array<double, 6> edge_t{};       ///< per local edge: crossing parameter in [0, 1] from its first node
+    std::array<uint8_t, 6> edge_has_t{};  ///< edge_t is given (else taken from the levels)
+};
+
+/// Local edges of a tetrahedron / triangle as node pairs.
+inline constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+inline constexpr int kTriEdges[3][2] = {{0, 1}, {1, 2}, {2, 0}};
+
+}  // namespace xcut

@@ -1,0 +1,20 @@
+#pragma once
+// Scripted cuts: a planar polygon (3D) or a segment (2D) applied at a given time, splitting every
+// element it crosses completely. Lets XFEM be verified and scenes be cut without a tool.
+#include <vector>
+
+#include "components/nodes.h"
+
+namespace xcut {
+
+struct ScriptedCut {
+    double time = 0.0;              ///< simulated time at which the cut is made [s]
+    std::vector<Vec3> polygon;      ///< vertices, current configuration [m]; 2 points in 2D (a segment)
+    bool applied = false;
+};
+
+struct CutPlan {
+    std::vector<ScriptedCut> cuts;
+};
+
+}  // namespace xcut

@@ -1,0 +1,212 @@
+#include "systems/enrichment_system.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+
+#include "engine/setup.h"
+#include "systems/cut_geometry.h"
+
+namespace xcut {
+namespace {
+
+void size_enrichment_arrays(World& w) {
+    EnrichedDofs& en = w.enriched;
+    if (static_cast<int>(en.sign.size()) == w.mesh_nodes) return;
+    en.sign.assign(w.mesh_nodes, 0);
+    en.enriched.assign(w.mesh_nodes, 0);
+    en.front_fixed.assign(w.mesh_nodes, 0);
+    en.phantom.assign(w.mesh_nodes, -1);
+    w.cuts.cut_of_element.assign(w.mesh_elements, -1);
+}
+
+int edge_count(int dim) { return dim == 3 ? 6 : 3; }
+const int* edge_nodes(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
+
+/// Splits one element as `ev` asks; returns false if it is already cut or the signs do not differ.
+bool record_cut(World& w, const CutEvent& ev) {
+    const int e = ev.element;
+    if (e < 0 || e >= w.mesh_elements || w.cuts.cut_of_element[e] >= 0) return false;
+    const Elements& el = w.elements;
+    const int dim = el.dim, npe = el.nodes_per_element();
+    const auto& c = el.nodes[e];
+    EnrichedDofs& en = w.enriched;
+    std::array<int8_t, 4> H{};
+    for (int a = 0; a < npe; ++a) H[a] = en.sign[c[a]] != 0 ? en.sign[c[a]] : (ev.level[a] >= 0.0 ? 1 : -1);
+    bool mixed = false;
+    for (int a = 1; a < npe; ++a) mixed = mixed || H[a] != H[0];
+    if (!mixed) return false;
+
+    std::array<Vec3, 4> X;
+    for (int a = 0; a < 4; ++a) X[a] = a < npe ? w.nodes.rest[c[a]] : Vec3::Zero();
+    std::array<double, 6> t{};
+    CutElements& ce = w.cuts;
+    std::array<Vec3, 4> points;
+    std::array<int8_t, 4> point_edge;
+    points.fill(Vec3::Zero());
+    point_edge.fill(-1);
+    int np = 0;
+    for (int k = 0; k < edge_count(dim); ++k) {
+        const int i = edge_nodes(dim, k)[0], j = edge_nodes(dim, k)[1];
+        if (H[i] == H[j]) continue;
+        double tk = ev.edge_has_t[k] ? ev.edge_t[k] : 0.5;
+        const double li = ev.level[i], lj = ev.level[j];
+        if (!ev.edge_has_t[k] && li != lj) tk = li / (li - lj);
+        t[k] = std::clamp(tk, 0.0, 1.0);
+        points[np] = edge_point(X, dim, k, t[k]);
+        point_edge[np++] = static_cast<int8_t>(k);
+    }
+    for (int a = 0; a < npe; ++a) {
+        en.sign[c[a]] = H[a];
+        en.enriched[c[a]] = 1;
+    }
+    const double total = dim == 3 ? tet_side_volume(X, H, t, 1) + tet_side_volume(X, H, t, -1)
+                                  : tri_side_area(X, H, t, 1) + tri_side_area(X, H, t, -1);
+    const double above = dim == 3 ? tet_side_volume(X, H, t, 1) : tri_side_area(X, H, t, 1);
+    ce.cut_of_element[e] = ce.count();
+    ce.element.push_back(e);
+    ce.fraction_above.push_back(std::clamp(above / total, 0.0, 1.0));
+    ce.points.push_back(points);
+    ce.point_edge.push_back(point_edge);
+    ce.virtual_element.push_back({-1, -1});
+    return true;
+}
+
+/// Crack-front rule (§3.5): node j keeps a_j = 0 while a crossed edge (j, k) of a cut element is
+/// also an edge of an uncut element, i.e. while the crack front runs through that neighbour.
+bool held_by_front(const World& w, int j) {
+    const Incidence& inc = w.mesh_incidence;
+    const Elements& el = w.elements;
+    const int npe = el.nodes_per_element();
+    for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
+        const int e = inc.entry[p] >> 2;
+        if (w.cuts.cut_of_element[e] < 0) continue;
+        for (int b = 0; b < npe; ++b) {
+            const int k = el.nodes[e][b];
+            if (k == j || w.enriched.sign[k] == w.enriched.sign[j]) continue;
+            // Crossed edge (j, k): is there an uncut element containing it?
+            for (int q = inc.offset[j]; q < inc.offset[j + 1]; ++q) {
+                const int f = inc.entry[q] >> 2;
+                if (w.cuts.cut_of_element[f] >= 0) continue;
+                const auto& fn = el.nodes[f];
+                if (std::find(fn.begin(), fn.begin() + npe, k) != fn.begin() + npe) return true;
+            }
+        }
+    }
+    return false;
+}
+
+void add_phantom(World& w, int j) {
+    Nodes& n = w.nodes;
+    const int p = n.count();
+    n.rest.push_back(n.rest[j]);
+    n.position.push_back(n.position[j]);
+    n.velocity.push_back(n.velocity[j]);
+    n.mass.push_back(0.0);
+    n.fixed.push_back(n.fixed[j]);
+    w.enriched.phantom[j] = p;
+    w.enriched.node_of_phantom.push_back(j);
+    Eigen::VectorXd& dv = w.forces.last_dv;
+    if (dv.size() == 3 * p) {
+        dv.conservativeResize(3 * p + 3);
+        dv.segment<3>(3 * p) = dv.segment<3>(3 * j);
+    }
+}
+
+/// Creates or updates the two virtual elements of cut element `c` (vertex = real node on its own
+/// side, phantom on the other side, or the real node while the front rule holds a_j = 0).
+void build_virtual_elements(World& w, int c) {
+    Elements& el = w.elements;
+    const int e = w.cuts.element[c], npe = el.nodes_per_element();
+    const double fa = w.cuts.fraction_above[c];
+    for (int s = 0; s < 2; ++s) {
+        const int8_t side = s == 0 ? 1 : -1;
+        std::array<int, 4> verts = el.nodes[e];
+        for (int a = 0; a < npe; ++a) {
+            const int j = el.nodes[e][a];
+            if (w.enriched.sign[j] != side && w.enriched.phantom[j] >= 0) verts[a] = w.enriched.phantom[j];
+        }
+        int& ve = w.cuts.virtual_element[c][s];
+        if (ve >= 0) {
+            el.nodes[w.virtual_elements.element[ve]] = verts;
+            continue;
+        }
+        ve = w.virtual_elements.count();
+        w.virtual_elements.parent.push_back(e);
+        w.virtual_elements.side.push_back(side);
+        w.virtual_elements.element.push_back(el.count());
+        el.nodes.push_back(verts);
+        el.rest_volume.push_back(el.rest_volume[e]);
+        el.dm_inv.push_back(el.dm_inv[e]);
+        el.rotation.push_back(el.rotation[e]);
+        el.material.push_back(el.material[e]);
+        el.weight.push_back(std::max(side > 0 ? fa : 1.0 - fa, kMinSideFraction));
+    }
+    el.weight[e] = 0.0;
+}
+
+}  // namespace
+
+int apply_cut_events(World& w) {
+    if (w.pending_cuts.empty()) return 0;
+    size_enrichment_arrays(w);
+    const int first_new = w.cuts.count();
+    for (const CutEvent& ev : w.pending_cuts) record_cut(w, ev);
+    w.pending_cuts.clear();
+    const int split = w.cuts.count() - first_new;
+    if (split == 0) return 0;
+
+    const Elements& el = w.elements;
+    const int npe = el.nodes_per_element();
+    std::vector<int> affected;
+    for (int c = first_new; c < w.cuts.count(); ++c)
+        for (int a = 0; a < npe; ++a) affected.push_back(el.nodes[w.cuts.element[c]][a]);
+    std::sort(affected.begin(), affected.end());
+    affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+
+    std::vector<int> update;  // cut elements whose virtual vertices change
+    for (int c = first_new; c < w.cuts.count(); ++c) update.push_back(c);
+    for (int j : affected) {
+        w.enriched.front_fixed[j] = held_by_front(w, j) ? 1 : 0;
+        if (w.enriched.front_fixed[j] || w.enriched.phantom[j] >= 0) continue;
+        add_phantom(w, j);
+        const Incidence& inc = w.mesh_incidence;
+        for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
+            const int c = w.cuts.cut_of_element[inc.entry[p] >> 2];
+            if (c >= 0 && c < first_new) update.push_back(c);
+        }
+    }
+    std::sort(update.begin(), update.end());
+    update.erase(std::unique(update.begin(), update.end()), update.end());
+    for (int c : update) build_virtual_elements(w, c);
+
+    lump_masses(w);
+    build_incidence(w);
+    return split;
+}
+
+Vec3 enriched_displacement(const World& w, int j) {
+    const int p = j < static_cast<int>(w.enriched.phantom.size()) ? w.enriched.phantom[j] : -1;
+    if (p < 0) return Vec3::Zero();
+    const Vec3 d = w.nodes.position[p] - w.nodes.position[j];
+    return w.enriched.sign[j] > 0 ? Vec3(-d) : d;
+}
+
+Vec3 enriched_velocity(const World& w, int j) {
+    const int p = j < static_cast<int>(w.enriched.phantom.size()) ? w.enriched.phantom[j] : -1;
+    if (p < 0) return Vec3::Zero();
+    const Vec3 d = w.nodes.velocity[p] - w.nodes.velocity[j];
+    return w.enriched.sign[j] > 0 ? Vec3(-d) : d;
+}
+
+SystemDesc enrichment_system() {
+    return {"EnrichmentSystem", kNodes | kElements | kCutEvents, kNodes | kElements | kXfem,
+            [](World& w) {
+                const int dofs_before = 3 * w.nodes.count();
+                const int split = apply_cut_events(w);
+                if (split > 0 && w.verbose)
+                    fmt::print("t = {:.4g} s: {} elements split; DOFs {} -> {} ({} nodes + {} enriched)\n", w.time, split,
+                               dofs_before, 3 * w.nodes.count(), w.mesh_nodes, w.enriched.count());
+            }};
+}
+
+}  // namespace xcut

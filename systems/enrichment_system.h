@@ -1,0 +1,35 @@
+#pragma once
+// EnrichmentSystem: applies the cut events that cutters queued during the step (one sync point for
+// every topology change, like a deferred command buffer). For each newly split element it
+//  - fixes the Heaviside sign H_j of each node once (the first cut that meets the node decides;
+//    a node exactly on the cut goes above: fixed tie-break), so every element sharing a node sees
+//    the same H_j;
+//  - computes the exact volume fractions V_a/V, V_b/V;
+//  - gives each node one enriched DOF (stored as the phantom vertex, components/cut_elements.h),
+//    unless the crack-front rule (§3.5) holds it at zero: an enriched DOF on a crossed edge that the
+//    cut element shares with an uncut element stays at zero until that neighbour is cut too;
+//  - creates the two virtual elements (above, below) with weights V_s/V and their own rotations;
+//  - re-lumps masses (each side's share to its own vertices; momentum is conserved because a new
+//    phantom starts at its node's position and velocity) and rebuilds the force incidence.
+#include <vector>
+
+#include "engine/scheduler.h"
+#include "engine/world.h"
+
+namespace xcut {
+
+/// Smallest weight V_s/V a side carries [-]. A cut exactly through a face leaves one side with zero
+/// volume: its phantom vertices would have no mass and no stiffness (a singular system). The floor
+/// keeps them attached with 1e-9 of the element's stiffness and mass, far below any tolerance.
+inline constexpr double kMinSideFraction = 1e-9;
+
+/// Applies `world.pending_cuts` (and clears it). Returns the number of elements split.
+int apply_cut_events(World& world);
+
+/// a_j of mesh node j (eq. 6), zero if the node has no phantom.
+Vec3 enriched_displacement(const World& world, int node);
+Vec3 enriched_velocity(const World& world, int node);
+
+SystemDesc enrichment_system();
+
+}  // namespace xcut

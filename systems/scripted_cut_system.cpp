@@ -1,0 +1,108 @@
+#include "systems/scripted_cut_system.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace xcut {
+namespace {
+
+struct CutPlane {
+    Vec3 origin, normal, u, v;   ///< u, v span the plane (3D); 2D: u along the segment
+    double length = 0.0;         ///< 2D: segment length [m]
+};
+
+CutPlane plane_of(const std::vector<Vec3>& poly, int dim) {
+    CutPlane p;
+    p.origin = Vec3::Zero();
+    for (const Vec3& q : poly) p.origin += q;
+    p.origin /= static_cast<double>(poly.size());
+    if (dim == 2) {
+        const Vec3 d = poly[1] - poly[0];
+        p.length = d.norm();
+        p.u = d / p.length;
+        p.normal = Vec3(-p.u.y(), p.u.x(), 0.0);
+        p.origin = poly[0];
+        return p;
+    }
+    Vec3 n = Vec3::Zero();  // Newell's normal: robust for any planar polygon
+    for (size_t i = 0; i < poly.size(); ++i) n += poly[i].cross(poly[(i + 1) % poly.size()]);
+    p.normal = n.normalized();
+    p.u = (poly[0] - p.origin).normalized();
+    p.v = p.normal.cross(p.u);
+    return p;
+}
+
+/// Even-odd test of q (on the plane) against the polygon; points on an edge count as inside.
+bool inside_polygon(const CutPlane& pl, const std::vector<Vec3>& poly, const Vec3& q) {
+    const double x = (q - pl.origin).dot(pl.u), y = (q - pl.origin).dot(pl.v);
+    bool in = false;
+    for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+        const double xi = (poly[i] - pl.origin).dot(pl.u), yi = (poly[i] - pl.origin).dot(pl.v);
+        const double xj = (poly[j] - pl.origin).dot(pl.u), yj = (poly[j] - pl.origin).dot(pl.v);
+        const double cross = (xj - xi) * (y - yi) - (yj - yi) * (x - xi);
+        const double scale = 1e-12 * (std::abs(xj - xi) + std::abs(yj - yi)) * (std::abs(x - xi) + std::abs(y - yi) + 1e-300);
+        if (std::abs(cross) <= scale && (x - xi) * (x - xj) <= 0.0 && (y - yi) * (y - yj) <= 0.0) return true;
+        if ((yi > y) != (yj > y) && x < (xj - xi) * (y - yi) / (yj - yi) + xi) in = !in;
+    }
+    return in;
+}
+
+bool inside_segment(const CutPlane& pl, const Vec3& q) {
+    const double s = (q - pl.origin).dot(pl.u);
+    const double eps = 1e-12 * pl.length;
+    return s >= -eps && s <= pl.length + eps;
+}
+
+}  // namespace
+
+int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon) {
+    const Elements& el = w.elements;
+    const int dim = el.dim, npe = el.nodes_per_element();
+    const CutPlane pl = plane_of(polygon, dim);
+    const auto& sign = w.enriched.sign;
+    const auto& cut = w.cuts.cut_of_element;
+    int queued = 0;
+    for (int e = 0; e < w.mesh_elements; ++e) {
+        if (!cut.empty() && cut[e] >= 0) continue;
+        CutEvent ev;
+        ev.element = e;
+        std::array<int8_t, 4> H{};
+        for (int a = 0; a < npe; ++a) {
+            const int j = el.nodes[e][a];
+            ev.level[a] = (w.nodes.position[j] - pl.origin).dot(pl.normal);
+            H[a] = !sign.empty() && sign[j] != 0 ? sign[j] : (ev.level[a] >= 0.0 ? 1 : -1);
+        }
+        bool crossed = false, complete = true;
+        const int edges = dim == 3 ? 6 : 3;
+        for (int k = 0; k < edges && complete; ++k) {
+            const int* ed = dim == 3 ? kTetEdges[k] : kTriEdges[k];
+            if (H[ed[0]] == H[ed[1]]) continue;
+            const double li = ev.level[ed[0]], lj = ev.level[ed[1]];
+            const double t = li != lj ? std::clamp(li / (li - lj), 0.0, 1.0) : 0.5;
+            const Vec3 q = w.nodes.position[el.nodes[e][ed[0]]] +
+                           t * (w.nodes.position[el.nodes[e][ed[1]]] - w.nodes.position[el.nodes[e][ed[0]]]);
+            complete = dim == 3 ? inside_polygon(pl, polygon, q) : inside_segment(pl, q);
+            ev.edge_t[k] = t;
+            ev.edge_has_t[k] = 1;
+            crossed = true;
+        }
+        if (crossed && complete) {
+            w.pending_cuts.push_back(ev);
+            ++queued;
+        }
+    }
+    return queued;
+}
+
+SystemDesc scripted_cut_system() {
+    return {"ScriptedCutSystem", kNodes | kElements | kCutPlan, kCutEvents, [](World& w) {
+                for (ScriptedCut& c : w.cut_plan.cuts) {
+                    if (c.applied || c.time > w.time + 1e-12) continue;
+                    queue_polygon_cut(w, c.polygon);
+                    c.applied = true;
+                }
+            }};
+}
+
+}  // namespace xcut

@@ -1,0 +1,18 @@
+#pragma once
+// ScriptedCutSystem: the programmatic cutter. At its time, a scripted cut (a planar polygon in 3D,
+// a segment in 2D, in the current configuration) queues a split for every element it crosses
+// completely: every edge whose ends lie on opposite sides of the polygon's plane must cross it
+// inside the polygon. An element the polygon only enters stays whole: it is the crack front.
+#include <vector>
+
+#include "engine/scheduler.h"
+#include "engine/world.h"
+
+namespace xcut {
+
+/// Queues (into world.pending_cuts) the splits for one polygon. Returns how many were queued.
+int queue_polygon_cut(World& world, const std::vector<Vec3>& polygon);
+
+SystemDesc scripted_cut_system();
+
+}  // namespace xcut
