@@ -1,8 +1,14 @@
 #pragma once
 // Small builders shared by the tests.
+#include <Eigen/Geometry>
+
 #include "engine/generators.h"
 #include "engine/setup.h"
 #include "engine/world.h"
+#include "systems/enrichment_system.h"
+#include "systems/force_system.h"
+#include "systems/scripted_cut_system.h"
+#include "systems/solver_system.h"
 
 namespace xcut::testing {
 
@@ -21,6 +27,26 @@ inline GridSpec grid(const Eigen::Vector3d& size, const Eigen::Vector3i& cells, 
     g.jitter = jitter;
     g.seed = seed;
     return g;
+}
+
+/// One step of the pipeline without a scheduler: pending cuts, forces, implicit Euler.
+inline void step_world(World& world) {
+    apply_cut_events(world);
+    update_rotations(world);
+    compute_forces(world);
+    implicit_euler_step(world);
+}
+
+/// A square of half-size `half` on the plane through `centre` with normal `normal`.
+inline std::vector<Vec3> square_on_plane(const Vec3& centre, const Vec3& normal, double half) {
+    const Vec3 n = normal.normalized(), u = n.unitOrthogonal() * half, v = n.cross(n.unitOrthogonal()) * half;
+    return {centre - u - v, centre + u - v, centre + u + v, centre - u + v};
+}
+
+/// Cuts `world` with a polygon now; returns the number of elements split.
+inline int cut_now(World& world, const std::vector<Vec3>& polygon) {
+    queue_polygon_cut(world, polygon);
+    return apply_cut_events(world);
 }
 
 }  // namespace xcut::testing
