@@ -12,6 +12,7 @@ struct FixedBox {
     Eigen::Vector3d min;   ///< [m]
     Eigen::Vector3d max;   ///< [m]
     uint8_t axes = 7;      ///< bit mask of held axes (x=1, y=2, z=4)
+    Eigen::Vector3d displacement = Eigen::Vector3d::Zero();  ///< held nodes start displaced by this [m]
 };
 
 struct Constraints {

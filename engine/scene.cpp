@@ -133,8 +133,9 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     const JsonFields con = top.object("constraints");
     con.allow_only({"fixed_boxes", "fixed_nodes"});
     for (const JsonFields& b : con.array_of_objects("fixed_boxes")) {
-        b.allow_only({"min", "max", "axes"});
-        FixedBox box{b.required_vec3("min"), b.required_vec3("max"), read_axes(b, "axes")};
+        b.allow_only({"min", "max", "axes", "displacement"});
+        FixedBox box{b.required_vec3("min"), b.required_vec3("max"), read_axes(b, "axes"),
+                     b.vec3("displacement", Eigen::Vector3d::Zero())};
         if ((box.min.array() > box.max.array()).any()) b.fail("max", "every component must be >= min");
         scene.constraints.boxes.push_back(box);
     }

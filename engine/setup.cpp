@@ -63,7 +63,11 @@ void apply_constraints(World& world) {
         uint8_t flags = world.elements.dim == 2 ? 4 : 0;
         for (const FixedBox& b : world.constraints.boxes) {
             const Vec3& p = nodes.rest[i];
-            if ((p.array() >= b.min.array()).all() && (p.array() <= b.max.array()).all()) flags |= b.axes;
+            if ((p.array() >= b.min.array()).all() && (p.array() <= b.max.array()).all()) {
+                flags |= b.axes;
+                for (int k = 0; k < 3; ++k)
+                    if ((b.axes >> k) & 1) nodes.position[i][k] = p[k] + b.displacement[k];
+            }
         }
         nodes.fixed[i] = flags;
     }

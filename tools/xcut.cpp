@@ -3,12 +3,14 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 
 #include "engine/error.h"
 #include "engine/parallel.h"
 #include "engine/simulation.h"
+#include "systems/enrichment_system.h"
 
 namespace {
 
@@ -44,6 +46,13 @@ int run_command(const RunOptions& o) {
                "max displacement {:.4g} m; kinetic {:.4g} J, elastic {:.4g} J\n",
                w.time, secs, steps / std::max(secs, 1e-9), m.dofs, m.cg_iterations, max_disp, m.kinetic_energy,
                m.elastic_energy);
+    if (w.cuts.count() > 0) {
+        double opening = 0.0;
+        for (int j = 0; j < w.mesh_nodes; ++j) opening = std::max(opening, xcut::enriched_displacement(w, j).norm());
+        fmt::print("cut: {} elements split, {} enriched DOF nodes ({} held by the crack front), max opening |a_j| {:.4g} m\n",
+                   w.cuts.count(), w.enriched.count(),
+                   std::count(w.enriched.front_fixed.begin(), w.enriched.front_fixed.end(), 1), opening);
+    }
     if (sim->output) fmt::print("output: {}/{}.pvd and {}_metrics.csv\n", sim->output->directory(), scene.name, scene.name);
     return 0;
 }
