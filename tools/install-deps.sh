@@ -8,7 +8,7 @@ export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
 $SUDO apt-get install -y -q --no-install-recommends \
   build-essential cmake ninja-build pkg-config git \
-  libeigen3-dev libembree-dev libfcl-dev libccd-dev libomp-dev \
+  libeigen3-dev libembree-dev libfcl-dev libccd-dev \
   nlohmann-json3-dev libcli11-dev libfmt-dev libspdlog-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libtet1.5-dev \
   zlib1g-dev libpng-dev libstb-dev python3 python3-matplotlib
