@@ -101,7 +101,11 @@ void OutputWriter::write_frame(const World& world) {
     write_pvd(dir_ + "/" + stem_ + ".pvd", frames_);
 }
 
-void OutputWriter::after_step(const World& world) {
+void OutputWriter::frame_if_due(const World& world) {
+    if (world.step % world.output.every == 0) write_frame(world);
+}
+
+void OutputWriter::metrics_row(const World& world) {
     const StepMetrics& m = world.metrics.current;
     if (csv_.is_open()) {
         csv_ << fmt::format("{},{:.9g},{:.9g},{},{},{:.3e},{:.9e},{:.9e},{:.9e},{:.4f}", m.step, m.time, m.dt,
@@ -110,7 +114,6 @@ void OutputWriter::after_step(const World& world) {
         for (double ms : m.system_ms) csv_ << fmt::format(",{:.4f}", ms);
         csv_ << "\n";
     }
-    if (world.step % world.output.every == 0) write_frame(world);
 }
 
 void OutputWriter::finish() {

@@ -20,8 +20,10 @@ void write_pvd(const std::string& path, const std::vector<std::pair<double, std:
 class OutputWriter {
 public:
     explicit OutputWriter(const World& world);
-    /// Called after each step: a CSV row, and a frame every `every` steps (and at step 0).
-    void after_step(const World& world);
+    /// The OutputSystem's work: a frame every `every` steps (step 0 is written at start).
+    void frame_if_due(const World& world);
+    /// One CSV row, once the step (and its timings) is complete.
+    void metrics_row(const World& world);
     void write_frame(const World& world);
     void finish();
     std::string directory() const { return dir_; }

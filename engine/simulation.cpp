@@ -15,7 +15,7 @@ void register_systems(Scheduler& scheduler, Simulation& sim) {
     scheduler.add(force_system());
     scheduler.add(solver_system());
     scheduler.add({"OutputSystem", kNodes | kElements | kOutput, 0, [&sim](World& w) {
-                       if (sim.output) sim.output->after_step(w);
+                       if (sim.output) sim.output->frame_if_due(w);
                    }});
 }
 
@@ -34,6 +34,7 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output
 
 void step_simulation(Simulation& sim) {
     sim.scheduler.step(sim.world);
+    if (sim.output) sim.output->metrics_row(sim.world);
     SolverSettings& s = sim.world.solver;
     if (s.realtime) s.dt = std::clamp(sim.world.metrics.current.step_ms * 1e-3, s.dt_min, s.dt_max);
 }

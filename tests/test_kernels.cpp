@@ -100,3 +100,17 @@ TEST(CorotationalKernel, ForceIsMinusEnergyGradient2D) {
 
 }  // namespace
 }  // namespace xcut
+
+namespace xcut {
+namespace {
+
+TEST(PolarDecomposition, InvertedElementGivesProperRotation) {
+    Mat3 F = Mat3::Identity();
+    F(2, 2) = -0.5;  // flattened through itself
+    const Mat3 R = extract_rotation(F, Mat3::Identity());
+    EXPECT_NEAR(R.determinant(), 1.0, 1e-12);
+    EXPECT_LT((R * R.transpose() - Mat3::Identity()).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace xcut
