@@ -47,6 +47,28 @@ inline double deterministic_sum(int count, Term&& term) {
     return total;
 }
 
+/// K sums at once over [0, count): body(lo, hi, acc) adds its terms for [lo, hi) into acc[0..K).
+/// Same fixed 64-block association as deterministic_sum, so fused loops stay thread-independent.
+template <int K, class Body>
+inline std::array<double, K> deterministic_sums(int count, Body&& body) {
+    constexpr int kBlocks = 64;
+    std::array<std::array<double, K>, kBlocks> partial{};
+    const int per = (count + kBlocks - 1) / kBlocks;
+    parallel_for(
+        kBlocks,
+        [&](int b) {
+            const int lo = b * per, hi = std::min(count, lo + per);
+            std::array<double, K> acc{};
+            if (lo < hi) body(lo, hi, acc);
+            partial[b] = acc;
+        },
+        count >= 8192 ? 1 : kBlocks + 1);
+    std::array<double, K> total{};
+    for (const auto& p : partial)
+        for (int k = 0; k < K; ++k) total[k] += p[k];
+    return total;
+}
+
 inline double deterministic_dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
     return deterministic_sum(static_cast<int>(a.size()), [&](int i) { return a[i] * b[i]; });
 }

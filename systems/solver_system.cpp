@@ -43,7 +43,7 @@ void implicit_euler_step(World& world) {
     if (dv.size() != n3) dv.setZero(n3);
     auto apply = [&](const Eigen::VectorXd& p, Eigen::VectorXd& out) {
         stiffness_product(world, p, out);
-        out = mass_scale * m3.cwiseProduct(p) + stiff_scale * out;
+        parallel_for(n3, [&](int i) { out[i] = mass_scale * m3[i] * p[i] + stiff_scale * out[i]; });
     };
     const Eigen::VectorXd mask = free_mask(world);
     const CgResult cg = conjugate_gradient(apply, b, inv_diag, mask, s.cg_tolerance, s.cg_max_iterations, dv);
