@@ -40,6 +40,9 @@ public:
     /// Throws if the object has a key not in `known`.
     void allow_only(std::initializer_list<const char*> known) const;
 
+    /// The raw JSON value (must exist).
+    const nlohmann::json& raw(const std::string& key) const { return get(key); }
+
     [[noreturn]] void fail(const std::string& key, const std::string& message) const;
     std::string field(const std::string& key) const;
     const std::string& file() const { return file_; }

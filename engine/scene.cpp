@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <cstdlib>
 #include <sstream>
 
 #include "engine/error.h"
@@ -98,7 +99,115 @@ void check_cut_polygon(const JsonFields& c, const std::vector<Eigen::Vector3d>& 
             c.fail(fmt::format("polygon[{}]", i), "is off the polygon's plane: cut polygons must be planar");
 }
 
+/// "orientation": [w, x, y, z] (tool frame -> world), normalized; a zero quaternion is an error.
+Eigen::Quaterniond read_quaternion(const JsonFields& k, const nlohmann::json& v, const std::string& field) {
+    if (!v.is_array() || v.size() != 4) k.fail(field, fmt::format("expected [w, x, y, z], got {}", v.dump()));
+    double q[4];
+    for (int i = 0; i < 4; ++i) {
+        if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
+            k.fail(fmt::format("{}[{}]", field, i), "expected a finite number");
+        q[i] = v[i].get<double>();
+    }
+    Eigen::Quaterniond out(q[0], q[1], q[2], q[3]);
+    if (!(out.norm() > 1e-12)) k.fail(field, "quaternion has zero length");
+    return out.normalized();
+}
+
+void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) {
+    const JsonFields cutter = top.object("cutter");
+    cutter.allow_only({"threshold", "neighbourhood_depth"});
+    scene.cut_threshold = cutter.number("threshold", 0.0, 0.0);
+    scene.cut_min_depth = cutter.integer("neighbourhood_depth", 1, 0, 50);
+    ToolBodies& tb = scene.tools;
+    const auto tools = top.array_of_objects("tools");
+    for (size_t i = 0; i < tools.size(); ++i) {
+        const JsonFields& t = tools[i];
+        t.allow_only({"name", "blade", "trajectory", "trajectory_csv"});
+        tb.name.push_back(t.string("name", fmt::format("tool{}", i)));
+        const JsonFields blade = t.object("blade");
+        blade.allow_only({"tip", "heel"});
+        tb.has_blade.push_back(t.has("blade") ? 1 : 0);
+        tb.blade_tip.push_back(blade.vec3("tip", Vec3::Zero()));
+        tb.blade_heel.push_back(blade.vec3("heel", Vec3::Zero()));
+        if (t.has("blade") && !((tb.blade_heel.back() - tb.blade_tip.back()).norm() > 1e-9))
+            blade.fail("heel", "the blade has zero length: tip and heel must differ by more than 1e-9 m");
+        std::vector<Keyframe> keys;
+        if (t.has("trajectory") == t.has("trajectory_csv"))
+            t.fail("trajectory", "give exactly one of \"trajectory\" (keyframes) or \"trajectory_csv\" (a recorded file)");
+        if (t.has("trajectory_csv")) {
+            const fs::path p = t.string("trajectory_csv", "");
+            keys = read_trajectory_csv((p.is_absolute() ? p : scene_dir / p).lexically_normal().string());
+        } else {
+            const auto frames = t.array_of_objects("trajectory");
+            for (const JsonFields& k : frames) {
+                k.allow_only({"time", "position", "orientation"});
+                Keyframe key;
+                key.time = k.required_number("time");
+                key.position = k.required_vec3("position");
+                key.orientation = k.has("orientation") ? read_quaternion(k, k.raw("orientation"), "orientation")
+                                                       : Eigen::Quaterniond::Identity();
+                keys.push_back(key);
+            }
+        }
+        check_trajectory(keys, top.file(), t.field("trajectory"));
+        tb.trajectory.push_back(keys);
+        tb.position.push_back(keys.front().position);
+        tb.orientation.push_back(keys.front().orientation);
+    }
+}
+
 }  // namespace
+
+void check_trajectory(std::vector<Keyframe>& keys, const std::string& file, const std::string& where) {
+    if (keys.empty()) throw InputError(file, where, "needs at least one keyframe");
+    for (size_t i = 0; i < keys.size(); ++i) {
+        const std::string f = fmt::format("{}[{}]", where, i);
+        if (!std::isfinite(keys[i].time)) throw InputError(file, f + ".time", "must be finite");
+        if (!keys[i].position.allFinite()) throw InputError(file, f + ".position", "must be finite");
+        if (!keys[i].orientation.coeffs().allFinite() || !(keys[i].orientation.norm() > 1e-12))
+            throw InputError(file, f + ".orientation", "must be a finite, non-zero quaternion");
+        keys[i].orientation.normalize();
+        if (i > 0 && !(keys[i].time > keys[i - 1].time))
+            throw InputError(file, f + ".time",
+                             fmt::format("times must increase strictly ({} after {})", keys[i].time, keys[i - 1].time));
+    }
+}
+
+std::vector<Keyframe> read_trajectory_csv(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path, "file", "cannot open the trajectory file");
+    std::string line;
+    std::vector<Keyframe> keys;
+    int line_no = 0;
+    bool header = false;
+    while (std::getline(in, line)) {
+        ++line_no;
+        if (line.empty() || line[0] == '#') continue;
+        if (!header) {
+            header = true;
+            if (line.rfind("time", 0) == 0) continue;  // header row
+        }
+        std::stringstream ss(line);
+        std::string cell;
+        double v[8];
+        int n = 0;
+        while (std::getline(ss, cell, ',') && n < 9) {
+            if (n == 8) throw InputError(path, fmt::format("line {}", line_no), "expected 8 columns: time,x,y,z,qw,qx,qy,qz");
+            char* end = nullptr;
+            v[n] = std::strtod(cell.c_str(), &end);
+            if (end == cell.c_str()) throw InputError(path, fmt::format("line {}", line_no), fmt::format("\"{}\" is not a number", cell));
+            ++n;
+        }
+        if (n != 8) throw InputError(path, fmt::format("line {}", line_no), "expected 8 columns: time,x,y,z,qw,qx,qy,qz");
+        Keyframe k;
+        k.time = v[0];
+        k.position = Vec3(v[1], v[2], v[3]);
+        k.orientation = Eigen::Quaterniond(v[4], v[5], v[6], v[7]);
+        keys.push_back(k);
+    }
+    check_trajectory(keys, path, "rows");
+    return keys;
+}
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
     std::ifstream in(path);
@@ -115,7 +224,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     scene.file = path;
     const JsonFields top(root, path, "");
     top.allow_only({"name", "description", "mesh", "material", "gravity", "constraints", "solver", "steps",
-                    "duration", "output", "cuts"});
+                    "duration", "output", "cuts", "tools", "cutter"});
     scene.name = top.string("name", fs::path(path).stem().string());
     if (!top.has("mesh")) top.fail("mesh", "required field is missing");
     scene.mesh = read_mesh(top.object("mesh"), fs::path(path).parent_path());
@@ -170,6 +279,8 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
         scene.cuts.push_back(cut);
     }
 
+    read_tools(top, fs::path(path).parent_path(), scene);
+
     const JsonFields out = top.object("output");
     out.allow_only({"directory", "every", "vtu", "metrics_csv"});
     scene.output.directory = out.string("directory", "out/" + scene.name);
@@ -215,6 +326,9 @@ World build_world(const Scene& scene) {
                                            : "a 3D scene is cut by a planar polygon: give at least 3 points");
     }
     world.cut_plan.cuts = scene.cuts;
+    world.tools = scene.tools;
+    world.cut_state.threshold = scene.cut_threshold;
+    world.cut_state.min_depth = scene.cut_min_depth;
     build_bodies(world, mesh);
     return world;
 }

@@ -29,7 +29,17 @@ struct Scene {
     int steps = 100;
     OutputSettings output;
     std::vector<ScriptedCut> cuts;   ///< "cuts": programmatic XFEM cuts
+    ToolBodies tools;                ///< "tools"
+    double cut_threshold = 0.0;      ///< "cutter.threshold" [m]; 0: mean edge length
+    int cut_min_depth = 1;           ///< "cutter.neighbourhood_depth"
 };
+
+/// Reads a recorded trajectory: CSV with header time,x,y,z,qw,qx,qy,qz (SI units; quaternion
+/// tool -> world). Throws InputError naming the file and line.
+std::vector<Keyframe> read_trajectory_csv(const std::string& path);
+/// Checks keyframes: strictly increasing finite times, finite positions, non-zero quaternions
+/// (normalized here). `where` names the field for messages.
+void check_trajectory(std::vector<Keyframe>& keys, const std::string& file, const std::string& where);
 
 /// `overrides`: "field.path=json-value" pairs (from --set) applied to the JSON before it is read.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});

@@ -2,14 +2,18 @@
 
 #include <algorithm>
 
+#include "systems/cut_system.h"
 #include "systems/enrichment_system.h"
 #include "systems/force_system.h"
 #include "systems/scripted_cut_system.h"
+#include "systems/tool_system.h"
 #include "systems/solver_system.h"
 
 namespace xcut {
 
 void register_systems(Scheduler& scheduler, Simulation& sim) {
+    scheduler.add(tool_system());
+    scheduler.add(cut_system(std::make_shared<ElementBvh>()));
     scheduler.add(scripted_cut_system());
     scheduler.add(enrichment_system());
     scheduler.add(force_system());

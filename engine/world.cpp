@@ -15,6 +15,7 @@ const char* component_name(uint32_t bit) {
         case kCutPlan: return "CutPlan";
         case kCutEvents: return "CutEvents";
         case kXfem: return "Xfem";
+        case kTools: return "Tools";
         default: return "?";
     }
 }
@@ -39,6 +40,7 @@ uint32_t World::present() const {
     if (!output.directory.empty()) mask |= kOutput;
     if (!cut_plan.cuts.empty()) mask |= kCutPlan | kCutEvents;
     if (cuts.count() > 0) mask |= kXfem;
+    if (tools.count() > 0) mask |= kTools | kCutEvents;
     return mask;
 }
 

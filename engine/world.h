@@ -9,10 +9,12 @@
 #include "components/constraints.h"
 #include "components/cut_elements.h"
 #include "components/cut_plan.h"
+#include "components/cut_state.h"
 #include "components/elements.h"
 #include "components/material.h"
 #include "components/metrics.h"
 #include "components/nodes.h"
+#include "components/tools.h"
 
 namespace xcut {
 
@@ -30,6 +32,7 @@ enum ComponentBit : uint32_t {
     kCutPlan = 1u << 8,      ///< scripted cuts
     kCutEvents = 1u << 9,    ///< the queue of splits; present when the scene has any cutter
     kXfem = 1u << 10,        ///< cut elements, virtual elements, enriched DOFs
+    kTools = 1u << 11,       ///< tool bodies (scalpel, ...)
 };
 const char* component_name(uint32_t bit);
 std::string component_list(uint32_t mask);
@@ -77,6 +80,8 @@ struct World {
     OutputSettings output;
     Metrics metrics;
 
+    ToolBodies tools;
+    CutState cut_state;
     CutPlan cut_plan;
     std::vector<CutEvent> pending_cuts;   ///< splits queued by cutters, applied by the EnrichmentSystem
     CutElements cuts;

@@ -1,0 +1,52 @@
+#pragma once
+// State of the semi-progressive cut (paper §3.3, Fig. 14): the current collision quad, the blade
+// edge when the last quad was made, and per partly crossed element the edges crossed so far, kept
+// in the paper's lists L1, L2, L3 by how many distinct edges are crossed.
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "components/nodes.h"
+
+namespace xcut {
+
+inline std::array<Vec3, 6> filled(const Vec3& v) { return {v, v, v, v, v, v}; }
+
+struct ElementCrossings {
+    uint8_t mask = 0;                 ///< bit k: local edge k crossed (distinct edges only)
+    std::array<double, 6> t{};        ///< crossing parameter along each crossed edge [-]
+    std::array<Vec3, 6> normal = filled(Vec3::Zero());  ///< normal of the quad triangle that crossed the edge
+    double first_time = 0.0;          ///< simulated time of the first crossing [s]
+    double first_wall = 0.0;          ///< wall time of the first crossing [s]
+    int list = 0;                     ///< 1, 2 or 3: which of L1, L2, L3 holds it
+};
+
+struct CutQuad {
+    std::array<Vec3, 4> corner;       ///< tip0, heel0, heel1, tip1 [m]
+};
+
+struct CutState {
+    double threshold = 0.0;           ///< blade travel that makes a new quad [m]; 0: mean edge length
+    int min_depth = 1;                ///< neighbourhood levels searched around the last crossings
+    double mean_edge = 0.0;           ///< mean mesh edge length, rest [m]
+    std::vector<uint8_t> anchored;    ///< per tool: the blade has an anchor (quad start)
+    std::vector<Vec3> anchor_tip, anchor_heel;  ///< per tool: blade edge in world at the last quad [m]
+    std::vector<Vec3> last_tip, last_heel;      ///< per tool: blade edge at the previous step [m]
+    std::vector<CutQuad> quads;       ///< quads made this step (all tools)
+    std::unordered_map<int, ElementCrossings> crossing;  ///< partly crossed elements
+    std::array<std::vector<int>, 3> lists;  ///< L1, L2, L3 (element ids)
+    std::vector<int> front;           ///< elements the last quad crossed: seeds of the next search
+
+    // Figures (per step, reset by the CutSystem; delays kept for the whole run).
+    int quads_built = 0;
+    int elements_tested = 0;
+    int crossings_found = 0;
+    int elements_split = 0;
+    double update_ms = 0.0;
+    std::vector<double> delay_sim;    ///< per split element: first crossing to split [s]
+    std::vector<double> delay_wall;   ///< [s]
+    std::vector<double> quad_ms;      ///< wall time of each quad update [ms]
+};
+
+}  // namespace xcut

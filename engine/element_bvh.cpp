@@ -1,0 +1,131 @@
+#include "engine/element_bvh.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "engine/error.h"
+
+namespace xcut {
+
+struct ElementBvh::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::vector<RTCBounds> boxes;
+};
+
+namespace {
+
+void bounds_callback(const RTCBoundsFunctionArguments* args) {
+    const auto* boxes = static_cast<const std::vector<RTCBounds>*>(args->geometryUserPtr);
+    *args->bounds_o = (*boxes)[args->primID];
+}
+
+struct BallQuery {
+    const std::vector<RTCBounds>* boxes;
+    std::vector<int>* out;
+    float radius;
+};
+
+float box_distance2(const RTCBounds& b, float x, float y, float z) {
+    const float dx = std::max({b.lower_x - x, 0.0f, x - b.upper_x});
+    const float dy = std::max({b.lower_y - y, 0.0f, y - b.upper_y});
+    const float dz = std::max({b.lower_z - z, 0.0f, z - b.upper_z});
+    return dx * dx + dy * dy + dz * dz;
+}
+
+bool ball_callback(RTCPointQueryFunctionArguments* args) {
+    auto* q = static_cast<BallQuery*>(args->userPtr);
+    const RTCBounds& b = (*q->boxes)[args->primID];
+    if (box_distance2(b, args->query->x, args->query->y, args->query->z) <= q->radius * q->radius)
+        q->out->push_back(static_cast<int>(args->primID));
+    return false;
+}
+
+struct NearestQuery {
+    const std::vector<RTCBounds>* boxes;
+    int best = -1;
+    float best_d2 = std::numeric_limits<float>::max();
+};
+
+bool nearest_callback(RTCPointQueryFunctionArguments* args) {
+    auto* q = static_cast<NearestQuery*>(args->userPtr);
+    const float d2 = box_distance2((*q->boxes)[args->primID], args->query->x, args->query->y, args->query->z);
+    if (d2 < q->best_d2 || (d2 == q->best_d2 && static_cast<int>(args->primID) < q->best)) {
+        q->best_d2 = d2;
+        q->best = static_cast<int>(args->primID);
+        args->query->radius = std::sqrt(d2) * 1.0001f + 1e-30f;  // shrink the search
+        return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+ElementBvh::ElementBvh() : impl_(std::make_unique<Impl>()) {
+    impl_->device = rtcNewDevice("threads=1");
+    if (!impl_->device) throw std::runtime_error("Embree: cannot create a device");
+}
+
+ElementBvh::~ElementBvh() {
+    if (impl_->scene) rtcReleaseScene(impl_->scene);
+    if (impl_->device) rtcReleaseDevice(impl_->device);
+}
+
+void ElementBvh::build(const World& world) {
+    const Elements& el = world.elements;
+    const int npe = el.nodes_per_element();
+    impl_->boxes.resize(world.mesh_elements);
+    for (int e = 0; e < world.mesh_elements; ++e) {
+        Vec3 lo = world.nodes.position[el.nodes[e][0]], hi = lo;
+        for (int a = 1; a < npe; ++a) {
+            lo = lo.cwiseMin(world.nodes.position[el.nodes[e][a]]);
+            hi = hi.cwiseMax(world.nodes.position[el.nodes[e][a]]);
+        }
+        const double pad = 1e-5 * (hi - lo).norm() + 1e-12;
+        RTCBounds& b = impl_->boxes[e];
+        b.lower_x = static_cast<float>(lo.x() - pad), b.lower_y = static_cast<float>(lo.y() - pad);
+        b.lower_z = static_cast<float>(lo.z() - pad);
+        b.upper_x = static_cast<float>(hi.x() + pad), b.upper_y = static_cast<float>(hi.y() + pad);
+        b.upper_z = static_cast<float>(hi.z() + pad);
+    }
+    if (impl_->scene) rtcReleaseScene(impl_->scene);
+    impl_->scene = rtcNewScene(impl_->device);
+    RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(geom, static_cast<unsigned>(impl_->boxes.size()));
+    rtcSetGeometryUserData(geom, &impl_->boxes);
+    rtcSetGeometryBoundsFunction(geom, bounds_callback, &impl_->boxes);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(impl_->scene, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(impl_->scene);
+}
+
+void ElementBvh::query_ball(const Vec3& centre, double radius, std::vector<int>& out) const {
+    if (!impl_->scene) return;
+    RTCPointQuery q;
+    q.x = static_cast<float>(centre.x()), q.y = static_cast<float>(centre.y()), q.z = static_cast<float>(centre.z());
+    q.time = 0.0f;
+    q.radius = static_cast<float>(radius * (1.0 + 1e-5) + 1e-12);
+    RTCPointQueryContext ctx;
+    rtcInitPointQueryContext(&ctx);
+    BallQuery data{&impl_->boxes, &out, q.radius};
+    rtcPointQuery(impl_->scene, &q, &ctx, ball_callback, &data);
+}
+
+int ElementBvh::nearest(const Vec3& p) const {
+    if (!impl_->scene) return -1;
+    RTCPointQuery q;
+    q.x = static_cast<float>(p.x()), q.y = static_cast<float>(p.y()), q.z = static_cast<float>(p.z());
+    q.time = 0.0f;
+    q.radius = std::numeric_limits<float>::infinity();
+    RTCPointQueryContext ctx;
+    rtcInitPointQueryContext(&ctx);
+    NearestQuery data{&impl_->boxes};
+    rtcPointQuery(impl_->scene, &q, &ctx, nearest_callback, &data);
+    return data.best;
+}
+
+}  // namespace xcut

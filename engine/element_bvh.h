@@ -1,0 +1,33 @@
+#pragma once
+// Embree BVH over the bounding boxes of mesh elements at their current positions, for the cut's
+// first-contact search: which elements can the blade's swept quad touch. Embree works in single
+// precision; boxes are padded by a relative 1e-5 so no candidate is lost to rounding, and the exact
+// decision is made in double afterwards.
+#include <memory>
+#include <vector>
+
+#include "components/nodes.h"
+#include "engine/world.h"
+
+namespace xcut {
+
+class ElementBvh {
+public:
+    ElementBvh();
+    ~ElementBvh();
+    ElementBvh(const ElementBvh&) = delete;
+    ElementBvh& operator=(const ElementBvh&) = delete;
+
+    /// (Re)builds over the mesh elements of `world` (not the virtual ones) at current positions.
+    void build(const World& world);
+    /// Appends to `out` every element whose box meets the ball (centre, radius [m]).
+    void query_ball(const Vec3& centre, double radius, std::vector<int>& out) const;
+    /// The element whose box is nearest to `p` (its box contains p if any does), or -1.
+    int nearest(const Vec3& p) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace xcut

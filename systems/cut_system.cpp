@@ -1,0 +1,291 @@
+#include "systems/cut_system.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "components/cut_elements.h"
+#include "systems/intersection.h"
+#include "systems/tool_system.h"
+
+namespace xcut {
+namespace {
+
+double wall_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+int edges_of(int dim) { return dim == 3 ? 6 : 3; }
+const int* edge_of(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
+
+/// Elements sharing a vertex with `seeds`, `depth` levels deep (seeds included), sorted.
+std::vector<int> neighbourhood(const World& w, const std::vector<int>& seeds, int depth) {
+    const Incidence& inc = w.mesh_incidence;
+    const int npe = w.elements.nodes_per_element();
+    std::vector<int> frontier = seeds, all = seeds;
+    std::vector<uint8_t> seen(w.mesh_elements, 0);
+    for (int e : seeds) seen[e] = 1;
+    for (int level = 0; level < depth && !frontier.empty(); ++level) {
+        std::vector<int> next;
+        for (int e : frontier)
+            for (int a = 0; a < npe; ++a) {
+                const int j = w.elements.nodes[e][a];
+                for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
+                    const int f = inc.entry[p] >> 2;
+                    if (!seen[f]) seen[f] = 1, next.push_back(f);
+                }
+            }
+        all.insert(all.end(), next.begin(), next.end());
+        frontier.swap(next);
+    }
+    std::sort(all.begin(), all.end());
+    return all;
+}
+
+/// Side of x relative to the crossing surface: +1 or -1 (0 counts as +1, the fixed tie-break).
+int side_of(const Vec3& x, const Vec3& point, const Vec3& normal) {
+    return (x - point).dot(normal) >= 0.0 ? 1 : -1;
+}
+
+/// Builds the split of an element from its crossed edges: node signs (the 2-colouring whose
+/// differing edges contain the crossed ones with the fewest extra, oriented by the quad's normal or
+/// by signs already fixed) and the crossing parameter of every differing edge. False if no
+/// consistent split exists (a curved sweep crossing all edges of one face).
+bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) {
+    const Elements& el = w.elements;
+    const int dim = el.dim, npe = el.nodes_per_element(), ne = edges_of(dim);
+    int best = -1, best_extra = 99;
+    for (int pattern = 1; pattern < (1 << (npe - 1)); ++pattern) {  // node 0 keeps colour 0
+        int differ = 0;
+        for (int k = 0; k < ne; ++k) {
+            const int* ed = edge_of(dim, k);
+            const int ci = ed[0] == 0 ? 0 : (pattern >> (ed[0] - 1)) & 1;
+            const int cj = ed[1] == 0 ? 0 : (pattern >> (ed[1] - 1)) & 1;
+            if (ci != cj) differ |= 1 << k;
+        }
+        if ((differ & c.mask) != c.mask) continue;
+        const int extra = __builtin_popcount(differ & ~c.mask);
+        if (extra < best_extra) best_extra = extra, best = pattern;
+    }
+    if (best < 0) return false;
+    auto colour = [&](int a) { return a == 0 ? 0 : (best >> (a - 1)) & 1; };
+    // Orientation: signs already fixed win; else the side of the first crossed edge's first node.
+    int colour0_sign = 0;
+    const auto& sign = w.enriched.sign;
+    for (int a = 0; a < npe; ++a) {
+        const int s = sign.empty() ? 0 : sign[el.nodes[e][a]];
+        if (s == 0) continue;
+        const int implied = colour(a) == 0 ? s : -s;
+        if (colour0_sign != 0 && implied != colour0_sign) return false;  // contradicts fixed signs
+        colour0_sign = implied;
+    }
+    const Vec3* x = w.nodes.position.data();
+    int first = 0;
+    while (!(c.mask >> first & 1)) ++first;
+    const int* fe = edge_of(dim, first);
+    const Vec3 p = x[el.nodes[e][fe[0]]] + c.t[first] * (x[el.nodes[e][fe[1]]] - x[el.nodes[e][fe[0]]]);
+    if (colour0_sign == 0) {
+        const int s = side_of(x[el.nodes[e][fe[0]]], p, c.normal[first]);
+        colour0_sign = colour(fe[0]) == 0 ? s : -s;
+    }
+    ev = CutEvent{};
+    ev.element = e;
+    for (int a = 0; a < npe; ++a) ev.level[a] = colour(a) == 0 ? colour0_sign : -colour0_sign;
+    // Parameters: measured on crossed edges; on an inferred edge, from the plane through the
+    // measured crossing points (exact for a planar cut).
+    std::vector<Vec3> pts;
+    for (int k = 0; k < ne; ++k) {
+        if (!(c.mask >> k & 1)) continue;
+        const int* ed = edge_of(dim, k);
+        ev.edge_t[k] = c.t[k];
+        ev.edge_has_t[k] = 1;
+        pts.push_back(x[el.nodes[e][ed[0]]] + c.t[k] * (x[el.nodes[e][ed[1]]] - x[el.nodes[e][ed[0]]]));
+    }
+    Vec3 n = c.normal[first];
+    if (dim == 3 && pts.size() >= 3) {
+        const Vec3 m = (pts[1] - pts[0]).cross(pts[2] - pts[0]);
+        if (m.norm() > 0.0) n = m.normalized();
+    }
+    for (int k = 0; k < ne; ++k) {
+        const int* ed = edge_of(dim, k);
+        if ((c.mask >> k & 1) || colour(ed[0]) == colour(ed[1])) continue;
+        const double li = (x[el.nodes[e][ed[0]]] - pts[0]).dot(n), lj = (x[el.nodes[e][ed[1]]] - pts[0]).dot(n);
+        ev.edge_t[k] = li != lj ? std::clamp(li / (li - lj), 0.0, 1.0) : 0.5;
+        ev.edge_has_t[k] = 1;
+    }
+    return true;
+}
+
+void remove_from_list(CutState& cs, int e, int list) {
+    if (list < 1) return;
+    auto& l = cs.lists[list - 1];
+    l.erase(std::remove(l.begin(), l.end(), e), l.end());
+}
+
+/// Tests the candidate's edges against the quad; returns how many new distinct edges it crossed.
+int test_element(World& w, int e, const CutQuad& q, const Vec3 normal[2]) {
+    const Elements& el = w.elements;
+    const int dim = el.dim;
+    const Vec3* x = w.nodes.position.data();
+    CutState& cs = w.cut_state;
+    int found = 0;
+    for (int k = 0; k < edges_of(dim); ++k) {
+        const int* ed = edge_of(dim, k);
+        const Vec3& a = x[el.nodes[e][ed[0]]];
+        const Vec3& b = x[el.nodes[e][ed[1]]];
+        std::optional<double> t;
+        int tri = 0;
+        if (dim == 3) {
+            t = segment_triangle(a, b, q.corner[0], q.corner[1], q.corner[2]);
+            if (!t) t = segment_triangle(a, b, q.corner[0], q.corner[2], q.corner[3]), tri = 1;
+        } else {
+            t = segment_segment_2d(a, b, q.corner[0], q.corner[3]);
+        }
+        if (!t) continue;
+        auto it = cs.crossing.find(e);
+        if (it == cs.crossing.end()) {
+            ElementCrossings fresh;
+            fresh.first_time = w.time;
+            fresh.first_wall = wall_seconds();
+            it = cs.crossing.emplace(e, fresh).first;
+        }
+        ElementCrossings& c = it->second;
+        if (c.mask >> k & 1) continue;  // this edge already counted: a trembling blade
+        c.mask |= uint8_t(1u << k);
+        c.t[k] = *t;
+        c.normal[k] = normal[tri];
+        ++found;
+    }
+    return found;
+}
+
+}  // namespace
+
+double mean_edge_length(const World& w) {
+    const Elements& el = w.elements;
+    double sum = 0.0;
+    long n = 0;
+    for (int e = 0; e < w.mesh_elements; ++e)
+        for (int k = 0; k < edges_of(el.dim); ++k) {
+            const int* ed = edge_of(el.dim, k);
+            sum += (w.nodes.rest[el.nodes[e][ed[0]]] - w.nodes.rest[el.nodes[e][ed[1]]]).norm();
+            ++n;
+        }
+    return n > 0 ? sum / n : 0.0;
+}
+
+void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q) {
+    CutState& cs = w.cut_state;
+    const double t0 = wall_seconds();
+    const int dim = w.elements.dim;
+    ++cs.quads_built;
+    cs.quads.push_back(q);
+    Vec3 normal[2];
+    if (dim == 3) {
+        normal[0] = (q.corner[1] - q.corner[0]).cross(q.corner[2] - q.corner[0]);
+        normal[1] = (q.corner[2] - q.corner[0]).cross(q.corner[3] - q.corner[0]);
+    } else {
+        const Vec3 d = q.corner[3] - q.corner[0];
+        normal[0] = normal[1] = Vec3(-d.y(), d.x(), 0.0);
+    }
+    const double length = std::max((q.corner[3] - q.corner[0]).norm(), (q.corner[2] - q.corner[1]).norm());
+    std::vector<int> candidates;
+    if (!cs.front.empty()) {
+        const int depth = cs.min_depth + static_cast<int>(std::ceil(length / std::max(cs.mean_edge, 1e-300)));
+        candidates = neighbourhood(w, cs.front, depth);
+    } else {
+        Vec3 centre = Vec3::Zero();
+        for (const Vec3& c : q.corner) centre += 0.25 * c;
+        double radius = 0.0;
+        for (const Vec3& c : q.corner) radius = std::max(radius, (c - centre).norm());
+        bvh.build(w);
+        bvh.query_ball(centre, radius, candidates);
+        std::sort(candidates.begin(), candidates.end());
+        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    }
+    const auto& cut = w.cuts.cut_of_element;
+    std::vector<int> crossed;
+    for (int e : candidates) {
+        if (!cut.empty() && cut[e] >= 0) continue;
+        ++cs.elements_tested;
+        const int found = test_element(w, e, q, normal);
+        cs.crossings_found += found;
+        if (found > 0) crossed.push_back(e);
+    }
+    // Lists and splits, in element order (deterministic).
+    const int need = dim == 3 ? 3 : 2;
+    for (int e : crossed) {
+        ElementCrossings& c = cs.crossing.at(e);
+        const int count = std::min(__builtin_popcount(c.mask), 3);
+        if (count >= need) {
+            CutEvent ev;
+            if (make_event(w, e, c, ev)) {
+                w.pending_cuts.push_back(ev);
+                cs.delay_sim.push_back(w.time - c.first_time);
+                cs.delay_wall.push_back(wall_seconds() - c.first_wall);
+                ++cs.elements_split;
+                remove_from_list(cs, e, c.list);
+                cs.crossing.erase(e);
+                continue;
+            }
+        }
+        if (count != c.list) {
+            remove_from_list(cs, e, c.list);
+            c.list = count;
+            cs.lists[count - 1].push_back(e);
+        }
+    }
+    // Elements the search no longer reaches are dropped: the blade has left them.
+    for (auto it = cs.crossing.begin(); it != cs.crossing.end();) {
+        if (std::binary_search(candidates.begin(), candidates.end(), it->first)) {
+            ++it;
+            continue;
+        }
+        remove_from_list(cs, it->first, it->second.list);
+        it = cs.crossing.erase(it);
+    }
+    cs.front = crossed;
+    const double ms = (wall_seconds() - t0) * 1e3;
+    cs.update_ms += ms;
+    cs.quad_ms.push_back(ms);
+}
+
+void run_cut_system(World& w, ElementBvh& bvh) {
+    CutState& cs = w.cut_state;
+    cs.quads.clear();
+    cs.quads_built = cs.elements_tested = cs.crossings_found = cs.elements_split = 0;
+    cs.update_ms = 0.0;
+    if (cs.mean_edge == 0.0) cs.mean_edge = mean_edge_length(w);
+    const double threshold = cs.threshold > 0.0 ? cs.threshold : cs.mean_edge;
+    const ToolBodies& tb = w.tools;
+    cs.anchored.resize(tb.count(), 0);
+    cs.anchor_tip.resize(tb.count());
+    cs.anchor_heel.resize(tb.count());
+    cs.last_tip.resize(tb.count());
+    cs.last_heel.resize(tb.count());
+    for (int i = 0; i < tb.count(); ++i) {
+        if (!tb.has_blade[i]) continue;
+        Vec3 tip, heel;
+        blade_in_world(w, i, tip, heel);
+        if (!cs.anchored[i]) {
+            cs.anchored[i] = 1, cs.anchor_tip[i] = tip, cs.anchor_heel[i] = heel;
+            cs.last_tip[i] = tip, cs.last_heel[i] = heel;
+            continue;
+        }
+        const double moved = std::max((tip - cs.anchor_tip[i]).norm(), (heel - cs.anchor_heel[i]).norm());
+        // A blade that has stopped finishes its sweep: the last stretch shorter than the threshold
+        // is cut too, so an incision ends where the blade ends.
+        const bool stopped = tip == cs.last_tip[i] && heel == cs.last_heel[i];
+        cs.last_tip[i] = tip, cs.last_heel[i] = heel;
+        if (moved < threshold && !(stopped && moved > 0.0)) continue;
+        process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], heel, tip}});
+        cs.anchor_tip[i] = tip, cs.anchor_heel[i] = heel;
+    }
+}
+
+SystemDesc cut_system(std::shared_ptr<ElementBvh> bvh) {
+    return {"CutSystem", kNodes | kElements | kTools, kCutEvents,
+            [bvh](World& w) { run_cut_system(w, *bvh); }};
+}
+
+}  // namespace xcut

@@ -1,0 +1,32 @@
+#pragma once
+// CutSystem: the paper's semi-progressive cut (§3.3, Fig. 14).
+//  - The blade's cutting edge sweeps a *collision quad* from where it was when the last quad was
+//    made (the anchor) to where it is now; a new quad is made only once the blade has moved more
+//    than a threshold (default: the mean edge length).
+//  - Candidates: on first contact, an Embree query over element boxes around the quad; afterwards
+//    the elements sharing a vertex with the last crossed ones, as many levels deep as the quad is
+//    long in elements (a fast blade skips no element).
+//  - Every candidate edge is tested against the quad's two triangles in double precision; an edge
+//    counts once however often a trembling blade re-crosses it. Elements move through the lists
+//    L1 -> L2 -> L3 by their count of distinct crossed edges, and are split (a CutEvent) once fully
+//    crossed: three distinct edges or four in 3D, two in 2D. Elements the search no longer reaches
+//    are dropped from the lists.
+// 2D: the blade is a point (its tip) moving in the plane; the quad is the segment it swept.
+#include <memory>
+
+#include "engine/element_bvh.h"
+#include "engine/scheduler.h"
+#include "engine/world.h"
+
+namespace xcut {
+
+/// Processes one quad (corners: tip0, heel0, heel1, tip1; 2D uses tip0 -> tip1). Queues splits.
+void process_cut_quad(World& world, ElementBvh& bvh, const CutQuad& quad);
+/// One step of the cutter for every bladed tool.
+void run_cut_system(World& world, ElementBvh& bvh);
+/// Mean edge length of the mesh at rest [m].
+double mean_edge_length(const World& world);
+
+SystemDesc cut_system(std::shared_ptr<ElementBvh> bvh);
+
+}  // namespace xcut

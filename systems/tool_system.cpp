@@ -1,0 +1,42 @@
+#include "systems/tool_system.h"
+
+#include <algorithm>
+
+namespace xcut {
+
+Keyframe sample_trajectory(const std::vector<Keyframe>& keys, double t) {
+    if (keys.empty()) return Keyframe{};
+    if (t <= keys.front().time) return keys.front();
+    if (t >= keys.back().time) return keys.back();
+    const auto hi = std::upper_bound(keys.begin(), keys.end(), t,
+                                     [](double v, const Keyframe& k) { return v < k.time; });
+    const Keyframe& b = *hi;
+    const Keyframe& a = *(hi - 1);
+    const double s = (t - a.time) / (b.time - a.time);
+    Keyframe out;
+    out.time = t;
+    out.position = (1.0 - s) * a.position + s * b.position;
+    out.orientation = a.orientation.slerp(s, b.orientation);
+    return out;
+}
+
+void blade_in_world(const World& world, int i, Vec3& tip, Vec3& heel) {
+    const ToolBodies& tb = world.tools;
+    tip = tb.position[i] + tb.orientation[i] * tb.blade_tip[i];
+    heel = tb.position[i] + tb.orientation[i] * tb.blade_heel[i];
+}
+
+void advance_tools(World& world, double t) {
+    ToolBodies& tb = world.tools;
+    for (int i = 0; i < tb.count(); ++i) {
+        const Keyframe k = sample_trajectory(tb.trajectory[i], t);
+        tb.position[i] = k.position;
+        tb.orientation[i] = k.orientation;
+    }
+}
+
+SystemDesc tool_system() {
+    return {"ToolSystem", kTools, kTools, [](World& w) { advance_tools(w, w.time + w.solver.dt); }};
+}
+
+}  // namespace xcut
