@@ -97,9 +97,11 @@ TEST(CutSystem, TremblingBladeSplitsTheSameSet) {
 }
 
 TEST(CutSystem, LongQuadsAndFastBladeMissNothing) {
-    // Quads 10 mm long (five elements) and a blade crossing 8 mm per step.
-    World w = slab_with_scalpel({key(0.0, kX, 0.001), key(0.02, kX, 0.017)}, 0.01);
-    const std::set<int> split = run_cutter(w, 0.05, 0.01);
+    // The blade enters slowly (quads of about one element), then jumps 13 mm (six elements) in one
+    // step: the neighbourhood search must grow with the quad's length.
+    World w = slab_with_scalpel({key(0.0, kX, 0.001), key(0.03, kX, 0.004), key(0.04, kX, 0.017)});
+    const std::set<int> split = run_cutter(w, 0.06, 0.01);
+    EXPECT_GE(w.cut_state.quad_ms.size(), 2u);
     EXPECT_EQ(split, expected_split(w, 0.001, 0.017));
 }
 
