@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <algorithm>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fmt/os.h>
@@ -89,6 +90,10 @@ OutputWriter::OutputWriter(const World& world) : dir_(world.output.directory), s
         if (!csv_) throw InputError(dir_, "output.directory", "cannot write the metrics CSV");
         csv_ << "step,time_s,dt_s,dofs,cg_iterations,cg_residual,kinetic_J,elastic_J,gravity_work_J,step_ms";
         for (const std::string& s : world.metrics.system_names) csv_ << "," << s << "_ms";
+        cut_columns_ = world.tools.count() > 0;
+        if (cut_columns_)
+            csv_ << ",quads,elements_tested,crossings,elements_split,cut_update_ms,crossing_delay_mean_s,"
+                    "crossing_delay_max_s,enriched_nodes";
         csv_ << "\n";
     }
 }
@@ -112,6 +117,17 @@ void OutputWriter::metrics_row(const World& world) {
                             m.dofs, m.cg_iterations, m.cg_residual, m.kinetic_energy, m.elastic_energy,
                             m.gravity_work, m.step_ms);
         for (double ms : m.system_ms) csv_ << fmt::format(",{:.4f}", ms);
+        if (cut_columns_) {
+            // Delays of the elements split in this step (the tail of the run-long list).
+            const CutState& cs = world.cut_state;
+            double sum = 0.0, max = 0.0;
+            const size_t n = static_cast<size_t>(cs.elements_split);
+            for (size_t i = cs.delay_sim.size() - std::min(n, cs.delay_sim.size()); i < cs.delay_sim.size(); ++i)
+                sum += cs.delay_sim[i], max = std::max(max, cs.delay_sim[i]);
+            csv_ << fmt::format(",{},{},{},{},{:.4f},{:.6g},{:.6g},{}", cs.quads_built, cs.elements_tested,
+                                cs.crossings_found, cs.elements_split, cs.update_ms, n > 0 ? sum / n : 0.0, max,
+                                world.enriched.count());
+        }
         csv_ << "\n";
     }
 }

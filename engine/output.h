@@ -32,6 +32,7 @@ private:
     std::string dir_;
     std::string stem_;
     std::ofstream csv_;
+    bool cut_columns_ = false;   ///< the scene has tools: per-step cut figures
     std::vector<std::pair<double, std::string>> frames_;
 };
 

@@ -277,7 +277,7 @@ void run_cut_system(World& w, ElementBvh& bvh) {
         // is cut too, so an incision ends where the blade ends.
         const bool stopped = tip == cs.last_tip[i] && heel == cs.last_heel[i];
         cs.last_tip[i] = tip, cs.last_heel[i] = heel;
-        if (moved < threshold && !(stopped && moved > 0.0)) continue;
+        if (moved < threshold && !(stopped && moved > 1e-6 * threshold)) continue;
         process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], heel, tip}});
         cs.anchor_tip[i] = tip, cs.anchor_heel[i] = heel;
     }
