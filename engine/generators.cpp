@@ -66,7 +66,17 @@ MeshData generate_box(const GridSpec& spec) {
         if (D.determinant() < 0) std::swap(t[2], t[3]);
     }
     jitter_interior(mesh, spec, 3);
+    if (spec.bend_radius > 0.0) bend_around_x(mesh, spec);
     return mesh;
+}
+
+void bend_around_x(MeshData& mesh, const GridSpec& spec) {
+    const double R = spec.bend_radius, yc = spec.origin.y() + 0.5 * spec.size.y();
+    for (auto& p : mesh.points) {
+        const double theta = (p.y() - yc) / R, r = R + (p.z() - spec.origin.z());
+        p.y() = r * std::sin(theta);
+        p.z() = r * std::cos(theta) - R;
+    }
 }
 
 MeshData generate_plate(const GridSpec& spec) {

@@ -37,7 +37,8 @@ void apply_override(nlohmann::json& root, const std::string& file, const std::st
 
 MeshSpec read_mesh(const JsonFields& m, const fs::path& scene_dir) {
     MeshSpec spec;
-    m.allow_only({"generator", "origin", "size", "cells", "element_size", "jitter", "seed", "file", "max_volume"});
+    m.allow_only({"generator", "origin", "size", "cells", "element_size", "jitter", "seed", "file", "max_volume",
+                  "bend_radius"});
     if (m.has("file") == m.has("generator")) m.fail("file", "give exactly one of \"file\" or \"generator\"");
     if (m.has("file")) {
         const fs::path p = m.string("file", "");
@@ -69,6 +70,10 @@ MeshSpec read_mesh(const JsonFields& m, const fs::path& scene_dir) {
     if (count * (dims == 3 ? 6 : 2) > 2e7) m.fail("element_size", fmt::format("gives {:.3g} elements (max 2e7)", count * 6));
     g.jitter = m.number("jitter", 0.0, 0.0, 0.3);
     g.seed = static_cast<uint64_t>(m.integer("seed", 1, 0));
+    g.bend_radius = m.number("bend_radius", 0.0, 0.0);
+    if (g.bend_radius > 0.0 && dims == 2) m.fail("bend_radius", "only for the 3D box generator");
+    if (g.bend_radius > 0.0 && g.size.y() > 3.0 * g.bend_radius)
+        m.fail("bend_radius", "the box would wrap more than 3 radians around the cylinder");
     return spec;
 }
 
