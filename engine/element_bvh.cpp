@@ -14,6 +14,8 @@ struct ElementBvh::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     std::vector<RTCBounds> boxes;
+    std::vector<Vec3> built_at;   ///< node positions at the last build [m]
+    double margin = 0.0;          ///< [m]
 };
 
 namespace {
@@ -74,7 +76,18 @@ ElementBvh::~ElementBvh() {
     if (impl_->device) rtcReleaseDevice(impl_->device);
 }
 
-void ElementBvh::build(const World& world) {
+bool ElementBvh::ensure(const World& world, double margin) {
+    bool valid = impl_->scene != nullptr && impl_->built_at.size() == static_cast<size_t>(world.mesh_nodes);
+    for (int i = 0; valid && i < world.mesh_nodes; ++i)
+        valid = (world.nodes.position[i] - impl_->built_at[i]).squaredNorm() <= impl_->margin * impl_->margin;
+    if (valid) return false;
+    build(world, margin);
+    return true;
+}
+
+void ElementBvh::build(const World& world, double margin) {
+    impl_->margin = margin;
+    impl_->built_at.assign(world.nodes.position.begin(), world.nodes.position.begin() + world.mesh_nodes);
     const Elements& el = world.elements;
     const int npe = el.nodes_per_element();
     impl_->boxes.resize(world.mesh_elements);
@@ -84,7 +97,7 @@ void ElementBvh::build(const World& world) {
             lo = lo.cwiseMin(world.nodes.position[el.nodes[e][a]]);
             hi = hi.cwiseMax(world.nodes.position[el.nodes[e][a]]);
         }
-        const double pad = 1e-5 * (hi - lo).norm() + 1e-12;
+        const double pad = margin + 1e-5 * (hi - lo).norm() + 1e-12;
         RTCBounds& b = impl_->boxes[e];
         b.lower_x = static_cast<float>(lo.x() - pad), b.lower_y = static_cast<float>(lo.y() - pad);
         b.lower_z = static_cast<float>(lo.z() - pad);

@@ -18,8 +18,12 @@ public:
     ElementBvh(const ElementBvh&) = delete;
     ElementBvh& operator=(const ElementBvh&) = delete;
 
-    /// (Re)builds over the mesh elements of `world` (not the virtual ones) at current positions.
-    void build(const World& world);
+    /// (Re)builds over the mesh elements of `world` (not the virtual ones) at current positions,
+    /// each box grown by `margin` [m] so the tree stays valid while no node moves further.
+    void build(const World& world, double margin = 0.0);
+    /// Rebuilds only if never built or a node moved more than the margin since the last build:
+    /// a deforming body rarely needs a new tree. Returns true if it rebuilt.
+    bool ensure(const World& world, double margin);
     /// Appends to `out` every element whose box meets the ball (centre, radius [m]).
     void query_ball(const Vec3& centre, double radius, std::vector<int>& out) const;
     /// The element whose box is nearest to `p` (its box contains p if any does), or -1.

@@ -41,8 +41,25 @@ void build_bodies(World& world, const MeshData& mesh) {
     world.mesh_elements = m;
     lump_masses(world);
     build_incidence(world);
-    world.mesh_incidence = world.incidence;
     apply_constraints(world);
+}
+
+double element_mass_share(const World& world, int e) {
+    const Elements& el = world.elements;
+    return world.materials.list[el.material[e]].density * el.rest_volume[e] * el.weight[e] /
+           el.nodes_per_element();
+}
+
+void relump_nodes(World& world, const std::vector<int>& nodes) {
+    const Incidence& mesh = world.incidence;
+    const Incidence& virt = world.virtual_incidence;
+    for (int i : nodes) {
+        double m = 0.0;
+        if (i < world.mesh_nodes)
+            for (int p = mesh.offset[i]; p < mesh.offset[i + 1]; ++p) m += element_mass_share(world, mesh.entry[p] >> 2);
+        for (int p = virt.offset[i]; p < virt.offset[i + 1]; ++p) m += element_mass_share(world, virt.entry[p] >> 2);
+        world.nodes.mass[i] = m;
+    }
 }
 
 void lump_masses(World& world) {
@@ -51,8 +68,7 @@ void lump_masses(World& world) {
     const int npe = el.nodes_per_element();
     nodes.mass.assign(nodes.count(), 0.0);
     for (int e = 0; e < el.count(); ++e) {
-        const double share =
-            world.materials.list[el.material[e]].density * el.rest_volume[e] * el.weight[e] / npe;
+        const double share = element_mass_share(world, e);
         for (int a = 0; a < npe; ++a) nodes.mass[el.nodes[e][a]] += share;
     }
 }

@@ -1,6 +1,8 @@
 #pragma once
 // Turns a validated mesh into the world's node and element components: rest shape gradients, rest
 // volumes, lumped masses, identity rotations, constraint flags and the node -> element incidence.
+#include <vector>
+
 #include "engine/mesh_data.h"
 #include "engine/world.h"
 
@@ -15,6 +17,8 @@ void build_bodies(World& world, const MeshData& mesh);
 /// element this is the phantom-node lumping: each side's share goes to that side's vertices, which
 /// equals the block-diagonal lumping of Menouillard et al. (IJNME 74, 2008) in the enriched DOFs.
 void lump_masses(World& world);
+/// The same for the listed nodes only, through both incidences (after a cut: O(cut), not O(mesh)).
+void relump_nodes(World& world, const std::vector<int>& nodes);
 
 /// Sets nodes.fixed from world.constraints (boxes and node lists); in 2D every node's z is held.
 void apply_constraints(World& world);

@@ -13,7 +13,10 @@ namespace xcut {
 
 void register_systems(Scheduler& scheduler, Simulation& sim) {
     scheduler.add(tool_system());
-    scheduler.add(cut_system(std::make_shared<ElementBvh>()));
+    auto bvh = std::make_shared<ElementBvh>();
+    if (sim.world.tools.count() > 0) prepare_cut_search(sim.world, *bvh);
+    if (sim.world.tools.count() > 0 || !sim.world.cut_plan.cuts.empty()) prepare_enrichment(sim.world);
+    scheduler.add(cut_system(bvh));
     scheduler.add(scripted_cut_system());
     scheduler.add(enrichment_system());
     scheduler.add(force_system());

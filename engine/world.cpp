@@ -44,19 +44,33 @@ uint32_t World::present() const {
     return mask;
 }
 
-void build_incidence(World& world) {
-    const int n = world.nodes.count();
+namespace {
+
+/// CSR of `nodes` entries from elements [first, last) of world.elements.
+void fill_incidence(const World& world, int nodes, int first, int last, Incidence& inc) {
     const int npe = world.elements.nodes_per_element();
-    Incidence& inc = world.incidence;
-    inc.offset.assign(n + 1, 0);
-    for (const auto& el : world.elements.nodes)
-        for (int a = 0; a < npe; ++a) ++inc.offset[el[a] + 1];
-    for (int i = 0; i < n; ++i) inc.offset[i + 1] += inc.offset[i];
-    inc.entry.resize(inc.offset[n]);
+    const auto& conn = world.elements.nodes;
+    inc.offset.assign(nodes + 1, 0);
+    for (int e = first; e < last; ++e)
+        for (int a = 0; a < npe; ++a) ++inc.offset[conn[e][a] + 1];
+    for (int i = 0; i < nodes; ++i) inc.offset[i + 1] += inc.offset[i];
+    inc.entry.resize(inc.offset[nodes]);
     std::vector<int> fill(inc.offset.begin(), inc.offset.end() - 1);
     // Elements in increasing order per node: the gather sums in this fixed order.
-    for (int e = 0; e < world.elements.count(); ++e)
-        for (int a = 0; a < npe; ++a) inc.entry[fill[world.elements.nodes[e][a]]++] = e * 4 + a;
+    for (int e = first; e < last; ++e)
+        for (int a = 0; a < npe; ++a) inc.entry[fill[conn[e][a]]++] = e * 4 + a;
+}
+
+}  // namespace
+
+void build_incidence(World& world) {
+    fill_incidence(world, world.mesh_nodes, 0, world.mesh_elements, world.incidence);
+    world.virtual_incidence.offset.assign(world.nodes.count() + 1, 0);
+    world.virtual_incidence.entry.clear();
+}
+
+void build_virtual_incidence(World& world) {
+    fill_incidence(world, world.nodes.count(), world.mesh_elements, world.elements.count(), world.virtual_incidence);
 }
 
 }  // namespace xcut

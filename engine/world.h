@@ -68,8 +68,8 @@ struct OutputSettings {
 struct World {
     Nodes nodes;
     Elements elements;
-    Incidence incidence;        ///< DOF node -> force element (mesh and virtual elements)
-    Incidence mesh_incidence;   ///< mesh node -> mesh element, fixed topology for neighbour queries
+    Incidence incidence;          ///< mesh node -> mesh element (fixed topology)
+    Incidence virtual_incidence;  ///< DOF node -> virtual element; rebuilt from the virtual elements only
     int mesh_nodes = 0;         ///< nodes [0, mesh_nodes) are the mesh's; after them, enriched DOFs
     int mesh_elements = 0;      ///< elements [0, mesh_elements) are the mesh's; after them, virtual
     Materials materials;
@@ -96,7 +96,9 @@ struct World {
     uint32_t present() const;
 };
 
-/// Builds the node -> element incidence (CSR) from the element connectivity.
+/// Builds the mesh node -> mesh element incidence (CSR), once.
 void build_incidence(World& world);
+/// Rebuilds the DOF node -> virtual element incidence: O(nodes + virtual elements), not O(mesh).
+void build_virtual_incidence(World& world);
 
 }  // namespace xcut

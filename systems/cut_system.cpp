@@ -20,7 +20,7 @@ const int* edge_of(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[
 
 /// Elements sharing a vertex with `seeds`, `depth` levels deep (seeds included), sorted.
 std::vector<int> neighbourhood(const World& w, const std::vector<int>& seeds, int depth) {
-    const Incidence& inc = w.mesh_incidence;
+    const Incidence& inc = w.incidence;
     const int npe = w.elements.nodes_per_element();
     std::vector<int> frontier = seeds, all = seeds;
     std::vector<uint8_t> seen(w.mesh_elements, 0);
@@ -198,7 +198,7 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q) {
         for (const Vec3& c : q.corner) centre += 0.25 * c;
         double radius = 0.0;
         for (const Vec3& c : q.corner) radius = std::max(radius, (c - centre).norm());
-        bvh.build(w);
+        bvh.ensure(w, cs.mean_edge);
         bvh.query_ball(centre, radius, candidates);
         std::sort(candidates.begin(), candidates.end());
         candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
@@ -281,6 +281,11 @@ void run_cut_system(World& w, ElementBvh& bvh) {
         process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], heel, tip}});
         cs.anchor_tip[i] = tip, cs.anchor_heel[i] = heel;
     }
+}
+
+void prepare_cut_search(World& w, ElementBvh& bvh) {
+    if (w.cut_state.mean_edge == 0.0) w.cut_state.mean_edge = mean_edge_length(w);
+    bvh.build(w, w.cut_state.mean_edge);
 }
 
 SystemDesc cut_system(std::shared_ptr<ElementBvh> bvh) {

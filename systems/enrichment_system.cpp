@@ -9,7 +9,9 @@
 namespace xcut {
 namespace {
 
-void size_enrichment_arrays(World& w) {
+}  // namespace
+
+void prepare_enrichment(World& w) {
     EnrichedDofs& en = w.enriched;
     if (static_cast<int>(en.sign.size()) == w.mesh_nodes) return;
     en.sign.assign(w.mesh_nodes, 0);
@@ -17,7 +19,21 @@ void size_enrichment_arrays(World& w) {
     en.front_fixed.assign(w.mesh_nodes, 0);
     en.phantom.assign(w.mesh_nodes, -1);
     w.cuts.cut_of_element.assign(w.mesh_elements, -1);
+    // Room for virtual elements and phantom nodes, so a split never copies the whole mesh arrays
+    // (a reallocation of 50k tets costs ~8 ms). Reserved pages are not touched until used, so this
+    // costs address space, not resident memory.
+    Elements& el = w.elements;
+    const size_t e_cap = static_cast<size_t>(w.mesh_elements) * 2;
+    el.nodes.reserve(e_cap), el.rest_volume.reserve(e_cap), el.dm_inv.reserve(e_cap);
+    el.rotation.reserve(e_cap), el.material.reserve(e_cap), el.weight.reserve(e_cap);
+    w.forces.element_buffer.reserve(e_cap);
+    Nodes& n = w.nodes;
+    const size_t n_cap = static_cast<size_t>(w.mesh_nodes) * 2;
+    n.rest.reserve(n_cap), n.position.reserve(n_cap), n.velocity.reserve(n_cap);
+    n.mass.reserve(n_cap), n.fixed.reserve(n_cap);
 }
+
+namespace {
 
 int edge_count(int dim) { return dim == 3 ? 6 : 3; }
 const int* edge_nodes(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
@@ -74,7 +90,7 @@ bool record_cut(World& w, const CutEvent& ev) {
 /// Crack-front rule (§3.5): node j keeps a_j = 0 while a crossed edge (j, k) of a cut element is
 /// also an edge of an uncut element, i.e. while the crack front runs through that neighbour.
 bool held_by_front(const World& w, int j) {
-    const Incidence& inc = w.mesh_incidence;
+    const Incidence& inc = w.incidence;
     const Elements& el = w.elements;
     const int npe = el.nodes_per_element();
     for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
@@ -148,7 +164,7 @@ void build_virtual_elements(World& w, int c) {
 
 int apply_cut_events(World& w) {
     if (w.pending_cuts.empty()) return 0;
-    size_enrichment_arrays(w);
+    prepare_enrichment(w);
     const int first_new = w.cuts.count();
     for (const CutEvent& ev : w.pending_cuts) record_cut(w, ev);
     w.pending_cuts.clear();
@@ -169,7 +185,7 @@ int apply_cut_events(World& w) {
         w.enriched.front_fixed[j] = held_by_front(w, j) ? 1 : 0;
         if (w.enriched.front_fixed[j] || w.enriched.phantom[j] >= 0) continue;
         add_phantom(w, j);
-        const Incidence& inc = w.mesh_incidence;
+        const Incidence& inc = w.incidence;
         for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
             const int c = w.cuts.cut_of_element[inc.entry[p] >> 2];
             if (c >= 0 && c < first_new) update.push_back(c);
@@ -179,8 +195,18 @@ int apply_cut_events(World& w) {
     update.erase(std::unique(update.begin(), update.end()), update.end());
     for (int c : update) build_virtual_elements(w, c);
 
-    lump_masses(w);
-    build_incidence(w);
+    build_virtual_incidence(w);
+    std::vector<int> touched;  // every vertex of the updated virtual elements and of their parents
+    for (int c : update) {
+        for (int a = 0; a < npe; ++a) touched.push_back(el.nodes[w.cuts.element[c]][a]);
+        for (int s = 0; s < 2; ++s) {
+            const auto& verts = el.nodes[w.virtual_elements.element[w.cuts.virtual_element[c][s]]];
+            touched.insert(touched.end(), verts.begin(), verts.begin() + npe);
+        }
+    }
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    relump_nodes(w, touched);
     return split;
 }
 

@@ -23,6 +23,10 @@ namespace xcut {
 /// keeps them attached with 1e-9 of the element's stiffness and mass, far below any tolerance.
 inline constexpr double kMinSideFraction = 1e-9;
 
+/// Sizes the per-node and per-element XFEM arrays (O(mesh), once: call at scene load so the first
+/// cut does not pay for it).
+void prepare_enrichment(World& world);
+
 /// Applies `world.pending_cuts` (and clears it). Returns the number of elements split.
 int apply_cut_events(World& world);
 

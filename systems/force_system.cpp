@@ -90,12 +90,16 @@ void ensure_buffers(World& world) {
 }  // namespace
 
 void gather_element_terms(const World& world, Eigen::VectorXd& out) {
-    const Incidence& inc = world.incidence;
+    const Incidence& mesh = world.incidence;
+    const Incidence& virt = world.virtual_incidence;
     const auto& buf = world.forces.element_buffer;
+    const int mesh_nodes = world.mesh_nodes;
     out.resize(3 * world.nodes.count());
     parallel_for(world.nodes.count(), [&](int i) {
         Vec3 s = Vec3::Zero();
-        for (int k = inc.offset[i]; k < inc.offset[i + 1]; ++k) s += buf[inc.entry[k] >> 2][inc.entry[k] & 3];
+        if (i < mesh_nodes)
+            for (int k = mesh.offset[i]; k < mesh.offset[i + 1]; ++k) s += buf[mesh.entry[k] >> 2][mesh.entry[k] & 3];
+        for (int k = virt.offset[i]; k < virt.offset[i + 1]; ++k) s += buf[virt.entry[k] >> 2][virt.entry[k] & 3];
         out.segment<3>(3 * i) = s;
     });
 }

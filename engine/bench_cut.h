@@ -1,0 +1,30 @@
+#pragma once
+// Cut benchmark (`xcut bench --suite cut`): a scalpel drawn through tissue blocks of growing size;
+// per quad, the cutter's update time (quad search, crossings, lists) and the enrichment's (split,
+// DOFs, virtual elements, masses), and the crossing delay of every split element (paper Fig. 12).
+#include <string>
+#include <vector>
+
+namespace xcut {
+
+struct CutBenchOptions {
+    std::vector<int> sizes{5000, 20000, 50000, 200000};  ///< target tetrahedron counts
+    double speed = 0.05;      ///< blade speed [m/s]
+    double dt = 0.01;         ///< step [s]
+    std::string csv = "results/bench_cut.csv";
+};
+
+struct CutBenchRow {
+    int tets = 0;
+    int quads = 0;
+    int splits = 0;
+    double quad_p50_ms = 0, quad_p99_ms = 0;      ///< CutSystem per quad
+    double update_p50_ms = 0, update_p99_ms = 0;  ///< CutSystem + EnrichmentSystem per step with a quad
+    double delay_p50_s = 0, delay_p99_s = 0;      ///< crossing delay, simulated time
+};
+
+std::vector<CutBenchRow> run_cut_bench(const CutBenchOptions& options);
+/// Prints the table and writes the CSV; returns 0.
+int cut_bench_command(const CutBenchOptions& options);
+
+}  // namespace xcut
