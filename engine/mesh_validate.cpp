@@ -1,0 +1,53 @@
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include "engine/error.h"
+#include "engine/mesh_data.h"
+
+namespace xcut {
+
+void validate_mesh(const MeshData& mesh, double rel_tol) {
+    const std::string& src = mesh.source;
+    if (mesh.dim != 2 && mesh.dim != 3) throw InputError(src, "dimension", fmt::format("must be 2 or 3, not {}", mesh.dim));
+    if (mesh.points.empty()) throw InputError(src, "points", "the mesh has no nodes");
+    if (mesh.cells.empty()) throw InputError(src, "cells", "the mesh has no elements");
+    for (size_t i = 0; i < mesh.points.size(); ++i)
+        if (!mesh.points[i].allFinite())
+            throw InputError(src, fmt::format("points[{}]", i), "coordinate is NaN or infinite");
+    const int npe = mesh.nodes_per_cell();
+    const int n = static_cast<int>(mesh.points.size());
+    for (size_t e = 0; e < mesh.cells.size(); ++e) {
+        const auto& c = mesh.cells[e];
+        const std::string field = fmt::format("cells[{}]", e);
+        for (int a = 0; a < npe; ++a) {
+            if (c[a] < 0 || c[a] >= n)
+                throw InputError(src, field, fmt::format("node index {} is out of range (the mesh has {} nodes)", c[a], n));
+            for (int b = 0; b < a; ++b)
+                if (c[a] == c[b]) throw InputError(src, field, fmt::format("node {} appears twice", c[a]));
+        }
+        double longest = 0.0;
+        for (int a = 0; a < npe; ++a)
+            for (int b = a + 1; b < npe; ++b) longest = std::max(longest, (mesh.points[c[a]] - mesh.points[c[b]]).norm());
+        double measure;
+        if (mesh.dim == 3) {
+            Eigen::Matrix3d D;
+            for (int k = 0; k < 3; ++k) D.col(k) = mesh.points[c[k + 1]] - mesh.points[c[0]];
+            measure = D.determinant() / 6.0;
+        } else {
+            if (mesh.points[c[0]].z() != 0.0 || mesh.points[c[1]].z() != 0.0 || mesh.points[c[2]].z() != 0.0)
+                throw InputError(src, field, "2D meshes lie in the plane z = 0");
+            const Eigen::Vector3d u = mesh.points[c[1]] - mesh.points[c[0]], v = mesh.points[c[2]] - mesh.points[c[0]];
+            measure = 0.5 * (u.x() * v.y() - u.y() * v.x());
+        }
+        const double tol = rel_tol * std::pow(longest, mesh.dim);
+        const char* unit = mesh.dim == 3 ? "m^3" : "m^2";
+        if (measure < -tol)
+            throw InputError(src, field, fmt::format("is inverted (signed {} {:.3g} {}): node order must be positive",
+                                                     mesh.dim == 3 ? "volume" : "area", measure, unit));
+        if (!(measure > tol))
+            throw InputError(src, field, fmt::format("is degenerate ({} {:.3g} {})", mesh.dim == 3 ? "volume" : "area",
+                                                     measure, unit));
+    }
+}
+
+}  // namespace xcut
