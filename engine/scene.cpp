@@ -29,6 +29,7 @@ void apply_override(nlohmann::json& root, const std::string& file, const std::st
     std::stringstream ss(path);
     std::string part;
     while (std::getline(ss, part, '.')) {
+        if (at->is_null()) *at = nlohmann::json::object();  // a section the file leaves out
         if (part.empty() || !at->is_object()) throw InputError(file, "--set " + path, "not an object field path");
         at = &(*at)[part];
     }
