@@ -17,7 +17,7 @@ int thread_count();
 /// Calls body(i) for i in [0, count), split statically over the threads. Below min_parallel items
 /// the loop runs serially: forking costs more than it saves.
 template <class Body>
-inline void parallel_for(int count, Body&& body, int min_parallel = 2048) {
+inline void parallel_for(int count, Body&& body, int min_parallel = 8192) {
     if (count < min_parallel || thread_count() == 1) {
         for (int i = 0; i < count; ++i) body(i);
         return;

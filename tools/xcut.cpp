@@ -7,6 +7,8 @@
 #include <chrono>
 #include <exception>
 
+#include "engine/bench.h"
+#include "engine/bench_cut.h"
 #include "engine/error.h"
 #include "engine/parallel.h"
 #include "engine/simulation.h"
@@ -71,9 +73,29 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--output,-o", run.output, "Output directory (default: the scene's output.directory)");
     run_cmd->add_option("--set", run.overrides, "Override a scene field: field.path=value (JSON value)");
     run_cmd->add_flag("--quiet,-q", run.quiet, "No progress bar");
+    xcut::PerfBenchOptions perf;
+    xcut::CutBenchOptions cut;
+    std::string suite = "perf";
+    CLI::App* bench_cmd = app.add_subcommand("bench", "Benchmarks: print figures and write CSV (never pass/fail)");
+    bench_cmd->add_option("--suite", suite, "perf: steps/s, CG, bytes per tet; cut: cut update per quad, crossing delay")
+        ->check(CLI::IsMember({"perf", "cut"}));
+    bench_cmd->add_option("--sizes", perf.sizes, "Target tetrahedron counts")->delimiter(',');
+    bench_cmd->add_option("--threads", perf.threads, "Thread counts (perf)")->delimiter(',');
+    bench_cmd->add_option("--steps", perf.steps, "Timed steps per run (perf)")->check(CLI::PositiveNumber);
+    bench_cmd->add_option("--scene", perf.scene, "Scene whose mesh.grid is resized (perf)");
+    bench_cmd->add_option("--csv", perf.csv, "CSV to write (default results/bench_<suite>.csv)");
+    bench_cmd->add_option("--speed", cut.speed, "Blade speed [m/s] (cut)")->check(CLI::PositiveNumber);
     CLI11_PARSE(app, argc, argv);
     try {
         if (run_cmd->parsed()) return run_command(run);
+        if (bench_cmd->parsed()) {
+            if (suite == "cut") {
+                cut.sizes = perf.sizes;
+                cut.csv = bench_cmd->count("--csv") ? perf.csv : "results/bench_cut.csv";
+                return xcut::cut_bench_command(cut);
+            }
+            return xcut::perf_bench_command(perf);
+        }
     } catch (const xcut::InputError& e) {
         fmt::print(stderr, "error: {}\n", e.what());
         return 2;

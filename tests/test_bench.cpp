@@ -1,0 +1,69 @@
+// The benchmarks run in a tiny configuration: their figures are finite and positive and their
+// CSVs have the documented columns (run time itself is never asserted).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <fstream>
+
+#include "engine/bench.h"
+#include "engine/bench_cut.h"
+
+namespace xcut {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> csv_lines(const std::string& path) {
+    std::ifstream in(path);
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    return lines;
+}
+
+void expect_finite_positive_row(const std::string& row) {
+    std::stringstream ss(row);
+    for (std::string cell; std::getline(ss, cell, ',');) {
+        const double v = std::stod(cell);
+        EXPECT_TRUE(std::isfinite(v)) << row;
+        EXPECT_GE(v, 0.0) << row;
+    }
+}
+
+TEST(Bench, PerfSuiteTinyRun) {
+    PerfBenchOptions o;
+    o.scene = std::string(XCUT_SOURCE_DIR) + "/scenes/tissue_block.json";
+    o.sizes = {600};
+    o.steps = 2;
+    o.csv = (fs::temp_directory_path() / ("xcut_bench_perf_" + std::to_string(::getpid()) + ".csv")).string();
+    ASSERT_EQ(perf_bench_command(o), 0);
+    const auto lines = csv_lines(o.csv);
+    ASSERT_EQ(lines.size(), 3u);  // header + 1 and 2 threads
+    EXPECT_EQ(lines[0], "tets,nodes,threads,steps_per_s,ms_per_step,cg_iter_per_step,force_ms,solver_ms,"
+                        "bytes_per_tet_components,bytes_per_tet_rss");
+    for (size_t i = 1; i < lines.size(); ++i) expect_finite_positive_row(lines[i]);
+    const auto rows = run_perf_bench(o, false);
+    EXPECT_GT(rows[0].cg_per_step, 0.0);
+    EXPECT_LT(rows[0].bytes_per_tet_components, 1000.0);
+    fs::remove(o.csv);
+}
+
+TEST(Bench, CutSuiteTinyRun) {
+    CutBenchOptions o;
+    o.sizes = {1500};
+    o.speed = 0.2;
+    o.csv = (fs::temp_directory_path() / ("xcut_bench_cut_" + std::to_string(::getpid()) + ".csv")).string();
+    ASSERT_EQ(cut_bench_command(o), 0);
+    const auto lines = csv_lines(o.csv);
+    ASSERT_EQ(lines.size(), 2u);
+    EXPECT_EQ(lines[0], "tets,quads,splits,quad_p50_ms,quad_p99_ms,update_p50_ms,update_p99_ms,delay_p50_s,delay_p99_s");
+    expect_finite_positive_row(lines[1]);
+    const auto rows = run_cut_bench(o);
+    EXPECT_GT(rows[0].splits, 0) << "the blade cuts the block";
+    EXPECT_GT(rows[0].quads, 1);
+    fs::remove(o.csv);
+}
+
+}  // namespace
+}  // namespace xcut
