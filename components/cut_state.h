@@ -29,6 +29,7 @@ struct CutQuad {
 struct CutState {
     double threshold = 0.0;           ///< blade travel that makes a new quad [m]; 0: mean edge length
     int min_depth = 1;                ///< neighbourhood levels searched around the last crossings
+    bool bvh_every_quad = false;      ///< candidates from the Embree BVH for every quad (measured alternative)
     double mean_edge = 0.0;           ///< mean mesh edge length, rest [m]
     std::vector<uint8_t> anchored;    ///< per tool: the blade has an anchor (quad start)
     std::vector<Vec3> anchor_tip, anchor_heel;  ///< per tool: blade edge in world at the last quad [m]

@@ -12,9 +12,11 @@ struct CutBenchOptions {
     double speed = 0.05;      ///< blade speed [m/s]
     double dt = 0.01;         ///< step [s]
     std::string csv = "results/bench_cut.csv";
+    bool bvh_every_quad = false;  ///< candidate search: Embree BVH for every quad instead of the neighbourhood
 };
 
 struct CutBenchRow {
+    std::string search;   ///< "neighbourhood" or "bvh"
     int tets = 0;
     int quads = 0;
     int splits = 0;

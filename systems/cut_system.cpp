@@ -190,7 +190,7 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q) {
     }
     const double length = std::max((q.corner[3] - q.corner[0]).norm(), (q.corner[2] - q.corner[1]).norm());
     std::vector<int> candidates;
-    if (!cs.front.empty()) {
+    if (!cs.front.empty() && !cs.bvh_every_quad) {
         const int depth = cs.min_depth + static_cast<int>(std::ceil(length / std::max(cs.mean_edge, 1e-300)));
         candidates = neighbourhood(w, cs.front, depth);
     } else {

@@ -56,12 +56,16 @@ TEST(Bench, CutSuiteTinyRun) {
     o.csv = (fs::temp_directory_path() / ("xcut_bench_cut_" + std::to_string(::getpid()) + ".csv")).string();
     ASSERT_EQ(cut_bench_command(o), 0);
     const auto lines = csv_lines(o.csv);
-    ASSERT_EQ(lines.size(), 2u);
-    EXPECT_EQ(lines[0], "tets,quads,splits,quad_p50_ms,quad_p99_ms,update_p50_ms,update_p99_ms,delay_p50_s,delay_p99_s");
-    expect_finite_positive_row(lines[1]);
+    ASSERT_EQ(lines.size(), 3u);  // header, neighbourhood search, BVH search
+    EXPECT_EQ(lines[0], "search,tets,quads,splits,quad_p50_ms,quad_p99_ms,update_p50_ms,update_p99_ms,delay_p50_s,delay_p99_s");
+    EXPECT_EQ(lines[1].rfind("neighbourhood,", 0), 0u);
+    EXPECT_EQ(lines[2].rfind("bvh,", 0), 0u);
+    for (size_t i = 1; i < lines.size(); ++i) expect_finite_positive_row(lines[i].substr(lines[i].find(',') + 1));
     const auto rows = run_cut_bench(o);
     EXPECT_GT(rows[0].splits, 0) << "the blade cuts the block";
     EXPECT_GT(rows[0].quads, 1);
+    o.bvh_every_quad = true;
+    EXPECT_EQ(run_cut_bench(o)[0].splits, rows[0].splits) << "both searches find the same elements";
     fs::remove(o.csv);
 }
 
