@@ -73,6 +73,31 @@ void write_vtu(const World& world, const std::string& path) {
     out.print("\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
 }
 
+void write_surface_obj(const World& world, const std::string& path) {
+    const SurfaceMesh& s = world.visual;
+    auto out = fmt::output_file(path);
+    out.print("# xcut visual surface: {} vertices, {} triangles, t = {} s\n", s.vertex_count(), s.triangles.size(),
+              world.time);
+    for (const Vec3& p : s.position) out.print("v {:.9g} {:.9g} {:.9g}\n", p.x(), p.y(), p.z());
+    for (const auto& t : s.triangles) out.print("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+}
+
+void write_surface_vtu(const World& world, const std::string& path) {
+    const SurfaceMesh& s = world.visual;
+    auto out = fmt::output_file(path);
+    out.print("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
+    out.print("<UnstructuredGrid>\n<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", s.vertex_count(), s.triangles.size());
+    out.print("<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+    for (const Vec3& p : s.position) out.print("{:.10g} {:.10g} {:.10g}\n", p.x(), p.y(), p.z());
+    out.print("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
+    for (const auto& t : s.triangles) out.print("{} {} {}\n", t[0], t[1], t[2]);
+    out.print("</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n");
+    for (size_t c = 0; c < s.triangles.size(); ++c) out.print("{} ", 3 * (c + 1));
+    out.print("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+    for (size_t c = 0; c < s.triangles.size(); ++c) out.print("5 ");
+    out.print("\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+}
+
 void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& frames) {
     auto out = fmt::output_file(path);
     out.print("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n");
@@ -104,6 +129,13 @@ void OutputWriter::write_frame(const World& world) {
     write_vtu(world, dir_ + "/" + file);
     frames_.emplace_back(world.time, file);
     write_pvd(dir_ + "/" + stem_ + ".pvd", frames_);
+    if (world.visual.vertex_count() > 0) {
+        const std::string surface = fmt::format("{}_surface_{:06d}", stem_, world.step);
+        write_surface_obj(world, dir_ + "/" + surface + ".obj");
+        write_surface_vtu(world, dir_ + "/" + surface + ".vtu");
+        surface_frames_.emplace_back(world.time, surface + ".vtu");
+        write_pvd(dir_ + "/" + stem_ + "_surface.pvd", surface_frames_);
+    }
 }
 
 void OutputWriter::frame_if_due(const World& world) {

@@ -14,6 +14,9 @@ namespace xcut {
 /// Writes the mesh of `world` at its current positions as a VTK UnstructuredGrid (ASCII XML) with
 /// point fields displacement [m], velocity [m/s], fixed, and cell fields volume [m^3].
 void write_vtu(const World& world, const std::string& path);
+/// Writes the visual surface as OBJ (positions [m], triangles) and as a VTK triangle grid.
+void write_surface_obj(const World& world, const std::string& path);
+void write_surface_vtu(const World& world, const std::string& path);
 /// Writes the .pvd collection listing (time, file) pairs.
 void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& frames);
 
@@ -34,6 +37,7 @@ private:
     std::ofstream csv_;
     bool cut_columns_ = false;   ///< the scene has tools: per-step cut figures
     std::vector<std::pair<double, std::string>> frames_;
+    std::vector<std::pair<double, std::string>> surface_frames_;
 };
 
 /// Prints a one-line progress bar to stderr when it is a terminal and the run lasts over a second.

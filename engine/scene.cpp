@@ -230,7 +230,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     scene.file = path;
     const JsonFields top(root, path, "");
     top.allow_only({"name", "description", "mesh", "material", "gravity", "constraints", "solver", "steps",
-                    "duration", "output", "cuts", "tools", "cutter"});
+                    "duration", "output", "cuts", "tools", "cutter", "visual"});
     scene.name = top.string("name", fs::path(path).stem().string());
     if (!top.has("mesh")) top.fail("mesh", "required field is missing");
     scene.mesh = read_mesh(top.object("mesh"), fs::path(path).parent_path());
@@ -286,6 +286,11 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     }
 
     read_tools(top, fs::path(path).parent_path(), scene);
+    if (top.has("visual")) {
+        const JsonFields vis = top.object("visual");
+        vis.allow_only({"subdivisions"});
+        scene.visual_subdivisions = vis.integer("subdivisions", 0, 0, 3);
+    }
 
     const JsonFields out = top.object("output");
     out.allow_only({"directory", "every", "vtu", "metrics_csv"});

@@ -32,6 +32,7 @@ struct Scene {
     ToolBodies tools;                ///< "tools"
     double cut_threshold = 0.0;      ///< "cutter.threshold" [m]; 0: mean edge length
     int cut_min_depth = 1;           ///< "cutter.neighbourhood_depth"
+    int visual_subdivisions = -1;    ///< "visual.subdivisions"; -1: no visual surface
 };
 
 /// Reads a recorded trajectory: CSV with header time,x,y,z,qw,qx,qy,qz (SI units; quaternion

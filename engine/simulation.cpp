@@ -5,6 +5,7 @@
 #include "systems/cut_system.h"
 #include "systems/enrichment_system.h"
 #include "systems/force_system.h"
+#include "systems/mapping_system.h"
 #include "systems/scripted_cut_system.h"
 #include "systems/tool_system.h"
 #include "systems/solver_system.h"
@@ -21,6 +22,7 @@ void register_systems(Scheduler& scheduler, Simulation& sim) {
     scheduler.add(enrichment_system());
     scheduler.add(force_system());
     scheduler.add(solver_system());
+    scheduler.add(mapping_system());
     scheduler.add({"OutputSystem", kNodes | kElements | kOutput, 0, [&sim](World& w) {
                        if (sim.output) sim.output->frame_if_due(w);
                    }});
@@ -29,6 +31,7 @@ void register_systems(Scheduler& scheduler, Simulation& sim) {
 std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output) {
     auto sim = std::make_unique<Simulation>();
     sim->world = build_world(scene);
+    if (scene.visual_subdivisions >= 0) build_visual_surface(sim->world, scene.visual_subdivisions);
     if (!with_output) sim->world.output.directory.clear();
     register_systems(sim->scheduler, *sim);
     sim->scheduler.build(sim->world);

@@ -16,6 +16,7 @@ const char* component_name(uint32_t bit) {
         case kCutEvents: return "CutEvents";
         case kXfem: return "Xfem";
         case kTools: return "Tools";
+        case kVisual: return "VisualMesh";
         default: return "?";
     }
 }
@@ -41,6 +42,7 @@ uint32_t World::present() const {
     if (!cut_plan.cuts.empty()) mask |= kCutPlan | kCutEvents;
     if (cuts.count() > 0) mask |= kXfem;
     if (tools.count() > 0) mask |= kTools | kCutEvents;
+    if (visual.vertex_count() > 0) mask |= kVisual;
     return mask;
 }
 

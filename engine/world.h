@@ -14,6 +14,7 @@
 #include "components/material.h"
 #include "components/metrics.h"
 #include "components/nodes.h"
+#include "components/surface_mesh.h"
 #include "components/tools.h"
 
 namespace xcut {
@@ -33,6 +34,7 @@ enum ComponentBit : uint32_t {
     kCutEvents = 1u << 9,    ///< the queue of splits; present when the scene has any cutter
     kXfem = 1u << 10,        ///< cut elements, virtual elements, enriched DOFs
     kTools = 1u << 11,       ///< tool bodies (scalpel, ...)
+    kVisual = 1u << 12,      ///< visual surface mesh
 };
 const char* component_name(uint32_t bit);
 std::string component_list(uint32_t mask);
@@ -87,6 +89,7 @@ struct World {
     CutElements cuts;
     VirtualElements virtual_elements;
     EnrichedDofs enriched;
+    SurfaceMesh visual;
 
     bool verbose = false;  ///< systems may log events (cuts) to stdout
     double time = 0.0;   ///< [s]

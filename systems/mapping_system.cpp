@@ -1,0 +1,198 @@
+#include "systems/mapping_system.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <unordered_map>
+
+#include "components/cut_elements.h"
+#include "engine/parallel.h"
+
+namespace xcut {
+namespace {
+
+uint64_t edge_key(int a, int b) {
+    return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
+}
+
+struct FaceOwner {
+    int element;
+    std::array<int, 3> nodes;  ///< outward order
+    int count;
+};
+
+/// Outward faces of a positively oriented tetrahedron, as local node triples.
+constexpr int kTetFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+int local_index(const std::array<int, 4>& nodes, int node) {
+    for (int a = 0; a < 4; ++a)
+        if (nodes[a] == node) return a;
+    return -1;
+}
+
+/// Adds a vertex at mesh node `node`, bound to element `e`.
+int add_node_vertex(World& w, std::unordered_map<int, int>& vertex_of_node, int node, int e) {
+    auto [it, fresh] = vertex_of_node.emplace(node, w.visual.vertex_count());
+    if (!fresh) return it->second;
+    SurfaceMesh& s = w.visual;
+    Eigen::Vector4d b = Eigen::Vector4d::Zero();
+    b[local_index(w.elements.nodes[e], node)] = 1.0;
+    s.position.push_back(w.nodes.position[node]);
+    s.element.push_back(e);
+    s.bary.push_back(b);
+    s.bound_to[e].push_back(it->second);
+    return it->second;
+}
+
+/// Splits every triangle in four; midpoints bound to the element owning the triangle.
+void subdivide(World& w, std::vector<int>& owner) {
+    SurfaceMesh& s = w.visual;
+    std::unordered_map<uint64_t, int> mid;
+    std::vector<std::array<int, 3>> tris;
+    std::vector<int> owners;
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        const auto tri = s.triangles[t];
+        const int e = owner[t];
+        int m[3];
+        for (int k = 0; k < 3; ++k) {
+            const int a = tri[k], b = tri[(k + 1) % 3];
+            auto [it, fresh] = mid.emplace(edge_key(a, b), s.vertex_count());
+            if (fresh) {
+                // Both ends are bound to elements sharing this edge; express the midpoint in e.
+                const Eigen::Vector4d ba = s.bary[a], bb = s.bary[b];
+                Eigen::Vector4d bm = Eigen::Vector4d::Zero();
+                const auto& en = w.elements.nodes[e];
+                for (int i = 0; i < 4; ++i) {
+                    if (en[i] < 0) continue;
+                    for (int j = 0; j < 4; ++j) {
+                        const int na = w.elements.nodes[s.element[a]][j], nb = w.elements.nodes[s.element[b]][j];
+                        if (na == en[i]) bm[i] += 0.5 * ba[j];
+                        if (nb == en[i]) bm[i] += 0.5 * bb[j];
+                    }
+                }
+                s.position.push_back(0.5 * (s.position[a] + s.position[b]));
+                s.element.push_back(e);
+                s.bary.push_back(bm);
+                s.bound_to[e].push_back(it->second);
+            }
+            m[k] = it->second;
+        }
+        tris.push_back({tri[0], m[0], m[2]});
+        tris.push_back({m[0], tri[1], m[1]});
+        tris.push_back({m[2], m[1], tri[2]});
+        tris.push_back({m[0], m[1], m[2]});
+        owners.insert(owners.end(), 4, e);
+    }
+    s.triangles.swap(tris);
+    owner.swap(owners);
+}
+
+}  // namespace
+
+void build_visual_surface(World& w, int subdivisions) {
+    SurfaceMesh& s = w.visual;
+    s = SurfaceMesh{};
+    s.bound_to.assign(w.mesh_elements, {});
+    const Elements& el = w.elements;
+    std::unordered_map<int, int> vertex_of_node;
+    std::vector<int> owner;
+    if (el.dim == 2) {
+        for (int e = 0; e < w.mesh_elements; ++e) {
+            std::array<int, 3> t;
+            for (int a = 0; a < 3; ++a) t[a] = add_node_vertex(w, vertex_of_node, el.nodes[e][a], e);
+            s.triangles.push_back(t);
+            owner.push_back(e);
+        }
+    } else {
+        // Faces of exactly one tetrahedron are the boundary.
+        std::unordered_map<uint64_t, FaceOwner> faces;  // key: sorted triple hashed
+        auto key3 = [](std::array<int, 3> f) {
+            std::sort(f.begin(), f.end());
+            return (static_cast<uint64_t>(f[0]) * 1000003ull + f[1]) * 1000003ull + f[2];
+        };
+        std::vector<uint64_t> order;
+        for (int e = 0; e < w.mesh_elements; ++e)
+            for (const auto& lf : kTetFaces) {
+                const std::array<int, 3> f = {el.nodes[e][lf[0]], el.nodes[e][lf[1]], el.nodes[e][lf[2]]};
+                auto [it, fresh] = faces.emplace(key3(f), FaceOwner{e, f, 0});
+                if (fresh) order.push_back(it->first);
+                ++it->second.count;
+            }
+        for (uint64_t k : order) {  // insertion order: deterministic
+            const FaceOwner& f = faces.at(k);
+            if (f.count != 1) continue;
+            std::array<int, 3> t;
+            for (int a = 0; a < 3; ++a) t[a] = add_node_vertex(w, vertex_of_node, f.nodes[a], f.element);
+            s.triangles.push_back(t);
+            owner.push_back(f.element);
+        }
+    }
+    for (int i = 0; i < subdivisions; ++i) subdivide(w, owner);
+    update_surface_positions(w);
+}
+
+int rebind_cut_vertices(World& w) {
+    SurfaceMesh& s = w.visual;
+    const Elements& el = w.elements;
+    const int npe = el.nodes_per_element();
+    int rebound = 0;
+    for (int c = s.cuts_mapped; c < w.cuts.count(); ++c) {
+        const int e = w.cuts.element[c];
+        // The cut's plane through its edge points (rest): level phi(X) = n.(X - p0), oriented so
+        // that the node farthest from the plane has the sign of its H.
+        std::vector<Vec3> pts;
+        for (int k = 0; k < 4; ++k)
+            if (w.cuts.point_edge[c][k] >= 0) pts.push_back(w.cuts.points[c][k]);
+        Vec3 n = Vec3::Zero();
+        if (el.dim == 2) {
+            const Vec3 d = pts[1] - pts[0];
+            n = Vec3(-d.y(), d.x(), 0.0);
+        } else {
+            for (size_t i = 0; i < pts.size(); ++i) n += pts[i].cross(pts[(i + 1) % pts.size()]);
+        }
+        std::array<double, 4> phi{};
+        int far = 0;
+        for (int a = 0; a < npe; ++a) {
+            phi[a] = n.dot(w.nodes.rest[el.nodes[e][a]] - pts[0]);
+            if (std::abs(phi[a]) > std::abs(phi[far])) far = a;
+        }
+        const double orient = (phi[far] >= 0) == (w.enriched.sign[el.nodes[e][far]] > 0) ? 1.0 : -1.0;
+        for (int v : s.bound_to[e]) {
+            const Eigen::Vector4d& b = s.bary[v];
+            int side = 0;
+            for (int a = 0; a < npe; ++a)
+                if (b[a] == 1.0) side = w.enriched.sign[el.nodes[e][a]];  // a vertex at a node: its H
+            if (side == 0) {
+                double level = 0.0;
+                for (int a = 0; a < npe; ++a) level += b[a] * phi[a];
+                side = orient * level >= 0.0 ? 1 : -1;
+            }
+            s.element[v] = w.virtual_elements.element[w.cuts.virtual_element[c][side > 0 ? 0 : 1]];
+            ++rebound;
+        }
+    }
+    s.cuts_mapped = w.cuts.count();
+    s.last_rebound = rebound;
+    return rebound;
+}
+
+void update_surface_positions(World& w) {
+    SurfaceMesh& s = w.visual;
+    const Elements& el = w.elements;
+    const int npe = el.nodes_per_element();
+    const Vec3* x = w.nodes.position.data();
+    parallel_for(s.vertex_count(), [&](int v) {
+        const auto& nodes = el.nodes[s.element[v]];
+        Vec3 p = Vec3::Zero();
+        for (int a = 0; a < npe; ++a) p += s.bary[v][a] * x[nodes[a]];
+        s.position[v] = p;
+    });
+}
+
+SystemDesc mapping_system() {
+    return {"MappingSystem", kNodes | kElements | kVisual, kVisual, [](World& w) {
+                if (w.visual.cuts_mapped < w.cuts.count()) rebind_cut_vertices(w);
+                update_surface_positions(w);
+            }};
+}
+
+}  // namespace xcut

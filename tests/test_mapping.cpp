@@ -1,0 +1,115 @@
+// Visual surface bound to the alternative mesh (paper §3.2, Fig. 5): built closed and outward,
+// every vertex bound to one live element after cuts, re-binding limited to the split elements,
+// and vertices following their side's virtual element.
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "systems/mapping_system.h"
+#include "test_helpers.h"
+
+namespace xcut {
+namespace {
+
+using testing::cut_now;
+using testing::grid;
+using testing::square_on_plane;
+using testing::world_from_mesh;
+
+/// Every directed edge once and its reverse once: a closed, consistently oriented 2-manifold.
+/// Returns the Euler characteristic V - E + F.
+int check_closed_oriented(const SurfaceMesh& s) {
+    std::map<std::pair<int, int>, int> directed;
+    for (const auto& t : s.triangles)
+        for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+    for (const auto& [e, n] : directed) {
+        EXPECT_EQ(n, 1) << "directed edge " << e.first << "-" << e.second;
+        EXPECT_EQ(directed.count({e.second, e.first}), 1u) << "edge " << e.first << "-" << e.second << " is open";
+    }
+    return s.vertex_count() - static_cast<int>(directed.size() / 2) + static_cast<int>(s.triangles.size());
+}
+
+double enclosed_volume(const SurfaceMesh& s) {
+    double v = 0.0;
+    for (const auto& t : s.triangles) v += s.position[t[0]].dot(s.position[t[1]].cross(s.position[t[2]])) / 6.0;
+    return v;
+}
+
+class VisualSurface : public ::testing::TestWithParam<int> {};
+
+TEST_P(VisualSurface, BoundaryIsClosedOutwardAndExact) {
+    World w = world_from_mesh(generate_box(grid({0.03, 0.02, 0.01}, {3, 2, 2}, 0.2, 4)));
+    build_visual_surface(w, GetParam());
+    EXPECT_EQ(check_closed_oriented(w.visual), 2);
+    EXPECT_NEAR(enclosed_volume(w.visual), 0.03 * 0.02 * 0.01, 1e-15) << "outward, and the box's volume";
+    for (int v = 0; v < w.visual.vertex_count(); ++v) {
+        EXPECT_NEAR(w.visual.bary[v].sum(), 1.0, 1e-15);
+        EXPECT_GE(w.visual.bary[v].minCoeff(), 0.0);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Subdivisions, VisualSurface, ::testing::Values(0, 1, 2));
+
+TEST(Mapping, CutRebindsOnlyVerticesOfSplitElementsAndLosesNone) {
+    World w = world_from_mesh(generate_box(grid({0.04, 0.02, 0.004}, {8, 4, 2})));
+    build_visual_surface(w, 1);
+    const int split = cut_now(w, square_on_plane(Vec3(0.021, 0.01, 0.002), Vec3(1, 0, 0), 1.0));
+    ASSERT_GT(split, 0);
+    size_t expected = 0;
+    for (int c = 0; c < w.cuts.count(); ++c) expected += w.visual.bound_to[w.cuts.element[c]].size();
+    EXPECT_GT(expected, 0u);
+    EXPECT_EQ(rebind_cut_vertices(w), static_cast<int>(expected));
+    EXPECT_EQ(rebind_cut_vertices(w), 0) << "nothing more to re-bind";
+    for (int v = 0; v < w.visual.vertex_count(); ++v) {
+        const int e = w.visual.element[v];
+        EXPECT_GT(w.elements.weight[e], 0.0) << "vertex " << v << " is bound to a live element";
+        EXPECT_GE(w.visual.bary[v].minCoeff(), -1e-12);
+        EXPECT_LE(w.visual.bary[v].maxCoeff(), 1.0 + 1e-12);
+    }
+    // Each re-bound vertex sits on its side of the cut plane x = 21 mm: the side of the nodes there.
+    int right_sign = 0;
+    for (int j = 0; j < w.mesh_nodes; ++j)
+        if (w.enriched.enriched[j] && w.nodes.rest[j].x() > 0.021) right_sign = w.enriched.sign[j];
+    ASSERT_NE(right_sign, 0);
+    std::map<int, int> side_of_element;
+    for (int k = 0; k < w.virtual_elements.count(); ++k)
+        side_of_element[w.virtual_elements.element[k]] = w.virtual_elements.side[k];
+    for (int c = 0; c < w.cuts.count(); ++c)
+        for (int v : w.visual.bound_to[w.cuts.element[c]]) {
+            const int ve = w.visual.element[v];
+            Vec3 rest = Vec3::Zero();
+            for (int a = 0; a < 4; ++a) rest += w.visual.bary[v][a] * w.nodes.rest[w.elements.nodes[ve][a]];
+            EXPECT_EQ(side_of_element.at(ve), rest.x() > 0.021 ? right_sign : -right_sign) << "vertex " << v;
+        }
+}
+
+TEST(Mapping, SurfaceOfTheFreePartFallsWithIt) {
+    // The fully cut bar of problem 4: every surface vertex beyond the cut, including those bound to
+    // virtual elements, falls with x_n = 1/2 g h^2 n (n + 1).
+    Material m;
+    m.young = 1e5;
+    World w;
+    w.materials.list = {m};
+    w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
+    build_bodies(w, generate_box(grid({0.1, 0.01, 0.01}, {10, 2, 2})));
+    w.gravity = Vec3(0, 0, -9.81);
+    w.solver.dt = 1e-3;
+    w.solver.cg_tolerance = 1e-14;
+    w.solver.cg_max_iterations = 2000;
+    build_visual_surface(w, 1);
+    cut_now(w, square_on_plane(Vec3(0.055, 0.005, 0.005), Vec3(1, 0, 0), 1.0));
+    rebind_cut_vertices(w);
+    std::vector<Vec3> rest = w.visual.position;
+    for (int n = 1; n <= 20; ++n) {
+        testing::step_world(w);
+        update_surface_positions(w);
+        const double expected = -0.5 * 9.81 * 1e-6 * n * (n + 1);
+        for (int v = 0; v < w.visual.vertex_count(); ++v)
+            if (rest[v].x() > 0.055 + 1e-9) {
+                ASSERT_NEAR(w.visual.position[v].z() - rest[v].z(), expected, 1e-9 * std::abs(expected)) << v;
+            }
+    }
+}
+
+}  // namespace
+}  // namespace xcut
