@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "engine/error.h"
 
@@ -43,24 +42,6 @@ bool ball_callback(RTCPointQueryFunctionArguments* args) {
     const RTCBounds& b = (*q->boxes)[args->primID];
     if (box_distance2(b, args->query->x, args->query->y, args->query->z) <= q->radius * q->radius)
         q->out->push_back(static_cast<int>(args->primID));
-    return false;
-}
-
-struct NearestQuery {
-    const std::vector<RTCBounds>* boxes;
-    int best = -1;
-    float best_d2 = std::numeric_limits<float>::max();
-};
-
-bool nearest_callback(RTCPointQueryFunctionArguments* args) {
-    auto* q = static_cast<NearestQuery*>(args->userPtr);
-    const float d2 = box_distance2((*q->boxes)[args->primID], args->query->x, args->query->y, args->query->z);
-    if (d2 < q->best_d2 || (d2 == q->best_d2 && static_cast<int>(args->primID) < q->best)) {
-        q->best_d2 = d2;
-        q->best = static_cast<int>(args->primID);
-        args->query->radius = std::sqrt(d2) * 1.0001f + 1e-30f;  // shrink the search
-        return true;
-    }
     return false;
 }
 
@@ -126,19 +107,6 @@ void ElementBvh::query_ball(const Vec3& centre, double radius, std::vector<int>&
     rtcInitPointQueryContext(&ctx);
     BallQuery data{&impl_->boxes, &out, q.radius};
     rtcPointQuery(impl_->scene, &q, &ctx, ball_callback, &data);
-}
-
-int ElementBvh::nearest(const Vec3& p) const {
-    if (!impl_->scene) return -1;
-    RTCPointQuery q;
-    q.x = static_cast<float>(p.x()), q.y = static_cast<float>(p.y()), q.z = static_cast<float>(p.z());
-    q.time = 0.0f;
-    q.radius = std::numeric_limits<float>::infinity();
-    RTCPointQueryContext ctx;
-    rtcInitPointQueryContext(&ctx);
-    NearestQuery data{&impl_->boxes};
-    rtcPointQuery(impl_->scene, &q, &ctx, nearest_callback, &data);
-    return data.best;
 }
 
 }  // namespace xcut

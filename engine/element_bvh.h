@@ -26,8 +26,6 @@ public:
     bool ensure(const World& world, double margin);
     /// Appends to `out` every element whose box meets the ball (centre, radius [m]).
     void query_ball(const Vec3& centre, double radius, std::vector<int>& out) const;
-    /// The element whose box is nearest to `p` (its box contains p if any does), or -1.
-    int nearest(const Vec3& p) const;
 
 private:
     struct Impl;
