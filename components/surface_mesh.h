@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <map>
 #include <vector>
 
 #include "components/nodes.h"
@@ -18,7 +19,13 @@ struct SurfaceMesh {
     std::vector<int> element;                ///< binding: force element (mesh or virtual)
     std::vector<Eigen::Vector4d> bary;       ///< barycentric coordinates in that element's rest shape
     std::vector<std::array<int, 3>> triangles;  ///< outward-oriented
+    std::vector<int> triangle_owner;         ///< mesh element whose face (or cut) holds the triangle
+    std::vector<uint8_t> cut_face;           ///< 1: a triangle of the internal cut surface (§3.4)
     std::vector<std::vector<int>> bound_to;  ///< per mesh element: the vertices bound to it
+    std::vector<std::vector<int>> triangles_of;  ///< per mesh element: the skin triangles it owns
+    /// Cut vertices by (side, rest position quantized to 1e-11 m): a point made once per side, reused
+    /// by every element and triangle that meets it (the paper's "existing or future points").
+    std::map<std::array<int64_t, 4>, int> cut_point;
     int cuts_mapped = 0;                     ///< cut elements already re-bound (CutElements index)
     int last_rebound = 0;                    ///< vertices re-bound by the last mapping update
 

@@ -6,6 +6,7 @@
 
 #include "components/cut_elements.h"
 #include "engine/parallel.h"
+#include "systems/surface_cut.h"
 
 namespace xcut {
 namespace {
@@ -127,6 +128,10 @@ void build_visual_surface(World& w, int subdivisions) {
         }
     }
     for (int i = 0; i < subdivisions; ++i) subdivide(w, owner);
+    s.triangle_owner = owner;
+    s.cut_face.assign(s.triangles.size(), 0);
+    s.triangles_of.assign(w.mesh_elements, {});
+    for (size_t t = 0; t < owner.size(); ++t) s.triangles_of[owner[t]].push_back(static_cast<int>(t));
     update_surface_positions(w);
 }
 
@@ -137,25 +142,9 @@ int rebind_cut_vertices(World& w) {
     int rebound = 0;
     for (int c = s.cuts_mapped; c < w.cuts.count(); ++c) {
         const int e = w.cuts.element[c];
-        // The cut's plane through its edge points (rest): level phi(X) = n.(X - p0), oriented so
-        // that the node farthest from the plane has the sign of its H.
-        std::vector<Vec3> pts;
-        for (int k = 0; k < 4; ++k)
-            if (w.cuts.point_edge[c][k] >= 0) pts.push_back(w.cuts.points[c][k]);
-        Vec3 n = Vec3::Zero();
-        if (el.dim == 2) {
-            const Vec3 d = pts[1] - pts[0];
-            n = Vec3(-d.y(), d.x(), 0.0);
-        } else {
-            for (size_t i = 0; i < pts.size(); ++i) n += pts[i].cross(pts[(i + 1) % pts.size()]);
-        }
-        std::array<double, 4> phi{};
-        int far = 0;
-        for (int a = 0; a < npe; ++a) {
-            phi[a] = n.dot(w.nodes.rest[el.nodes[e][a]] - pts[0]);
-            if (std::abs(phi[a]) > std::abs(phi[far])) far = a;
-        }
-        const double orient = (phi[far] >= 0) == (w.enriched.sign[el.nodes[e][far]] > 0) ? 1.0 : -1.0;
+        const CutPlaneInfo cp = cut_plane_info(w, c);
+        const auto& phi = cp.phi;
+        const double orient = cp.orient;
         for (int v : s.bound_to[e]) {
             const Eigen::Vector4d& b = s.bary[v];
             int side = 0;
@@ -170,6 +159,7 @@ int rebind_cut_vertices(World& w) {
             ++rebound;
         }
     }
+    for (int c = s.cuts_mapped; c < w.cuts.count(); ++c) cut_surface(w, c);
     s.cuts_mapped = w.cuts.count();
     s.last_rebound = rebound;
     return rebound;
