@@ -230,7 +230,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     scene.file = path;
     const JsonFields top(root, path, "");
     top.allow_only({"name", "description", "mesh", "material", "gravity", "constraints", "solver", "steps",
-                    "duration", "output", "cuts", "tools", "cutter", "visual"});
+                    "duration", "output", "cuts", "tools", "cutter", "visual", "camera"});
     scene.name = top.string("name", fs::path(path).stem().string());
     if (!top.has("mesh")) top.fail("mesh", "required field is missing");
     scene.mesh = read_mesh(top.object("mesh"), fs::path(path).parent_path());
@@ -290,6 +290,20 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
         const JsonFields vis = top.object("visual");
         vis.allow_only({"subdivisions"});
         scene.visual_subdivisions = vis.integer("subdivisions", 0, 0, 3);
+    }
+    if (top.has("camera")) {
+        const JsonFields cam = top.object("camera");
+        cam.allow_only({"position", "target", "up", "fov_deg", "width", "height"});
+        Camera& c = scene.camera;
+        c.automatic = false;
+        c.position = cam.required_vec3("position");
+        c.target = cam.required_vec3("target");
+        c.up = cam.vec3("up", Vec3::UnitY());
+        c.fov_deg = cam.number("fov_deg", 40.0, 1.0, 170.0);
+        c.width = cam.integer("width", 800, 16, 8192);
+        c.height = cam.integer("height", 600, 16, 8192);
+        if (!((c.target - c.position).norm() > 0.0)) cam.fail("target", "must differ from position");
+        if (!((c.target - c.position).normalized().cross(c.up).norm() > 1e-6)) cam.fail("up", "must not be along the view direction");
     }
 
     const JsonFields out = top.object("output");

@@ -7,6 +7,7 @@
 
 #include "engine/generators.h"
 #include "engine/mesh_data.h"
+#include "engine/render.h"
 #include "engine/world.h"
 
 namespace xcut {
@@ -33,6 +34,7 @@ struct Scene {
     double cut_threshold = 0.0;      ///< "cutter.threshold" [m]; 0: mean edge length
     int cut_min_depth = 1;           ///< "cutter.neighbourhood_depth"
     int visual_subdivisions = -1;    ///< "visual.subdivisions"; -1: no visual surface
+    Camera camera;                   ///< "camera"; automatic framing unless given
 };
 
 /// Reads a recorded trajectory: CSV with header time,x,y,z,qw,qx,qy,qz (SI units; quaternion

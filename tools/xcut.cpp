@@ -10,6 +10,7 @@
 #include "engine/bench.h"
 #include "engine/bench_cut.h"
 #include "engine/error.h"
+#include "engine/render.h"
 #include "engine/parallel.h"
 #include "engine/simulation.h"
 #include "systems/enrichment_system.h"
@@ -24,6 +25,25 @@ struct RunOptions {
     std::vector<std::string> overrides;
     bool quiet = false;
 };
+
+void render_to(const xcut::Scene& scene, const xcut::World& w, const std::string& png) {
+    const xcut::Camera cam = scene.camera.automatic ? xcut::frame_surface(w.visual, scene.camera.width, scene.camera.height)
+                                                    : scene.camera;
+    xcut::write_png(xcut::render_surface(w.visual, cam), png);
+}
+
+int render_command(const RunOptions& o, const std::string& png) {
+    using namespace xcut;
+    set_thread_count(o.threads);
+    Scene scene = load_scene(o.scene, o.overrides);
+    if (scene.visual_subdivisions < 0) scene.visual_subdivisions = 0;
+    auto sim = make_simulation(scene, /*with_output=*/false);
+    run_simulation(*sim, o.steps >= 0 ? o.steps : scene.steps, !o.quiet);
+    const std::string out = png.empty() ? scene.name + ".png" : png;
+    render_to(scene, sim->world, out);
+    fmt::print("render: {} (t = {:.4g} s, {} triangles)\n", out, sim->world.time, sim->world.visual.triangles.size());
+    return 0;
+}
 
 int run_command(const RunOptions& o) {
     using namespace xcut;
@@ -55,6 +75,11 @@ int run_command(const RunOptions& o) {
                    w.cuts.count(), w.enriched.count(),
                    std::count(w.enriched.front_fixed.begin(), w.enriched.front_fixed.end(), 1), opening);
     }
+    if (sim->output && w.visual.vertex_count() > 0) {
+        const std::string png = sim->output->directory() + "/" + scene.name + ".png";
+        render_to(scene, w, png);
+        fmt::print("render: {}\n", png);
+    }
     if (sim->output) fmt::print("output: {}/{}.pvd and {}_metrics.csv\n", sim->output->directory(), scene.name, scene.name);
     return 0;
 }
@@ -73,6 +98,16 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--output,-o", run.output, "Output directory (default: the scene's output.directory)");
     run_cmd->add_option("--set", run.overrides, "Override a scene field: field.path=value (JSON value)");
     run_cmd->add_flag("--quiet,-q", run.quiet, "No progress bar");
+    RunOptions render;
+    std::string png;
+    CLI::App* render_cmd = app.add_subcommand("render", "Run a scene and render its visual surface to a PNG (Embree)");
+    render_cmd->add_option("scene", render.scene, "Scene file")->required();
+    render_cmd->add_option("--steps", render.steps, "Steps to run before rendering (default: the scene's)");
+    render_cmd->add_option("--png,-o", png, "PNG to write (default: <scene name>.png)");
+    render_cmd->add_option("--set", render.overrides, "Override a scene field: field.path=value");
+    render_cmd->add_option("--threads,-j", render.threads, "OpenMP threads")->check(CLI::Range(1, 256));
+    render_cmd->add_flag("--quiet,-q", render.quiet, "No progress bar");
+
     xcut::PerfBenchOptions perf;
     xcut::CutBenchOptions cut;
     std::string suite = "perf";
@@ -88,6 +123,7 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
     try {
         if (run_cmd->parsed()) return run_command(run);
+        if (render_cmd->parsed()) return render_command(render, png);
         if (bench_cmd->parsed()) {
             if (suite == "cut") {
                 cut.sizes = perf.sizes;
