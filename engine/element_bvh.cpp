@@ -47,10 +47,8 @@ bool ball_callback(RTCPointQueryFunctionArguments* args) {
 
 }  // namespace
 
-ElementBvh::ElementBvh() : impl_(std::make_unique<Impl>()) {
-    impl_->device = rtcNewDevice("threads=1");
-    if (!impl_->device) throw std::runtime_error("Embree: cannot create a device");
-}
+// The Embree device is made on first use: a scene without tools never pays for it.
+ElementBvh::ElementBvh() : impl_(std::make_unique<Impl>()) {}
 
 ElementBvh::~ElementBvh() {
     if (impl_->scene) rtcReleaseScene(impl_->scene);
@@ -85,6 +83,8 @@ void ElementBvh::build(const World& world, double margin) {
         b.upper_x = static_cast<float>(hi.x() + pad), b.upper_y = static_cast<float>(hi.y() + pad);
         b.upper_z = static_cast<float>(hi.z() + pad);
     }
+    if (!impl_->device) impl_->device = rtcNewDevice("threads=1");
+    if (!impl_->device) throw std::runtime_error("Embree: cannot create a device");
     if (impl_->scene) rtcReleaseScene(impl_->scene);
     impl_->scene = rtcNewScene(impl_->device);
     RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
