@@ -181,3 +181,32 @@ INSTANTIATE_TEST_SUITE_P(Subdivisions, CutSurface, ::testing::Values(0, 1));
 
 }  // namespace
 }  // namespace xcut
+
+namespace xcut {
+namespace {
+
+// 2D: the sheet itself is the visual mesh; a cut splits its triangles, each side keeping its part,
+// so the incision shows as a gap: total area is kept and no triangle spans the cut.
+TEST(Mapping, TwoDimensionalCutSplitsTheSheet) {
+    World w = world_from_mesh(generate_plate(grid({0.04, 0.02, 0}, {8, 4, 1})));
+    build_visual_surface(w, 1);
+    ASSERT_GT(cut_now(w, {Vec3(0.021, -1, 0), Vec3(0.021, 1, 0)}), 0);
+    rebind_cut_vertices(w);
+    update_surface_positions(w);
+    const SurfaceMesh& s = w.visual;
+    double area = 0.0;
+    for (const auto& t : s.triangles) {
+        const Vec3 a = s.position[t[1]] - s.position[t[0]], b = s.position[t[2]] - s.position[t[0]];
+        area += 0.5 * (a.x() * b.y() - a.y() * b.x());
+        bool left = false, right = false;
+        for (int k : t) {
+            left = left || s.position[k].x() < 0.021 - 1e-12;
+            right = right || s.position[k].x() > 0.021 + 1e-12;
+        }
+        EXPECT_FALSE(left && right) << "a triangle spans the cut";
+    }
+    EXPECT_NEAR(area, 0.04 * 0.02, 1e-15);
+}
+
+}  // namespace
+}  // namespace xcut
