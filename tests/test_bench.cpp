@@ -9,6 +9,7 @@
 
 #include "engine/bench.h"
 #include "engine/bench_cut.h"
+#include "engine/bench_mapping.h"
 
 namespace xcut {
 namespace {
@@ -66,6 +67,19 @@ TEST(Bench, CutSuiteTinyRun) {
     EXPECT_GT(rows[0].quads, 1);
     o.bvh_every_quad = true;
     EXPECT_EQ(run_cut_bench(o)[0].splits, rows[0].splits) << "both searches find the same elements";
+    fs::remove(o.csv);
+}
+
+TEST(Bench, MappingSuiteTinyRun) {
+    MappingBenchOptions o;
+    o.subdivisions = {0};
+    o.repeats = 2;
+    o.csv = (fs::temp_directory_path() / ("xcut_bench_map_" + std::to_string(::getpid()) + ".csv")).string();
+    ASSERT_EQ(mapping_bench_command(o), 0);
+    const auto lines = csv_lines(o.csv);
+    ASSERT_EQ(lines.size(), 3u);  // header, 1 and 2 threads
+    EXPECT_EQ(lines[0], "subdivisions,vertices,triangles,threads,update_ms,ns_per_vertex,rebind_us_per_split");
+    for (size_t i = 1; i < lines.size(); ++i) expect_finite_positive_row(lines[i]);
     fs::remove(o.csv);
 }
 

@@ -9,6 +9,7 @@
 
 #include "engine/bench.h"
 #include "engine/bench_cut.h"
+#include "engine/bench_mapping.h"
 #include "engine/error.h"
 #include "engine/render.h"
 #include "engine/parallel.h"
@@ -112,8 +113,8 @@ int main(int argc, char** argv) {
     xcut::CutBenchOptions cut;
     std::string suite = "perf";
     CLI::App* bench_cmd = app.add_subcommand("bench", "Benchmarks: print figures and write CSV (never pass/fail)");
-    bench_cmd->add_option("--suite", suite, "perf: steps/s, CG, bytes per tet; cut: cut update per quad, crossing delay")
-        ->check(CLI::IsMember({"perf", "cut"}));
+    bench_cmd->add_option("--suite", suite, "perf: steps/s, CG, bytes per tet; cut: cut update per quad, crossing delay; mapping: surface update and re-binding")
+        ->check(CLI::IsMember({"perf", "cut", "mapping"}));
     bench_cmd->add_option("--sizes", perf.sizes, "Target tetrahedron counts")->delimiter(',');
     bench_cmd->add_option("--threads", perf.threads, "Thread counts (perf)")->delimiter(',');
     bench_cmd->add_option("--steps", perf.steps, "Timed steps per run (perf)")->check(CLI::PositiveNumber);
@@ -125,6 +126,12 @@ int main(int argc, char** argv) {
         if (run_cmd->parsed()) return run_command(run);
         if (render_cmd->parsed()) return render_command(render, png);
         if (bench_cmd->parsed()) {
+            if (suite == "mapping") {
+                xcut::MappingBenchOptions m;
+                m.threads = perf.threads;
+                if (bench_cmd->count("--csv")) m.csv = perf.csv;
+                return xcut::mapping_bench_command(m);
+            }
             if (suite == "cut") {
                 cut.sizes = perf.sizes;
                 cut.csv = bench_cmd->count("--csv") ? perf.csv : "results/bench_cut.csv";
