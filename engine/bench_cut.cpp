@@ -24,8 +24,9 @@ double percentile(std::vector<double> v, double p) {
     return v[i];
 }
 
-/// Block 100 x 100 x 50 mm with about `tets` tetrahedra; a scalpel 20 mm deep crosses it in x.
-World block_with_scalpel(int tets, const CutBenchOptions& o) {
+}  // namespace
+
+World block_with_scalpel(int tets, double speed) {
     const Vec3 size(0.1, 0.1, 0.05);
     const double h = std::cbrt(size.prod() * 6.0 / tets);
     GridSpec g;
@@ -38,7 +39,7 @@ World block_with_scalpel(int tets, const CutBenchOptions& o) {
     Keyframe a, b;
     a.position = Vec3(0.0, 0.0503, 0.05);
     b.position = Vec3(0.1, 0.0503, 0.05);
-    b.time = 0.1 / o.speed;
+    b.time = 0.1 / speed;
     tb.name = {"scalpel"};
     tb.trajectory = {{a, b}};
     tb.position = {a.position};
@@ -49,13 +50,11 @@ World block_with_scalpel(int tets, const CutBenchOptions& o) {
     return w;
 }
 
-}  // namespace
-
 std::vector<CutBenchRow> run_cut_bench(const CutBenchOptions& o) {
     using Clock = std::chrono::steady_clock;
     std::vector<CutBenchRow> rows;
     for (int target : o.sizes) {
-        World w = block_with_scalpel(target, o);
+        World w = block_with_scalpel(target, o.speed);
         ElementBvh bvh;
         prepare_cut_search(w, bvh);  // at scene load, as `xcut run` does
         prepare_enrichment(w);

@@ -25,6 +25,12 @@ struct CutBenchRow {
     double delay_p50_s = 0, delay_p99_s = 0;      ///< crossing delay, simulated time
 };
 
+/// The benchmark body: a 100 x 100 x 50 mm block of about `tets` tetrahedra, base free, with a
+/// scalpel (edge 20 mm deep) drawn across it along x at `speed` [m/s]. Shared by the cut and
+/// mapping suites.
+struct World;
+World block_with_scalpel(int tets, double speed);
+
 std::vector<CutBenchRow> run_cut_bench(const CutBenchOptions& options);
 /// Prints the table and writes the CSV; returns 0.
 int cut_bench_command(const CutBenchOptions& options);

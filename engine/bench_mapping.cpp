@@ -1,14 +1,12 @@
 #include "engine/bench_mapping.h"
 
 #include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fmt/os.h>
 
-#include "engine/generators.h"
+#include "engine/bench_cut.h"
 #include "engine/parallel.h"
-#include "engine/setup.h"
 #include "systems/cut_system.h"
 #include "systems/enrichment_system.h"
 #include "systems/mapping_system.h"
@@ -20,30 +18,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-/// Block 100 x 100 x 50 mm, about 20k tetrahedra, with a scalpel drawn across it.
-World block(int subdivisions) {
-    GridSpec g;
-    g.size = Vec3(0.1, 0.1, 0.05);
-    g.cells = cells_for_size(g.size, std::cbrt(g.size.prod() * 6.0 / 20000));
-    World w;
-    w.materials.list = {Material{}};
-    build_bodies(w, generate_box(g));
-    Keyframe a, b;
-    a.position = Vec3(0.0, 0.0503, 0.05);
-    b.position = Vec3(0.1, 0.0503, 0.05);
-    b.time = 2.0;
-    ToolBodies& tb = w.tools;
-    tb.name = {"scalpel"};
-    tb.trajectory = {{a, b}};
-    tb.position = {a.position};
-    tb.orientation = {a.orientation};
-    tb.has_blade = {1};
-    tb.blade_tip = {Vec3(0, 0, -0.02)};
-    tb.blade_heel = {Vec3(0, 0, 0.005)};
-    build_visual_surface(w, subdivisions);
-    return w;
-}
 
 }  // namespace
 
@@ -57,7 +31,8 @@ int mapping_bench_command(const MappingBenchOptions& o) {
                "update ms", "ns/vertex", "rebind us/split");
     for (int sub : o.subdivisions) {
         // Re-binding and cutting the surface along a full incision (single-threaded work).
-        World w = block(sub);
+        World w = block_with_scalpel(20000, 0.05);
+        build_visual_surface(w, sub);
         const int vertices = w.visual.vertex_count();
         const size_t triangles = w.visual.triangles.size();
         ElementBvh bvh;
