@@ -1,9 +1,15 @@
 #pragma once
-// A triangle surface carried by the simulation mesh (paper §3.2, §3.4): the visual surface (and
-// later, separately, the collision surface). Each vertex is bound barycentrically to one element,
-// a mesh element while that is whole, afterwards the virtual element of the vertex's side of the cut
-// (the alternative mesh, Fig. 5). A reverse index from mesh elements to their bound vertices lets
-// a cut re-bind only the vertices of the elements it split.
+// A triangle surface carried by the simulation mesh (paper §3.2, §3.4): the visual surface and,
+// separately, the collision surface. Each vertex is bound barycentrically to one element, a mesh
+// element while that is whole, afterwards the virtual element of the vertex's side of the cut (the
+// alternative mesh, Fig. 5). A reverse index from mesh elements to their bound vertices lets a cut
+// re-bind only the vertices of the elements it split.
+//
+// The *base* triangles are the body's skin as built (never changed); the output `triangles` are
+// what each mesh element currently shows: its base triangles as they are, split along a cut, or
+// split at the crack-front points on its edges, plus the internal cut faces of a cut element.
+// `pieces_of` lists each element's output triangles, so a cut regenerates only the pieces of the
+// elements it touched.
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
@@ -18,15 +24,20 @@ struct SurfaceMesh {
     std::vector<Vec3> position;              ///< current positions [m], from the bindings
     std::vector<int> element;                ///< binding: force element (mesh or virtual)
     std::vector<Eigen::Vector4d> bary;       ///< barycentric coordinates in that element's rest shape
+    std::vector<int8_t> side;                ///< side of the cut the vertex is on (H): 0 until a cut reaches it
     std::vector<std::array<int, 3>> triangles;  ///< outward-oriented
-    std::vector<int> triangle_owner;         ///< mesh element whose face (or cut) holds the triangle
+    std::vector<int> triangle_owner;         ///< mesh element whose piece the triangle is
     std::vector<uint8_t> cut_face;           ///< 1: a triangle of the internal cut surface (§3.4)
     std::vector<std::vector<int>> bound_to;  ///< per mesh element: the vertices bound to it
-    std::vector<std::vector<int>> triangles_of;  ///< per mesh element: the skin triangles it owns
-    /// Cut vertices by (side, rest position quantized to 1e-11 m): a point made once per side, reused
-    /// by every element and triangle that meets it (the paper's "existing or future points").
+    std::vector<std::array<int, 3>> base_triangles;  ///< the skin as built, outward
+    std::vector<std::vector<int>> base_of;   ///< per mesh element: its base triangles
+    std::vector<std::vector<int>> pieces_of; ///< per mesh element: its output triangles
+    /// Points made by cuts, made once and reused by every element and triangle that meets them (the
+    /// paper's "existing or future points"). Key: {kind, a, b, c}: a point on a mesh edge is
+    /// {side, node, node, 0} (side 0 while some whole element still holds the edge: the crack
+    /// front, where both lips are one vertex); any other point {side + 4, quantized rest position}.
     std::map<std::array<int64_t, 4>, int> cut_point;
-    int cuts_mapped = 0;                     ///< cut elements already re-bound (CutElements index)
+    int cuts_mapped = 0;                     ///< cut elements already mapped (CutElements index)
     int last_rebound = 0;                    ///< vertices re-bound by the last mapping update
 
     int vertex_count() const { return static_cast<int>(position.size()); }

@@ -230,7 +230,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     scene.file = path;
     const JsonFields top(root, path, "");
     top.allow_only({"name", "description", "mesh", "material", "gravity", "constraints", "solver", "steps",
-                    "duration", "output", "cuts", "tools", "cutter", "visual", "camera"});
+                    "duration", "output", "cuts", "tools", "cutter", "visual", "collision", "camera"});
     scene.name = top.string("name", fs::path(path).stem().string());
     if (!top.has("mesh")) top.fail("mesh", "required field is missing");
     scene.mesh = read_mesh(top.object("mesh"), fs::path(path).parent_path());
@@ -290,6 +290,11 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
         const JsonFields vis = top.object("visual");
         vis.allow_only({"subdivisions"});
         scene.visual_subdivisions = vis.integer("subdivisions", 0, 0, 3);
+    }
+    if (top.has("collision")) {
+        const JsonFields col = top.object("collision");
+        col.allow_only({"subdivisions"});
+        scene.collision_subdivisions = col.integer("subdivisions", 0, 0, 3);
     }
     if (top.has("camera")) {
         const JsonFields cam = top.object("camera");

@@ -34,6 +34,7 @@ struct Scene {
     double cut_threshold = 0.0;      ///< "cutter.threshold" [m]; 0: mean edge length
     int cut_min_depth = 1;           ///< "cutter.neighbourhood_depth"
     int visual_subdivisions = -1;    ///< "visual.subdivisions"; -1: no visual surface
+    int collision_subdivisions = -1; ///< "collision.subdivisions"; -1: no collision surface
     Camera camera;                   ///< "camera"; automatic framing unless given
 };
 

@@ -31,7 +31,9 @@ void register_systems(Scheduler& scheduler, Simulation& sim) {
 std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output) {
     auto sim = std::make_unique<Simulation>();
     sim->world = build_world(scene);
-    if (scene.visual_subdivisions >= 0) build_visual_surface(sim->world, scene.visual_subdivisions);
+    if (scene.visual_subdivisions >= 0) build_surface(sim->world, sim->world.visual, scene.visual_subdivisions);
+    if (scene.collision_subdivisions >= 0)
+        build_surface(sim->world, sim->world.collision, scene.collision_subdivisions);
     if (!with_output) sim->world.output.directory.clear();
     register_systems(sim->scheduler, *sim);
     sim->scheduler.build(sim->world);

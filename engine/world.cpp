@@ -17,6 +17,8 @@ const char* component_name(uint32_t bit) {
         case kXfem: return "Xfem";
         case kTools: return "Tools";
         case kVisual: return "VisualMesh";
+        case kCollision: return "CollisionMesh";
+        case kSurfaces: return "Surfaces";
         default: return "?";
     }
 }
@@ -42,7 +44,8 @@ uint32_t World::present() const {
     if (!cut_plan.cuts.empty()) mask |= kCutPlan | kCutEvents;
     if (cuts.count() > 0) mask |= kXfem;
     if (tools.count() > 0) mask |= kTools | kCutEvents;
-    if (visual.vertex_count() > 0) mask |= kVisual;
+    if (visual.vertex_count() > 0) mask |= kVisual | kSurfaces;
+    if (collision.vertex_count() > 0) mask |= kCollision | kSurfaces;
     return mask;
 }
 

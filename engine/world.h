@@ -35,6 +35,8 @@ enum ComponentBit : uint32_t {
     kXfem = 1u << 10,        ///< cut elements, virtual elements, enriched DOFs
     kTools = 1u << 11,       ///< tool bodies (scalpel, ...)
     kVisual = 1u << 12,      ///< visual surface mesh
+    kCollision = 1u << 13,   ///< collision surface mesh
+    kSurfaces = 1u << 14,    ///< any surface bound to the body (visual or collision)
 };
 const char* component_name(uint32_t bit);
 std::string component_list(uint32_t mask);
@@ -90,6 +92,7 @@ struct World {
     VirtualElements virtual_elements;
     EnrichedDofs enriched;
     SurfaceMesh visual;
+    SurfaceMesh collision;   ///< the surface tools touch (paper §3.5): coarser than the visual one
 
     bool verbose = false;  ///< systems may log events (cuts) to stdout
     double time = 0.0;   ///< [s]

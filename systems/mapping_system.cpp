@@ -31,22 +31,21 @@ int local_index(const std::array<int, 4>& nodes, int node) {
 }
 
 /// Adds a vertex at mesh node `node`, bound to element `e`.
-int add_node_vertex(World& w, std::unordered_map<int, int>& vertex_of_node, int node, int e) {
-    auto [it, fresh] = vertex_of_node.emplace(node, w.visual.vertex_count());
+int add_node_vertex(const World& w, SurfaceMesh& s, std::unordered_map<int, int>& vertex_of_node, int node, int e) {
+    auto [it, fresh] = vertex_of_node.emplace(node, s.vertex_count());
     if (!fresh) return it->second;
-    SurfaceMesh& s = w.visual;
     Eigen::Vector4d b = Eigen::Vector4d::Zero();
     b[local_index(w.elements.nodes[e], node)] = 1.0;
     s.position.push_back(w.nodes.position[node]);
     s.element.push_back(e);
     s.bary.push_back(b);
+    s.side.push_back(0);
     s.bound_to[e].push_back(it->second);
     return it->second;
 }
 
 /// Splits every triangle in four; midpoints bound to the element owning the triangle.
-void subdivide(World& w, std::vector<int>& owner) {
-    SurfaceMesh& s = w.visual;
+void subdivide(const World& w, SurfaceMesh& s, std::vector<int>& owner) {
     std::unordered_map<uint64_t, int> mid;
     std::vector<std::array<int, 3>> tris;
     std::vector<int> owners;
@@ -73,6 +72,7 @@ void subdivide(World& w, std::vector<int>& owner) {
                 s.position.push_back(0.5 * (s.position[a] + s.position[b]));
                 s.element.push_back(e);
                 s.bary.push_back(bm);
+                s.side.push_back(0);
                 s.bound_to[e].push_back(it->second);
             }
             m[k] = it->second;
@@ -89,8 +89,7 @@ void subdivide(World& w, std::vector<int>& owner) {
 
 }  // namespace
 
-void build_visual_surface(World& w, int subdivisions) {
-    SurfaceMesh& s = w.visual;
+void build_surface(const World& w, SurfaceMesh& s, int subdivisions) {
     s = SurfaceMesh{};
     s.bound_to.assign(w.mesh_elements, {});
     const Elements& el = w.elements;
@@ -99,7 +98,7 @@ void build_visual_surface(World& w, int subdivisions) {
     if (el.dim == 2) {
         for (int e = 0; e < w.mesh_elements; ++e) {
             std::array<int, 3> t;
-            for (int a = 0; a < 3; ++a) t[a] = add_node_vertex(w, vertex_of_node, el.nodes[e][a], e);
+            for (int a = 0; a < 3; ++a) t[a] = add_node_vertex(w, s, vertex_of_node, el.nodes[e][a], e);
             s.triangles.push_back(t);
             owner.push_back(e);
         }
@@ -122,51 +121,48 @@ void build_visual_surface(World& w, int subdivisions) {
             const FaceOwner& f = faces.at(k);
             if (f.count != 1) continue;
             std::array<int, 3> t;
-            for (int a = 0; a < 3; ++a) t[a] = add_node_vertex(w, vertex_of_node, f.nodes[a], f.element);
+            for (int a = 0; a < 3; ++a) t[a] = add_node_vertex(w, s, vertex_of_node, f.nodes[a], f.element);
             s.triangles.push_back(t);
             owner.push_back(f.element);
         }
     }
-    for (int i = 0; i < subdivisions; ++i) subdivide(w, owner);
+    for (int i = 0; i < subdivisions; ++i) subdivide(w, s, owner);
+    s.base_triangles = s.triangles;
     s.triangle_owner = owner;
     s.cut_face.assign(s.triangles.size(), 0);
-    s.triangles_of.assign(w.mesh_elements, {});
-    for (size_t t = 0; t < owner.size(); ++t) s.triangles_of[owner[t]].push_back(static_cast<int>(t));
-    update_surface_positions(w);
+    s.base_of.assign(w.mesh_elements, {});
+    for (size_t t = 0; t < owner.size(); ++t) s.base_of[owner[t]].push_back(static_cast<int>(t));
+    s.pieces_of = s.base_of;
+    update_surface_positions(w, s);
 }
 
-int rebind_cut_vertices(World& w) {
-    SurfaceMesh& s = w.visual;
-    const Elements& el = w.elements;
-    const int npe = el.nodes_per_element();
+void build_visual_surface(World& w, int subdivisions) { build_surface(w, w.visual, subdivisions); }
+
+int map_cuts(World& w, SurfaceMesh& s) {
+    if (s.vertex_count() == 0 || s.cuts_mapped >= w.cuts.count()) return 0;
     int rebound = 0;
     for (int c = s.cuts_mapped; c < w.cuts.count(); ++c) {
         const int e = w.cuts.element[c];
         const CutPlaneInfo cp = cut_plane_info(w, c);
-        const auto& phi = cp.phi;
-        const double orient = cp.orient;
         for (int v : s.bound_to[e]) {
-            const Eigen::Vector4d& b = s.bary[v];
-            int side = 0;
-            for (int a = 0; a < npe; ++a)
-                if (b[a] == 1.0) side = w.enriched.sign[el.nodes[e][a]];  // a vertex at a node: its H
-            if (side == 0) {
-                double level = 0.0;
-                for (int a = 0; a < npe; ++a) level += b[a] * phi[a];
-                side = orient * level >= 0.0 ? 1 : -1;
-            }
+            const int side = side_of_cut(w, cp, e, s.bary[v]);
             s.element[v] = w.virtual_elements.element[w.cuts.virtual_element[c][side > 0 ? 0 : 1]];
+            s.side[v] = static_cast<int8_t>(side);
             ++rebound;
         }
     }
-    for (int c = s.cuts_mapped; c < w.cuts.count(); ++c) cut_surface(w, c);
+    cut_surface(w, s, s.cuts_mapped);
     s.cuts_mapped = w.cuts.count();
     s.last_rebound = rebound;
     return rebound;
 }
 
-void update_surface_positions(World& w) {
-    SurfaceMesh& s = w.visual;
+int rebind_cut_vertices(World& w) {
+    map_cuts(w, w.collision);
+    return map_cuts(w, w.visual);
+}
+
+void update_surface_positions(const World& w, SurfaceMesh& s) {
     const Elements& el = w.elements;
     const int npe = el.nodes_per_element();
     const Vec3* x = w.nodes.position.data();
@@ -178,9 +174,15 @@ void update_surface_positions(World& w) {
     });
 }
 
+void update_surface_positions(World& w) {
+    update_surface_positions(w, w.visual);
+    update_surface_positions(w, w.collision);
+}
+
 SystemDesc mapping_system() {
-    return {"MappingSystem", kNodes | kElements | kVisual, kVisual, [](World& w) {
-                if (w.visual.cuts_mapped < w.cuts.count()) rebind_cut_vertices(w);
+    // Runs when either surface is present (an empty one costs nothing).
+    return {"MappingSystem", kNodes | kElements | kSurfaces, kSurfaces, [](World& w) {
+                rebind_cut_vertices(w);
                 update_surface_positions(w);
             }};
 }

@@ -5,8 +5,9 @@
 //    its parent's rest shape and vertex order). Only those vertices are touched (reverse index).
 //  - Every step: each vertex's position is interpolated from its element's current vertices, so a
 //    vertex on one lip of a wound follows that lip's virtual element (eq. 4, 6).
-// Not yet here: subdividing surface triangles the cut crosses and closing the wound with the
-// internal cut faces (the next step of the visual-mapping work).
+//  - The surface is cut along the new cut elements and closed by their cut faces
+//    (systems/surface_cut.h).
+// Two surfaces are mapped: the visual one and the collision one (coarser, for tool contact).
 #include "engine/scheduler.h"
 #include "engine/world.h"
 
@@ -15,10 +16,16 @@ namespace xcut {
 /// The boundary of the tetrahedral mesh (faces of exactly one tetrahedron), outward, each vertex
 /// bound to the tetrahedron owning one of its faces; `subdivisions` times every triangle is split in
 /// four (edge midpoints bound to the owning tetrahedron), so the surface is finer than the physics.
+void build_surface(const World& world, SurfaceMesh& surface, int subdivisions);
 void build_visual_surface(World& world, int subdivisions);
-/// Re-binds the vertices of newly cut elements; returns how many were re-bound.
+/// Maps the cuts made since the last call onto `surface`: re-binds the vertices of newly cut
+/// elements and cuts the surface; returns how many vertices were re-bound.
+int map_cuts(World& world, SurfaceMesh& surface);
+/// map_cuts on the collision surface, then the visual one; returns the visual count.
 int rebind_cut_vertices(World& world);
-/// Positions of all surface vertices from the current DOF positions.
+/// Positions of all vertices of `surface` from the current DOF positions.
+void update_surface_positions(const World& world, SurfaceMesh& surface);
+/// Both surfaces.
 void update_surface_positions(World& world);
 
 SystemDesc mapping_system();

@@ -11,60 +11,157 @@ namespace {
 
 constexpr double kQuantum = 1e-11;  // [m]: points closer than this on one side are one point
 
+const int* local_edge(const World& w, int k) { return w.elements.dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
+int edge_count(const World& w) { return w.elements.dim == 3 ? 6 : 3; }
+
+int mesh_node(const World& w, int node) {
+    return node >= w.mesh_nodes ? w.enriched.node_of_phantom[node - w.mesh_nodes] : node;
+}
+
+bool holds(const World& w, int e, int node) {
+    const auto& n = w.elements.nodes[e];
+    return std::find(n.begin(), n.begin() + w.elements.nodes_per_element(), node) != n.begin() + w.elements.nodes_per_element();
+}
+
+bool is_cut(const World& w, int e) { return w.cuts.cut_of_element[e] >= 0; }
+
+/// Calls f(element) for every mesh element holding both nodes a and b (incidence order).
+template <class F>
+void for_elements_around(const World& w, int a, int b, F&& f) {
+    for (int k = w.incidence.offset[a]; k < w.incidence.offset[a + 1]; ++k) {
+        const int e = w.incidence.entry[k] >> 2;
+        if (holds(w, e, b)) f(e);
+    }
+}
+
+/// The first whole (uncut) mesh element holding every node of `nodes` [0, n), or -1.
+int whole_element_holding(const World& w, const std::array<int, 4>& nodes, int n) {
+    for (int k = w.incidence.offset[nodes[0]]; k < w.incidence.offset[nodes[0] + 1]; ++k) {
+        const int e = w.incidence.entry[k] >> 2;
+        if (is_cut(w, e)) continue;
+        bool all = true;
+        for (int i = 1; i < n; ++i) all = all && holds(w, e, nodes[i]);
+        if (all) return e;
+    }
+    return -1;
+}
+
 Vec3 rest_of(const World& w, int e, const Eigen::Vector4d& b) {
     Vec3 x = Vec3::Zero();
     for (int a = 0; a < w.elements.nodes_per_element(); ++a) x += b[a] * w.nodes.rest[w.elements.nodes[e][a]];
     return x;
 }
 
-/// A vertex's barycentric coordinates re-expressed in mesh element e (the vertex lies on e's
-/// boundary, so every node it is weighted on is one of e's).
-Eigen::Vector4d local_bary(const World& w, int e, int v) {
-    const auto& own = w.elements.nodes[w.visual.element[v]];
-    const auto& target = w.elements.nodes[e];
+/// Barycentric coordinates b (in element `from`'s node order) re-expressed in element `to`, which
+/// holds every mesh node b is weighted on.
+Eigen::Vector4d rebased(const World& w, int from, const Eigen::Vector4d& b, int to) {
     const int npe = w.elements.nodes_per_element();
-    Eigen::Vector4d b = Eigen::Vector4d::Zero();
+    Eigen::Vector4d r = Eigen::Vector4d::Zero();
     for (int a = 0; a < npe; ++a) {
-        if (w.visual.bary[v][a] == 0.0) continue;
-        int node = own[a];
-        if (node >= w.mesh_nodes) node = w.enriched.node_of_phantom[node - w.mesh_nodes];
+        if (b[a] == 0.0) continue;
+        const int node = mesh_node(w, w.elements.nodes[from][a]);
         for (int k = 0; k < npe; ++k)
-            if (target[k] == node) b[k] += w.visual.bary[v][a];
+            if (w.elements.nodes[to][k] == node) r[k] += b[a];
     }
-    return b;
+    return r;
 }
 
-/// Rest position of a surface vertex, from its own element (phantoms rest where their node does).
-Vec3 vertex_rest(const World& w, int v) {
-    const auto& nodes = w.elements.nodes[w.visual.element[v]];
-    Vec3 x = Vec3::Zero();
-    for (int a = 0; a < w.elements.nodes_per_element(); ++a) x += w.visual.bary[v][a] * w.nodes.rest[nodes[a]];
-    return x;
+/// A vertex's barycentric coordinates in mesh element e (the vertex lies on e's boundary).
+Eigen::Vector4d local_bary(const World& w, const SurfaceMesh& s, int e, int v) {
+    return rebased(w, s.element[v], s.bary[v], e);
 }
 
-/// The vertex on `side` at barycentric `b` of cut element c's parent (made once per side/place).
-int cut_vertex(World& w, int c, int side, const Eigen::Vector4d& b) {
-    SurfaceMesh& s = w.visual;
-    const int e = w.cuts.element[c];
-    const Vec3 x = rest_of(w, e, b);
-    const std::array<int64_t, 4> key = {side, std::llround(x.x() / kQuantum), std::llround(x.y() / kQuantum),
-                                        std::llround(x.z() / kQuantum)};
+Vec3 vertex_rest(const World& w, const SurfaceMesh& s, int v) { return rest_of(w, s.element[v], s.bary[v]); }
+
+/// The crossing of the mesh edge a -> b by the cut of any cut element holding it: its parameter
+/// from a (in [0, 1]), or -1 if no cut element crosses it.
+double edge_crossing(const World& w, int a, int b) {
+    double t = -1.0;
+    for_elements_around(w, a, b, [&](int e) {
+        const int c = w.cuts.cut_of_element[e];
+        if (t >= 0.0 || c < 0) return;
+        for (int k = 0; k < 4; ++k) {
+            if (w.cuts.point_edge[c][k] < 0) continue;
+            const int* ed = local_edge(w, w.cuts.point_edge[c][k]);
+            const int n0 = w.elements.nodes[e][ed[0]], n1 = w.elements.nodes[e][ed[1]];
+            if (!((n0 == a && n1 == b) || (n0 == b && n1 == a))) continue;
+            const Vec3 Xa = w.nodes.rest[a], Xb = w.nodes.rest[b];
+            t = (w.cuts.points[c][k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm();
+            return;
+        }
+    });
+    return t;
+}
+
+/// Binds vertex v at barycentric b of mesh element e: to `whole` if that whole element holds it (a
+/// crack-front point), else to the virtual element of cut element e on `side`.
+void bind(World& w, SurfaceMesh& s, int v, int e, int side, const Eigen::Vector4d& b, int whole) {
+    if (whole >= 0) {
+        s.element[v] = whole;
+        s.bary[v] = rebased(w, e, b, whole);
+    } else {
+        const int c = w.cuts.cut_of_element[e];
+        s.element[v] = w.virtual_elements.element[w.cuts.virtual_element[c][side > 0 ? 0 : 1]];
+        s.bary[v] = b;
+    }
+}
+
+/// The surface vertex at barycentric b of mesh element e on `side` of the cut, made once per side
+/// and place (see SurfaceMesh::cut_point). A point on a mesh edge that a whole element still holds
+/// (the crack front) is bound, for both sides, to that element: the lips meet there. Otherwise it
+/// is bound to the virtual element of cut element e on its side.
+int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector4d& b) {
+    const int npe = w.elements.nodes_per_element();
+    std::array<int, 4> support{};
+    int n = 0;
+    for (int a = 0; a < npe; ++a)
+        if (b[a] != 0.0) support[n++] = w.elements.nodes[e][a];
+    std::array<int64_t, 4> key;
+    if (n <= 2) {
+        key = {side, std::min(support[0], support[n - 1]), std::max(support[0], support[n - 1]), 0};
+    } else {
+        const Vec3 x = rest_of(w, e, b);
+        key = {side + 4, std::llround(x.x() / kQuantum), std::llround(x.y() / kQuantum), std::llround(x.z() / kQuantum)};
+    }
     auto [it, fresh] = s.cut_point.emplace(key, s.vertex_count());
-    if (!fresh) return it->second;
-    const int fe = w.virtual_elements.element[w.cuts.virtual_element[c][side > 0 ? 0 : 1]];
-    s.position.push_back(x);
-    s.element.push_back(fe);
-    s.bary.push_back(b);
-    s.bound_to[e].push_back(it->second);
+    if (fresh) {
+        s.position.push_back(rest_of(w, e, b));
+        s.element.push_back(-1);
+        s.bary.emplace_back();
+        s.side.push_back(static_cast<int8_t>(side));
+    }
+    bind(w, s, it->second, e, side, b, n <= 2 ? whole_element_holding(w, support, n) : -1);
     return it->second;
 }
 
-void add_triangle(World& w, const std::array<int, 3>& t, int owner, bool cut) {
-    SurfaceMesh& s = w.visual;
+void add_piece(SurfaceMesh& s, const std::array<int, 3>& t, int owner, bool cut) {
+    s.pieces_of[owner].push_back(static_cast<int>(s.triangles.size()));
     s.triangles.push_back(t);
     s.triangle_owner.push_back(owner);
     s.cut_face.push_back(cut ? 1 : 0);
-    if (!cut) s.triangles_of[owner].push_back(static_cast<int>(s.triangles.size()) - 1);
+}
+
+/// Removes every output triangle of the given elements (swap with the last, fixing its index).
+void remove_pieces(SurfaceMesh& s, const std::vector<int>& elements) {
+    std::vector<int> doomed;
+    for (int e : elements) {
+        doomed.insert(doomed.end(), s.pieces_of[e].begin(), s.pieces_of[e].end());
+        s.pieces_of[e].clear();
+    }
+    std::sort(doomed.rbegin(), doomed.rend());
+    for (int t : doomed) {
+        const int last = static_cast<int>(s.triangles.size()) - 1;
+        if (t != last) {  // `last` is no doomed triangle: those above t are gone already
+            s.triangles[t] = s.triangles[last];
+            s.triangle_owner[t] = s.triangle_owner[last];
+            s.cut_face[t] = s.cut_face[last];
+            auto& list = s.pieces_of[s.triangle_owner[t]];
+            *std::find(list.begin(), list.end(), last) = t;
+        }
+        s.triangles.pop_back();
+        s.triangle_owner.pop_back();
+        s.cut_face.pop_back();
+    }
 }
 
 /// Where the skin edge a -> b meets the cut (parameter along a -> b). An edge lying on a crossed
@@ -79,9 +176,9 @@ double crossing_param(const World& w, const CutPlaneInfo& cp, int e, const Eigen
     if (n == 2) {
         const int i = support[0], j = support[1];
         for (size_t k = 0; k < cp.points.size(); ++k) {
-            const int* ed = w.elements.dim == 3 ? kTetEdges[cp.point_edge[k]] : kTriEdges[cp.point_edge[k]];
+            const int* ed = local_edge(w, cp.point_edge[k]);
             if (!((ed[0] == i && ed[1] == j) || (ed[0] == j && ed[1] == i))) continue;
-            // The point's barycentric weight on node i, and those of a and b: solve along the edge.
+            // The point's barycentric weight on node j, and those of a and b: solve along the edge.
             const Vec3 Xi = w.nodes.rest[w.elements.nodes[e][i]], Xj = w.nodes.rest[w.elements.nodes[e][j]];
             const double tp = (cp.points[k] - Xi).dot(Xj - Xi) / (Xj - Xi).squaredNorm();
             const double ta = ba[j], tb = bb[j];
@@ -92,6 +189,193 @@ double crossing_param(const World& w, const CutPlaneInfo& cp, int e, const Eigen
     double la = 0.0, lb = 0.0;
     for (int a = 0; a < npe; ++a) la += ba[a] * cp.phi[a], lb += bb[a] * cp.phi[a];
     return la != lb ? std::clamp(la / (la - lb), 0.0, 1.0) : 0.5;
+}
+
+/// Point on local edge (i, j) of e at parameter t from i, as barycentric coordinates.
+Eigen::Vector4d on_edge(int i, int j, double t) {
+    Eigen::Vector4d b = Eigen::Vector4d::Zero();
+    b[i] = 1.0 - t;
+    b[j] = t;
+    return b;
+}
+
+/// A whole element's pieces: its skin triangles, each split at the crack-front points on its
+/// edges. Triangle a-b-c with the front point P inside a-b becomes a-Pa-c, Pa-Pb-c, Pb-b-c, with Pa
+/// and Pb the copies of P on a's and b's side of the cut: both are bound to this whole element, so
+/// the middle triangle has no area until the front moves on and the lips part.
+void whole_element_pieces(World& w, SurfaceMesh& s, int e) {
+    if (s.base_of[e].empty()) return;
+    const auto& en = w.elements.nodes[e];
+    struct FrontPoint { int i, j, vi, vj; double t; };  // vi: the copy on node i's side
+    std::vector<FrontPoint> front;
+    for (int k = 0; k < edge_count(w); ++k) {
+        const int i = local_edge(w, k)[0], j = local_edge(w, k)[1];
+        const double t = edge_crossing(w, en[i], en[j]);
+        if (!(t > 0.0 && t < 1.0)) continue;
+        const int hi = w.enriched.sign[en[i]] >= 0 ? 1 : -1, hj = w.enriched.sign[en[j]] >= 0 ? 1 : -1;
+        const Eigen::Vector4d b = on_edge(i, j, t);
+        front.push_back({i, j, surface_point(w, s, e, hi, b), surface_point(w, s, e, hj, b), t});
+    }
+    std::vector<std::array<int, 3>> pieces;
+    for (int bt : s.base_of[e]) {
+        pieces.assign(1, s.base_triangles[bt]);
+        for (const FrontPoint& p : front)
+            for (size_t q = 0; q < pieces.size(); ++q) {
+                const auto tri = pieces[q];
+                int split = -1;
+                double ta = 0.0;
+                for (int k = 0; k < 3 && split < 0; ++k) {
+                    const Eigen::Vector4d ba = local_bary(w, s, e, tri[k]), bb = local_bary(w, s, e, tri[(k + 1) % 3]);
+                    const bool on_ij = std::abs(ba[p.i] + ba[p.j] - 1.0) < 1e-12 && std::abs(bb[p.i] + bb[p.j] - 1.0) < 1e-12;
+                    if (on_ij && (ba[p.j] - p.t) * (bb[p.j] - p.t) < 0.0) split = k, ta = ba[p.j];
+                }
+                if (split < 0) continue;
+                const int a = tri[split], b = tri[(split + 1) % 3], c = tri[(split + 2) % 3];
+                const int pa = ta < p.t ? p.vi : p.vj, pb = ta < p.t ? p.vj : p.vi;
+                pieces[q] = {a, pa, c};
+                if (pa != pb) pieces.push_back({pa, pb, c});
+                pieces.push_back({pb, b, c});
+                break;
+            }
+        for (const auto& t : pieces) add_piece(s, t, e, false);
+    }
+}
+
+/// Outward faces of a positively oriented tetrahedron, as local node triples.
+constexpr int kTetFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+/// The mesh element other than e holding nodes a, b, c, or -1 (a face on the body's boundary).
+int element_across(const World& w, int e, int a, int b, int c) {
+    for (int k = w.incidence.offset[a]; k < w.incidence.offset[a + 1]; ++k) {
+        const int f = w.incidence.entry[k] >> 2;
+        if (f != e && holds(w, f, b) && holds(w, f, c)) return f;
+    }
+    return -1;
+}
+
+/// Closes the two lips of cut element e along its crack front: on each face of e toward a whole
+/// element, the cut's segment P-Q exists once per side (P+ Q+ in the fan above, P- Q- below); a
+/// seam quad Q+ P+ P- Q- joins them, oriented against the fans' directed edges. It has no area
+/// while the front holds (both copies bound to the whole neighbour).
+void front_seams(World& w, SurfaceMesh& s, int c, const std::vector<std::pair<int, int>>& fan_edges,
+                 const std::vector<Eigen::Vector4d>& edge_points, const std::vector<int>& point_edge) {
+    const int e = w.cuts.element[c];
+    const auto& en = w.elements.nodes[e];
+    for (const auto& face : kTetFaces) {
+        std::vector<int> on_face;
+        for (size_t k = 0; k < point_edge.size(); ++k) {
+            const int* ed = kTetEdges[point_edge[k]];
+            const bool inside = std::count(face, face + 3, ed[0]) && std::count(face, face + 3, ed[1]);
+            if (inside) on_face.push_back(static_cast<int>(k));
+        }
+        if (on_face.size() != 2) continue;
+        const int f = element_across(w, e, en[face[0]], en[face[1]], en[face[2]]);
+        if (f < 0 || is_cut(w, f)) continue;
+        int pp = surface_point(w, s, e, 1, edge_points[on_face[0]]);
+        int qp = surface_point(w, s, e, 1, edge_points[on_face[1]]);
+        int pm = surface_point(w, s, e, -1, edge_points[on_face[0]]);
+        int qm = surface_point(w, s, e, -1, edge_points[on_face[1]]);
+        if (std::find(fan_edges.begin(), fan_edges.end(), std::make_pair(qp, pp)) != fan_edges.end()) {
+            std::swap(pp, qp);
+            std::swap(pm, qm);
+        }
+        // Now the fan above holds P+ -> Q+ and the one below Q- -> P-.
+        add_piece(s, {qp, pp, pm}, e, true);
+        add_piece(s, {qp, pm, qm}, e, true);
+    }
+}
+
+}  // namespace
+
+int side_of_cut(const World& w, const CutPlaneInfo& cp, int e, const Eigen::Vector4d& b) {
+    const int npe = w.elements.nodes_per_element();
+    for (int a = 0; a < npe; ++a)
+        if (b[a] == 1.0) return w.enriched.sign[w.elements.nodes[e][a]];
+    double level = 0.0;
+    for (int a = 0; a < npe; ++a) level += b[a] * cp.phi[a];
+    return cp.orient * level >= 0.0 ? 1 : -1;
+}
+
+namespace {
+
+/// A cut element's pieces: its skin triangles split per side, then (3D) the internal mesh: edge
+/// points and rim points around the cut, a fan per side.
+void cut_element_pieces(World& w, SurfaceMesh& s, int c) {
+    const int e = w.cuts.element[c];
+    const CutPlaneInfo cp = cut_plane_info(w, c);
+    std::vector<Eigen::Vector4d> rim;  // skin crossing points, for the cut faces' rims
+    for (int bt : s.base_of[e]) {
+        const auto tri = s.base_triangles[bt];
+        std::array<int, 3> side;
+        std::array<Eigen::Vector4d, 3> lb;
+        for (int k = 0; k < 3; ++k) {
+            lb[k] = local_bary(w, s, e, tri[k]);
+            side[k] = side_of_cut(w, cp, e, lb[k]);
+        }
+        int lone = -1;
+        for (int k = 0; k < 3; ++k)
+            if (side[k] != side[(k + 1) % 3] && side[k] != side[(k + 2) % 3]) lone = k;
+        if (lone < 0) {  // not crossed: kept whole
+            add_piece(s, tri, e, false);
+            continue;
+        }
+        const int L = tri[lone], M1 = tri[(lone + 1) % 3], M2 = tri[(lone + 2) % 3];
+        const Eigen::Vector4d &bL = lb[lone], &bM1 = lb[(lone + 1) % 3], &bM2 = lb[(lone + 2) % 3];
+        const double s1 = crossing_param(w, cp, e, bL, bM1);
+        const double s2 = crossing_param(w, cp, e, bL, bM2);
+        const Eigen::Vector4d b1 = (1 - s1) * bL + s1 * bM1;
+        const Eigen::Vector4d b2 = (1 - s2) * bL + s2 * bM2;
+        rim.push_back(b1);
+        rim.push_back(b2);
+        const int sl = side[lone], sm = -sl;
+        const int x1l = surface_point(w, s, e, sl, b1), x2l = surface_point(w, s, e, sl, b2);
+        const int x1m = surface_point(w, s, e, sm, b1), x2m = surface_point(w, s, e, sm, b2);
+        add_piece(s, {L, x1l, x2l}, e, false);
+        add_piece(s, {x1m, M1, M2}, e, false);
+        add_piece(s, {x1m, M2, x2m}, e, false);
+    }
+    if (w.elements.dim == 2) return;  // in 2D the surface is the sheet itself: the gap is the cut
+
+    std::vector<Eigen::Vector4d> edge_points;
+    const auto& nodes = w.elements.nodes[e];
+    for (size_t k = 0; k < cp.points.size(); ++k) {
+        const int* ed = kTetEdges[cp.point_edge[k]];
+        const Vec3 Xi = w.nodes.rest[nodes[ed[0]]], Xj = w.nodes.rest[nodes[ed[1]]];
+        edge_points.push_back(on_edge(ed[0], ed[1], (cp.points[k] - Xi).dot(Xj - Xi) / (Xj - Xi).squaredNorm()));
+    }
+    std::vector<Eigen::Vector4d> ring = rim;
+    ring.insert(ring.end(), edge_points.begin(), edge_points.end());
+    std::vector<std::pair<int, int>> fan_edges;  // directed loop edges of both fans
+    const Vec3 u = cp.normal.unitOrthogonal(), v = cp.normal.cross(u);
+    Eigen::Vector4d centre = Eigen::Vector4d::Zero();
+    for (const auto& b : ring) centre += b / static_cast<double>(ring.size());
+    const Vec3 xc = rest_of(w, e, centre);
+    std::vector<std::pair<double, Eigen::Vector4d>> around;
+    for (const auto& b : ring) {
+        const Vec3 d = rest_of(w, e, b) - xc;
+        around.emplace_back(std::atan2(d.dot(v), d.dot(u)), b);
+    }
+    std::sort(around.begin(), around.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (int side : {1, -1}) {
+        std::vector<int> loop;
+        for (const auto& [angle, b] : around) {
+            const int id = surface_point(w, s, e, side, b);
+            if (loop.empty() || (loop.back() != id && loop.front() != id)) loop.push_back(id);
+        }
+        if (loop.size() < 3) continue;
+        const int hub = surface_point(w, s, e, side, centre);
+        // Outward for this side's piece: away from its own material, i.e. toward the other side.
+        const Vec3 outward = -side * cp.orient * cp.normal;
+        for (size_t k = 0; k < loop.size(); ++k) {
+            std::array<int, 3> t = {hub, loop[k], loop[(k + 1) % loop.size()]};
+            const Vec3 p0 = vertex_rest(w, s, t[0]);
+            const Vec3 n = (vertex_rest(w, s, t[1]) - p0).cross(vertex_rest(w, s, t[2]) - p0);
+            if (n.dot(outward) < 0) std::swap(t[1], t[2]);
+            add_piece(s, t, e, true);
+            fan_edges.emplace_back(t[1], t[2]);
+        }
+    }
+    front_seams(w, s, c, fan_edges, edge_points, cp.point_edge);
 }
 
 }  // namespace
@@ -129,93 +413,29 @@ CutPlaneInfo cut_plane_info(const World& w, int c) {
     return cp;
 }
 
-void cut_surface(World& w, int c) {
-    SurfaceMesh& s = w.visual;
-    const int e = w.cuts.element[c];
-    const CutPlaneInfo cp = cut_plane_info(w, c);
-    // Skin crossing points per side, for the cut faces' rims.
-    std::vector<Eigen::Vector4d> rim;
-    const std::vector<int> owned = s.triangles_of[e];
-    s.triangles_of[e].clear();
-    const int npe = w.elements.nodes_per_element();
-    for (int t : owned) {
-        const auto tri = s.triangles[t];
-        std::array<int, 3> side;
-        std::array<Eigen::Vector4d, 3> lb;
-        for (int k = 0; k < 3; ++k) {
-            lb[k] = local_bary(w, e, tri[k]);
-            side[k] = 0;
-            for (int a = 0; a < npe; ++a)
-                if (lb[k][a] == 1.0) side[k] = w.enriched.sign[w.elements.nodes[e][a]];  // at a node: its H
-            if (side[k] == 0) {
-                double level = 0.0;
-                for (int a = 0; a < npe; ++a) level += lb[k][a] * cp.phi[a];
-                side[k] = cp.orient * level >= 0.0 ? 1 : -1;
-            }
+void cut_surface(World& w, SurfaceMesh& s, int first_cut) {
+    // Elements whose pieces change: the new cut elements and, around each of their crossed edges,
+    // the cut ones (a seam toward a newly cut neighbour goes; points on an edge that has just opened
+    // are bound anew) and the whole ones showing skin (a new crack-front point splits it).
+    std::vector<int> touched;
+    for (int c = first_cut; c < w.cuts.count(); ++c) {
+        const int e = w.cuts.element[c];
+        touched.push_back(e);
+        for (int k = 0; k < 4; ++k) {
+            if (w.cuts.point_edge[c][k] < 0) continue;
+            const int* ed = local_edge(w, w.cuts.point_edge[c][k]);
+            const std::array<int, 4> ends = {w.elements.nodes[e][ed[0]], w.elements.nodes[e][ed[1]], 0, 0};
+            for_elements_around(w, ends[0], ends[1], [&](int f) {
+                if (is_cut(w, f) || !s.base_of[f].empty()) touched.push_back(f);
+            });
         }
-        int lone = -1;
-        for (int k = 0; k < 3; ++k)
-            if (side[k] != side[(k + 1) % 3] && side[k] != side[(k + 2) % 3]) lone = k;
-        if (lone < 0) {  // not crossed: keep
-            s.triangles_of[e].push_back(t);
-            continue;
-        }
-        const int L = tri[lone], M1 = tri[(lone + 1) % 3], M2 = tri[(lone + 2) % 3];
-        const Eigen::Vector4d &bL = lb[lone], &bM1 = lb[(lone + 1) % 3], &bM2 = lb[(lone + 2) % 3];
-        const double s1 = crossing_param(w, cp, e, bL, bM1);
-        const double s2 = crossing_param(w, cp, e, bL, bM2);
-        const Eigen::Vector4d b1 = (1 - s1) * bL + s1 * bM1;
-        const Eigen::Vector4d b2 = (1 - s2) * bL + s2 * bM2;
-        rim.push_back(b1);
-        rim.push_back(b2);
-        const int sl = side[lone], sm = -sl;
-        const int x1l = cut_vertex(w, c, sl, b1), x2l = cut_vertex(w, c, sl, b2);
-        const int x1m = cut_vertex(w, c, sm, b1), x2m = cut_vertex(w, c, sm, b2);
-        s.triangles[t] = {L, x1l, x2l};  // the lone corner keeps the slot
-        s.triangles_of[e].push_back(t);
-        add_triangle(w, {x1m, M1, M2}, e, false);
-        add_triangle(w, {x1m, M2, x2m}, e, false);
     }
-    if (w.elements.dim == 2) return;  // in 2D the surface is the sheet itself: the gap is the cut
-
-    // The internal mesh: edge points and rim points around the cut, a fan per side.
-    std::vector<Eigen::Vector4d> ring = rim;
-    const auto& nodes = w.elements.nodes[e];
-    for (size_t k = 0; k < cp.points.size(); ++k) {
-        const int* ed = kTetEdges[cp.point_edge[k]];
-        const Vec3 Xi = w.nodes.rest[nodes[ed[0]]], Xj = w.nodes.rest[nodes[ed[1]]];
-        const double t = (cp.points[k] - Xi).dot(Xj - Xi) / (Xj - Xi).squaredNorm();
-        Eigen::Vector4d b = Eigen::Vector4d::Zero();
-        b[ed[0]] = 1 - t, b[ed[1]] = t;
-        ring.push_back(b);
-    }
-    const Vec3 u = cp.normal.unitOrthogonal(), v = cp.normal.cross(u);
-    Eigen::Vector4d centre = Eigen::Vector4d::Zero();
-    for (const auto& b : ring) centre += b / static_cast<double>(ring.size());
-    const Vec3 xc = rest_of(w, e, centre);
-    std::vector<std::pair<double, Eigen::Vector4d>> around;
-    for (const auto& b : ring) {
-        const Vec3 d = rest_of(w, e, b) - xc;
-        around.emplace_back(std::atan2(d.dot(v), d.dot(u)), b);
-    }
-    std::sort(around.begin(), around.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (int side : {1, -1}) {
-        std::vector<int> loop;
-        for (const auto& [angle, b] : around) {
-            const int id = cut_vertex(w, c, side, b);
-            if (loop.empty() || (loop.back() != id && loop.front() != id)) loop.push_back(id);
-        }
-        if (loop.size() < 3) continue;
-        const int hub = cut_vertex(w, c, side, centre);
-        // Outward for this side's piece: away from its own material, i.e. toward the other side.
-        const Vec3 outward = -side * cp.orient * cp.normal;
-        for (size_t k = 0; k < loop.size(); ++k) {
-            std::array<int, 3> t = {hub, loop[k], loop[(k + 1) % loop.size()]};
-            const Vec3 p0 = vertex_rest(w, t[0]);
-            const Vec3 n = (vertex_rest(w, t[1]) - p0).cross(vertex_rest(w, t[2]) - p0);
-            if (n.dot(outward) < 0) std::swap(t[1], t[2]);
-            add_triangle(w, t, e, true);
-        }
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    remove_pieces(s, touched);
+    for (int e : touched) {
+        if (is_cut(w, e)) cut_element_pieces(w, s, w.cuts.cut_of_element[e]);
+        else whole_element_pieces(w, s, e);
     }
 }
 

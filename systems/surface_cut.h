@@ -1,11 +1,16 @@
 #pragma once
-// Cutting the visual surface along a split element (paper §3.4, Fig. 6): the element's skin
-// triangles crossed by the cut are subdivided, each side keeping its part, and the wound is closed
-// by the internal mesh: the element's edge intersection points (and the skin's crossing points on
-// its faces) joined into a fan, one copy per side, oriented outward. A point is made once per side
-// and reused by every element and triangle that meets it (SurfaceMesh::cut_point), so neighbouring
-// pieces share vertices and each side's surface stays connected.
-// At a crack front (an edge held by the front rule) the two sides' cut faces are not yet joined.
+// Cutting a bound surface along split elements (paper §3.4, Fig. 6). Each mesh element owns the
+// pieces it shows (SurfaceMesh::pieces_of), regenerated from its base (skin) triangles when a cut
+// touches it:
+//  - a cut element's skin triangles crossed by the cut are subdivided, each side keeping its part,
+//    and the wound is closed by the internal mesh: the element's edge intersection points and the
+//    skin's crossing points on its faces joined into a fan, one copy per side, oriented outward;
+//  - a whole element's skin triangles are split at the crack-front points on its edges, so the
+//    surface has no T-junction where the incision ends.
+// A point on a mesh edge is one vertex for both sides while a whole element still holds that edge
+// (the crack front: the lips meet there), and becomes two once every element around the edge is
+// cut. Points are made once and reused by every piece that meets them (SurfaceMesh::cut_point), so
+// an incision, partial or through, leaves closed 2-manifolds.
 #include <array>
 #include <vector>
 
@@ -14,8 +19,8 @@
 namespace xcut {
 
 /// The cut through cut element c, in its rest shape: the plane through its edge points
-/// (n . (X - p0) = 0; Newell's normal for four points) and each node's level phi along n, with
-/// orient = +1 if positive phi is the H = +1 side, else -1.
+/// (n . (X - p0) = 0; the largest normal of any three points) and each node's level phi along n,
+/// with orient = +1 if positive phi is the H = +1 side, else -1.
 struct CutPlaneInfo {
     std::vector<Vec3> points;     ///< edge intersection points, rest [m]
     std::vector<int> point_edge;  ///< their local edges
@@ -24,9 +29,12 @@ struct CutPlaneInfo {
     double orient = 1.0;
 };
 CutPlaneInfo cut_plane_info(const World& world, int cut);
+/// The side (+1 / -1, the H of eq. 9) of the point at barycentric b of cut element e: a point at a
+/// node takes that node's H, any other the sign of its level.
+int side_of_cut(const World& world, const CutPlaneInfo& cp, int e, const Eigen::Vector4d& b);
 
-/// Subdivides the skin triangles of cut element `cut` and adds its cut faces (3D), or splits its
-/// triangles (2D, where the surface is the mesh itself and the gap is the incision).
-void cut_surface(World& world, int cut);
+/// Regenerates the pieces of the elements cut by cuts [first_cut, world.cuts.count()) and of the
+/// elements around their crossed edges. Vertex bindings of the base surface are not touched here.
+void cut_surface(World& world, SurfaceMesh& surface, int first_cut);
 
 }  // namespace xcut

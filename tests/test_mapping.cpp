@@ -9,6 +9,7 @@
 #include <set>
 
 #include "systems/mapping_system.h"
+#include "surface_checks.h"
 #include "test_helpers.h"
 
 namespace xcut {
@@ -18,25 +19,9 @@ using testing::cut_now;
 using testing::grid;
 using testing::square_on_plane;
 using testing::world_from_mesh;
-
-/// Every directed edge once and its reverse once: a closed, consistently oriented 2-manifold.
-/// Returns the Euler characteristic V - E + F.
-int check_closed_oriented(const SurfaceMesh& s) {
-    std::map<std::pair<int, int>, int> directed;
-    for (const auto& t : s.triangles)
-        for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
-    for (const auto& [e, n] : directed) {
-        EXPECT_EQ(n, 1) << "directed edge " << e.first << "-" << e.second;
-        EXPECT_EQ(directed.count({e.second, e.first}), 1u) << "edge " << e.first << "-" << e.second << " is open";
-    }
-    return s.vertex_count() - static_cast<int>(directed.size() / 2) + static_cast<int>(s.triangles.size());
-}
-
-double enclosed_volume(const SurfaceMesh& s) {
-    double v = 0.0;
-    for (const auto& t : s.triangles) v += s.position[t[0]].dot(s.position[t[1]].cross(s.position[t[2]])) / 6.0;
-    return v;
-}
+using testing::check_closed_oriented;
+using testing::components_of;
+using testing::enclosed_volume;
 
 class VisualSurface : public ::testing::TestWithParam<int> {};
 
@@ -63,12 +48,7 @@ TEST(Mapping, CutRebindsOnlyVerticesOfSplitElementsAndLosesNone) {
     EXPECT_GT(expected, 0u);
     EXPECT_EQ(rebind_cut_vertices(w), static_cast<int>(expected));
     EXPECT_EQ(rebind_cut_vertices(w), 0) << "nothing more to re-bind";
-    for (int v = 0; v < w.visual.vertex_count(); ++v) {
-        const int e = w.visual.element[v];
-        EXPECT_GT(w.elements.weight[e], 0.0) << "vertex " << v << " is bound to a live element";
-        EXPECT_GE(w.visual.bary[v].minCoeff(), -1e-12);
-        EXPECT_LE(w.visual.bary[v].maxCoeff(), 1.0 + 1e-12);
-    }
+    testing::expect_bound_to_live_elements(w, w.visual);
     // Each re-bound vertex sits on its side of the cut plane x = 21 mm: the side of the nodes there.
     int right_sign = 0;
     for (int j = 0; j < w.mesh_nodes; ++j)
@@ -121,19 +101,6 @@ TEST(Mapping, SurfaceOfTheFreePartFallsWithIt) {
 namespace xcut {
 namespace {
 
-/// Connected components of the surface (by shared vertices); returns component per triangle.
-std::vector<int> components_of(const SurfaceMesh& s, int& count) {
-    std::vector<int> parent(s.vertex_count());
-    std::iota(parent.begin(), parent.end(), 0);
-    std::function<int(int)> find = [&](int v) { return parent[v] == v ? v : parent[v] = find(parent[v]); };
-    for (const auto& t : s.triangles) parent[find(t[1])] = find(t[0]), parent[find(t[2])] = find(t[0]);
-    std::map<int, int> id;
-    std::vector<int> comp;
-    for (const auto& t : s.triangles) comp.push_back(id.emplace(find(t[0]), static_cast<int>(id.size())).first->second);
-    count = static_cast<int>(id.size());
-    return comp;
-}
-
 class CutSurface : public ::testing::TestWithParam<int> {};
 
 // A bar cut through: the surface becomes two closed, outward 2-manifolds (Euler characteristic 2
@@ -151,30 +118,14 @@ TEST_P(CutSurface, FullCutGivesTwoClosedSurfaces) {
     ASSERT_EQ(count, 2);
     double total = 0.0;
     for (int k = 0; k < 2; ++k) {
-        SurfaceMesh part = s;
-        part.triangles.clear();
-        for (size_t t = 0; t < s.triangles.size(); ++t)
-            if (comp[t] == k) part.triangles.push_back(s.triangles[t]);
-        // Euler characteristic over the vertices this part uses.
-        std::set<int> used;
-        for (const auto& t : part.triangles) used.insert(t.begin(), t.end());
-        const int chi = check_closed_oriented(part) - (part.vertex_count() - static_cast<int>(used.size()));
-        EXPECT_EQ(chi, 2) << "part " << k;
+        const SurfaceMesh part = testing::component(s, comp, k);
+        EXPECT_EQ(testing::euler_characteristic(part), 2) << "part " << k;
         const double v = enclosed_volume(part);
         EXPECT_GT(v, 0.0) << "outward";
         total += v;
     }
     EXPECT_NEAR(total, 0.1 * 0.01 * 0.01, 1e-12);
-    // No duplicate points: one vertex per side and place.
-    std::map<std::array<long long, 4>, int> seen;
-    for (int v = 0; v < s.vertex_count(); ++v) {
-        const int k = s.element[v] - w.mesh_elements;
-        const int side = k >= 0 ? w.virtual_elements.side[k] : 0;
-        const Vec3& x = s.position[v];
-        const std::array<long long, 4> key = {side, std::llround(x.x() * 1e12), std::llround(x.y() * 1e12),
-                                              std::llround(x.z() * 1e12)};
-        EXPECT_TRUE(seen.emplace(key, v).second) << "vertex " << v << " duplicates " << seen[key];
-    }
+    testing::expect_no_duplicate_points(s);
 }
 
 INSTANTIATE_TEST_SUITE_P(Subdivisions, CutSurface, ::testing::Values(0, 1));
