@@ -298,6 +298,35 @@ int side_of_cut(const World& w, const CutPlaneInfo& cp, int e, const Eigen::Vect
 
 namespace {
 
+/// Triangulates one side's cut polygon `loop` (outward order) of cut element e: three points give
+/// one triangle, four give two split along the diagonal the Delaunay criterion picks (the angles
+/// facing it sum to less than pi), more (skin crossing points on the rim) a fan around the centre.
+void close_polygon(World& w, SurfaceMesh& s, int e, int side, const std::vector<int>& loop,
+                   const Eigen::Vector4d& centre) {
+    if (loop.size() == 3) {
+        add_piece(s, {loop[0], loop[1], loop[2]}, e, true);
+        return;
+    }
+    if (loop.size() == 4) {
+        auto angle = [&](int at, int p, int q) {
+            const Vec3 x = vertex_rest(w, s, at);
+            const Vec3 a = vertex_rest(w, s, p) - x, b = vertex_rest(w, s, q) - x;
+            return std::atan2(a.cross(b).norm(), a.dot(b));
+        };
+        const auto& l = loop;
+        if (angle(l[1], l[0], l[2]) + angle(l[3], l[2], l[0]) <= M_PI) {  // diagonal 0-2
+            add_piece(s, {l[0], l[1], l[2]}, e, true);
+            add_piece(s, {l[0], l[2], l[3]}, e, true);
+        } else {  // diagonal 1-3
+            add_piece(s, {l[1], l[2], l[3]}, e, true);
+            add_piece(s, {l[1], l[3], l[0]}, e, true);
+        }
+        return;
+    }
+    const int hub = surface_point(w, s, e, side, centre);
+    for (size_t k = 0; k < loop.size(); ++k) add_piece(s, {hub, loop[k], loop[(k + 1) % loop.size()]}, e, true);
+}
+
 /// A cut element's pieces: its skin triangles split per side, then (3D) the internal mesh: edge
 /// points and rim points around the cut, a fan per side.
 void cut_element_pieces(World& w, SurfaceMesh& s, int c) {
@@ -363,17 +392,11 @@ void cut_element_pieces(World& w, SurfaceMesh& s, int c) {
             if (loop.empty() || (loop.back() != id && loop.front() != id)) loop.push_back(id);
         }
         if (loop.size() < 3) continue;
-        const int hub = surface_point(w, s, e, side, centre);
-        // Outward for this side's piece: away from its own material, i.e. toward the other side.
-        const Vec3 outward = -side * cp.orient * cp.normal;
-        for (size_t k = 0; k < loop.size(); ++k) {
-            std::array<int, 3> t = {hub, loop[k], loop[(k + 1) % loop.size()]};
-            const Vec3 p0 = vertex_rest(w, s, t[0]);
-            const Vec3 n = (vertex_rest(w, s, t[1]) - p0).cross(vertex_rest(w, s, t[2]) - p0);
-            if (n.dot(outward) < 0) std::swap(t[1], t[2]);
-            add_piece(s, t, e, true);
-            fan_edges.emplace_back(t[1], t[2]);
-        }
+        // The loop runs counter-clockwise about the cut's normal; outward for this side's piece is
+        // away from its own material, toward the other side.
+        if (side * cp.orient > 0) std::reverse(loop.begin(), loop.end());
+        for (size_t k = 0; k < loop.size(); ++k) fan_edges.emplace_back(loop[k], loop[(k + 1) % loop.size()]);
+        close_polygon(w, s, e, side, loop, centre);
     }
     front_seams(w, s, c, fan_edges, edge_points, cp.point_edge);
 }
