@@ -1,9 +1,12 @@
 #pragma once
 // Tool bodies: a pose driven by a scripted trajectory (keyframes: linear position, slerp orientation)
-// or by a recorded one replayed from CSV, and for a scalpel the blade's cutting edge in the tool
-// frame. Collision geometry (FCL) arrives with the collision issue.
+// or by a recorded one replayed from CSV, for a scalpel the blade's cutting edge in the tool frame,
+// and a contact shape (sphere, capsule, box or closed triangle mesh, in the tool frame) pressed into
+// the tissue's collision surface by penalty (systems/collision_system.h).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -17,6 +20,18 @@ struct Keyframe {
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< tool frame -> world
 };
 
+/// A tool's contact shape in its own frame. Capsule and box are centred on the tool origin, the
+/// capsule's axis along the tool's z.
+struct ToolShape {
+    enum Kind : uint8_t { kNone, kSphere, kCapsule, kBox, kMesh };
+    Kind kind = kNone;
+    double radius = 0.0;                   ///< sphere, capsule [m]
+    double length = 0.0;                   ///< capsule: distance between the two sphere centres [m]
+    Vec3 half_extent = Vec3::Zero();       ///< box [m]
+    std::vector<Vec3> vertices;            ///< mesh, closed and outward [m]
+    std::vector<std::array<int, 3>> triangles;
+};
+
 struct ToolBodies {
     std::vector<std::string> name;
     std::vector<std::vector<Keyframe>> trajectory;  ///< strictly increasing times
@@ -25,6 +40,12 @@ struct ToolBodies {
     std::vector<uint8_t> has_blade;
     std::vector<Vec3> blade_tip;                    ///< cutting edge, tool frame: deep end [m]
     std::vector<Vec3> blade_heel;                   ///< cutting edge, tool frame: shallow end [m]
+    std::vector<ToolShape> shape;                   ///< contact shape (kNone: the tool touches nothing)
+    std::vector<double> contact_stiffness;          ///< penalty stiffness per contact vertex [N/m]
+    std::vector<double> contact_damping;            ///< normal damping per contact vertex [N s/m]
+    std::vector<Vec3> velocity;                     ///< of the tool origin over the last step [m/s]
+    std::vector<Vec3> reaction_force;               ///< the tissue's force on the tool, last step [N]
+    std::vector<Vec3> reaction_torque;              ///< about the tool origin [N m]
 
     int count() const { return static_cast<int>(name.size()); }
 };

@@ -426,10 +426,15 @@ MeshData read_tetgen(const std::string& node_path, const std::string& ele_path) 
     return mesh;
 }
 
-MeshData read_surface_tetrahedralize(const std::string& path, double max_volume, double min_ratio) {
+ClosedSurface read_closed_surface(const std::string& path) {
     const std::string ext = fs::path(path).extension().string();
     Surface s = ext == ".stl" || ext == ".STL" ? read_stl(path) : read_obj(path);
     check_closed(path, s);
+    return {s.points, s.triangles};
+}
+
+MeshData read_surface_tetrahedralize(const std::string& path, double max_volume, double min_ratio) {
+    const ClosedSurface s = read_closed_surface(path);
     tetgenio in, out;
     in.firstnumber = 0;
     in.numberofpoints = static_cast<int>(s.points.size());

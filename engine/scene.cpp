@@ -119,6 +119,50 @@ Eigen::Quaterniond read_quaternion(const JsonFields& k, const nlohmann::json& v,
     return out.normalized();
 }
 
+fs::path beside_scene(const fs::path& scene_dir, const std::string& file) {
+    const fs::path p = file;
+    return (p.is_absolute() ? p : scene_dir / p).lexically_normal();
+}
+
+/// "shape": the tool's contact shape in its frame; "contact": its penalty parameters.
+void read_tool_shape(const JsonFields& t, const fs::path& scene_dir, ToolBodies& tb) {
+    ToolShape shape;
+    if (t.has("shape")) {
+        const JsonFields sh = t.object("shape");
+        const std::string type = sh.choice("type", "", {"sphere", "capsule", "box", "mesh"});
+        if (type == "sphere") {
+            sh.allow_only({"type", "radius"});
+            shape.kind = ToolShape::kSphere;
+            shape.radius = sh.required_number("radius", 1e-6, 1.0);
+        } else if (type == "capsule") {
+            sh.allow_only({"type", "radius", "length"});
+            shape.kind = ToolShape::kCapsule;
+            shape.radius = sh.required_number("radius", 1e-6, 1.0);
+            shape.length = sh.required_number("length", 0.0, 10.0);
+        } else if (type == "box") {
+            sh.allow_only({"type", "size"});
+            shape.kind = ToolShape::kBox;
+            shape.half_extent = 0.5 * sh.required_vec3("size");
+            if (!(shape.half_extent.minCoeff() > 0.0)) sh.fail("size", "every side must be > 0 [m]");
+        } else {
+            sh.allow_only({"type", "file"});
+            shape.kind = ToolShape::kMesh;
+            const ClosedSurface m = read_closed_surface(beside_scene(scene_dir, sh.string("file", "")).string());
+            shape.vertices = m.points;
+            shape.triangles = m.triangles;
+        }
+    }
+    const JsonFields contact = t.object("contact");
+    contact.allow_only({"stiffness", "damping"});
+    tb.shape.push_back(shape);
+    const double stiffness = contact.number("stiffness", 100.0);
+    if (!(stiffness > 0.0)) contact.fail("stiffness", "must be > 0 [N/m]");
+    const double damping = contact.number("damping", 0.0);
+    if (!(damping >= 0.0)) contact.fail("damping", "must be >= 0 [N s/m]");
+    tb.contact_stiffness.push_back(stiffness);
+    tb.contact_damping.push_back(damping);
+}
+
 void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) {
     const JsonFields cutter = top.object("cutter");
     cutter.allow_only({"threshold", "neighbourhood_depth"});
@@ -128,7 +172,7 @@ void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) 
     const auto tools = top.array_of_objects("tools");
     for (size_t i = 0; i < tools.size(); ++i) {
         const JsonFields& t = tools[i];
-        t.allow_only({"name", "blade", "trajectory", "trajectory_csv"});
+        t.allow_only({"name", "blade", "shape", "contact", "trajectory", "trajectory_csv"});
         tb.name.push_back(t.string("name", fmt::format("tool{}", i)));
         const JsonFields blade = t.object("blade");
         blade.allow_only({"tip", "heel"});
@@ -140,9 +184,9 @@ void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) 
         std::vector<Keyframe> keys;
         if (t.has("trajectory") == t.has("trajectory_csv"))
             t.fail("trajectory", "give exactly one of \"trajectory\" (keyframes) or \"trajectory_csv\" (a recorded file)");
+        read_tool_shape(t, scene_dir, tb);
         if (t.has("trajectory_csv")) {
-            const fs::path p = t.string("trajectory_csv", "");
-            keys = read_trajectory_csv((p.is_absolute() ? p : scene_dir / p).lexically_normal().string());
+            keys = read_trajectory_csv(beside_scene(scene_dir, t.string("trajectory_csv", "")).string());
         } else {
             const auto frames = t.array_of_objects("trajectory");
             for (const JsonFields& k : frames) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "systems/collision_system.h"
 #include "systems/cut_system.h"
 #include "systems/enrichment_system.h"
 #include "systems/force_system.h"
@@ -15,12 +16,14 @@ namespace xcut {
 void register_systems(Scheduler& scheduler, Simulation& sim) {
     scheduler.add(tool_system());
     auto bvh = std::make_shared<ElementBvh>();
-    if (sim.world.tools.count() > 0) prepare_cut_search(sim.world, *bvh);
-    if (sim.world.tools.count() > 0 || !sim.world.cut_plan.cuts.empty()) prepare_enrichment(sim.world);
+    const bool blades = (sim.world.present() & kCutEvents) != 0;
+    if (blades && sim.world.tools.count() > 0) prepare_cut_search(sim.world, *bvh);
+    if (blades) prepare_enrichment(sim.world);
     scheduler.add(cut_system(bvh));
     scheduler.add(scripted_cut_system());
     scheduler.add(enrichment_system());
     scheduler.add(force_system());
+    scheduler.add(collision_system(make_collision_model()));
     scheduler.add(solver_system());
     scheduler.add(mapping_system());
     scheduler.add({"OutputSystem", kNodes | kElements | kOutput, 0, [&sim](World& w) {

@@ -19,6 +19,7 @@ const char* component_name(uint32_t bit) {
         case kVisual: return "VisualMesh";
         case kCollision: return "CollisionMesh";
         case kSurfaces: return "Surfaces";
+        case kShapedTools: return "ShapedTools";
         default: return "?";
     }
 }
@@ -43,7 +44,11 @@ uint32_t World::present() const {
     if (!output.directory.empty()) mask |= kOutput;
     if (!cut_plan.cuts.empty()) mask |= kCutPlan | kCutEvents;
     if (cuts.count() > 0) mask |= kXfem;
-    if (tools.count() > 0) mask |= kTools | kCutEvents;
+    if (tools.count() > 0) mask |= kTools;
+    for (uint8_t blade : tools.has_blade)
+        if (blade) mask |= kCutEvents;
+    for (const ToolShape& s : tools.shape)
+        if (s.kind != ToolShape::kNone) mask |= kShapedTools;
     if (visual.vertex_count() > 0) mask |= kVisual | kSurfaces;
     if (collision.vertex_count() > 0) mask |= kCollision | kSurfaces;
     return mask;

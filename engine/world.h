@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "components/constraints.h"
+#include "components/contacts.h"
 #include "components/cut_elements.h"
 #include "components/cut_plan.h"
 #include "components/cut_state.h"
@@ -37,6 +38,7 @@ enum ComponentBit : uint32_t {
     kVisual = 1u << 12,      ///< visual surface mesh
     kCollision = 1u << 13,   ///< collision surface mesh
     kSurfaces = 1u << 14,    ///< any surface bound to the body (visual or collision)
+    kShapedTools = 1u << 15, ///< tools with a contact shape
 };
 const char* component_name(uint32_t bit);
 std::string component_list(uint32_t mask);
@@ -93,6 +95,7 @@ struct World {
     EnrichedDofs enriched;
     SurfaceMesh visual;
     SurfaceMesh collision;   ///< the surface tools touch (paper §3.5): coarser than the visual one
+    Contacts contacts;       ///< this step's tool contacts on the collision surface
 
     bool verbose = false;  ///< systems may log events (cuts) to stdout
     double time = 0.0;   ///< [s]

@@ -1,6 +1,7 @@
 #include "systems/force_system.h"
 
 #include "engine/parallel.h"
+#include "systems/collision_system.h"
 #include "systems/corotational_kernel.h"
 #include "systems/polar_decomposition.h"
 
@@ -142,6 +143,7 @@ void stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& 
         stiffness_product_dim<2>(world, p);
     }
     gather_element_terms(world, out);
+    if (world.contacts.count() > 0) add_contact_stiffness_product(world, p, out);
 }
 
 SystemDesc force_system() {

@@ -28,8 +28,11 @@ void blade_in_world(const World& world, int i, Vec3& tip, Vec3& heel) {
 
 void advance_tools(World& world, double t) {
     ToolBodies& tb = world.tools;
+    const double dt = t - world.time;
+    tb.velocity.resize(tb.count(), Vec3::Zero());
     for (int i = 0; i < tb.count(); ++i) {
         const Keyframe k = sample_trajectory(tb.trajectory[i], t);
+        tb.velocity[i] = dt > 0.0 ? Vec3((k.position - tb.position[i]) / dt) : Vec3::Zero();
         tb.position[i] = k.position;
         tb.orientation[i] = k.orientation;
     }
