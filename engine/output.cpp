@@ -119,6 +119,12 @@ OutputWriter::OutputWriter(const World& world) : dir_(world.output.directory), s
         if (cut_columns_)
             csv_ << ",quads,elements_tested,crossings,elements_split,cut_update_ms,crossing_delay_mean_s,"
                     "crossing_delay_max_s,enriched_nodes";
+        force_columns_ = (world.present() & kShapedTools) != 0;
+        if (force_columns_) {
+            csv_ << ",contacts";
+            for (const std::string& n : world.tools.name)
+                for (const char* q : {"fx_N", "fy_N", "fz_N", "tx_Nm", "ty_Nm", "tz_Nm"}) csv_ << "," << n << "_" << q;
+        }
         csv_ << "\n";
     }
 }
@@ -159,6 +165,16 @@ void OutputWriter::metrics_row(const World& world) {
             csv_ << fmt::format(",{},{},{},{},{:.4f},{:.6g},{:.6g},{}", cs.quads_built, cs.elements_tested,
                                 cs.crossings_found, cs.elements_split, cs.update_ms, n > 0 ? sum / n : 0.0, max,
                                 world.enriched.count());
+        }
+        if (force_columns_) {
+            // The tissue's reaction on each tool (zero before its first contact step).
+            const ToolBodies& tb = world.tools;
+            csv_ << "," << world.contacts.count();
+            for (int i = 0; i < tb.count(); ++i) {
+                const bool known = i < static_cast<int>(tb.reaction_force.size());
+                const Vec3 f = known ? tb.reaction_force[i] : Vec3::Zero(), t = known ? tb.reaction_torque[i] : Vec3::Zero();
+                csv_ << fmt::format(",{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}", f.x(), f.y(), f.z(), t.x(), t.y(), t.z());
+            }
         }
         csv_ << "\n";
     }

@@ -25,6 +25,11 @@ std::shared_ptr<CollisionModel> make_collision_model() { return std::make_shared
 
 namespace {
 
+/// Contacts on a virtual element carrying less than this fraction of its parent (a sliver side, left
+/// by a cut through nodes or faces) are dropped: no material is there to push, and its phantom DOFs
+/// have almost no mass or stiffness, so a push would fling them.
+constexpr double kMinContactWeight = 1e-6;
+
 bool shaped(const ToolBodies& tb, int i) {
     return i < static_cast<int>(tb.shape.size()) && tb.shape[i].kind != ToolShape::kNone;
 }
@@ -103,6 +108,7 @@ void detect_contacts(World& w, CollisionModel& m) {
         candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
         const Eigen::Matrix3d R = tb.orientation[i].toRotationMatrix();
         for (int v : candidates) {
+            if (w.elements.weight[s.element[v]] < kMinContactWeight) continue;
             const Penetration p = penetration(tb.shape[i], R.transpose() * (s.position[v] - tb.position[i]));
             if (!(p.depth > 0.0)) continue;
             c.tool.push_back(i);

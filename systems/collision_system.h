@@ -10,6 +10,7 @@
 //    nodes by the barycentric weights: on a virtual element after a cut, so a contact on one lip
 //    of a wound moves that lip only. The stiffness k n n^T enters the implicit Euler matrix
 //    (stiffness_product), so stiff contacts stay stable at the scene's dt; damping is explicit.
+//    Vertices bound to a sliver side (weight V_s/V < 1e-6) take no contact: nothing is there.
 //    Penalty was chosen over constraint projection because it yields the force to feed back
 //    directly and keeps the matrix-free CG unchanged.
 //  - Each tool's reaction (force and torque about its origin) is the opposite of the sum of its

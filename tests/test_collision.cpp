@@ -183,3 +183,38 @@ TEST(Collision, BadToolShapesAreNamed) {
 
 }  // namespace
 }  // namespace xcut
+
+namespace xcut {
+namespace {
+
+// The shipped open-surgery scene: after the incision the retractor holds the left lip open and the
+// probe dents the right one; both tools feel the tissue.
+TEST(Collision, OpenSurgerySceneHoldsTheWoundOpen) {
+    const Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/open_surgery.json");
+    auto sim = make_simulation(scene, false);
+    World& w = sim->world;
+    for (int s = 0; s < scene.steps; ++s) step_simulation(*sim);
+    ASSERT_GT(w.cuts.count(), 20) << "the scalpel cut";
+    // How far the left lip's cut face is pulled from the incision plane x = 30 mm, near the top [m].
+    const SurfaceMesh& v = w.visual;
+    double left = 1.0;
+    for (size_t t = 0; t < v.triangles.size(); ++t) {
+        if (!v.cut_face[t]) continue;
+        for (int k : v.triangles[t]) {
+            if (v.position[k].z() < 0.004) continue;
+            if (v.side[k] == 0) continue;
+            if (v.position[k].x() < 0.03) left = std::min(left, v.position[k].x());
+        }
+    }
+    EXPECT_LT(left, 0.03 - 0.002) << "the left lip is pulled at least 2 mm aside";
+    for (const Vec3& x : w.nodes.position) ASSERT_TRUE(x.allFinite());
+    double max_disp = 0.0;
+    for (int i = 0; i < w.nodes.count(); ++i) max_disp = std::max(max_disp, (w.nodes.position[i] - w.nodes.rest[i]).norm());
+    EXPECT_LT(max_disp, 0.01) << "nothing flies off [m]";
+    const int retractor = 1, probe = 2;
+    EXPECT_GT(w.tools.reaction_force[retractor].x(), 0.01) << "the pulled lip pulls the retractor back [N]";
+    EXPECT_GT(w.tools.reaction_force[probe].z(), 0.01) << "the pressed lip pushes the probe up [N]";
+}
+
+}  // namespace
+}  // namespace xcut
