@@ -216,7 +216,8 @@ void check_trajectory(std::vector<Keyframe>& keys, const std::string& file, cons
         if (!keys[i].position.allFinite()) throw InputError(file, f + ".position", "must be finite");
         if (!keys[i].orientation.coeffs().allFinite() || !(keys[i].orientation.norm() > 1e-12))
             throw InputError(file, f + ".orientation", "must be a finite, non-zero quaternion");
-        keys[i].orientation.normalize();
+        // Unit quaternions are kept bit for bit (a recorded session replays exactly).
+        if (std::abs(keys[i].orientation.norm() - 1.0) > 1e-14) keys[i].orientation.normalize();
         if (i > 0 && !(keys[i].time > keys[i - 1].time))
             throw InputError(file, f + ".time",
                              fmt::format("times must increase strictly ({} after {})", keys[i].time, keys[i - 1].time));

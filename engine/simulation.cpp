@@ -14,7 +14,7 @@
 namespace xcut {
 
 void register_systems(Scheduler& scheduler, Simulation& sim) {
-    scheduler.add(tool_system());
+    scheduler.add(tool_system([&sim](int i, double t) { return sim.devices[i]->pose(t); }));
     auto bvh = std::make_shared<ElementBvh>();
     const bool blades = (sim.world.present() & kCutEvents) != 0;
     if (blades && sim.world.tools.count() > 0) prepare_cut_search(sim.world, *bvh);
@@ -31,9 +31,15 @@ void register_systems(Scheduler& scheduler, Simulation& sim) {
                    }});
 }
 
-std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output) {
+std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output, const std::string& replay_directory) {
     auto sim = std::make_unique<Simulation>();
     sim->world = build_world(scene);
+    sim->devices = make_devices(sim->world, replay_directory);
+    ToolBodies& tb = sim->world.tools;
+    for (int i = 0; i < tb.count(); ++i) {  // start where the device is
+        const Keyframe k = sim->devices[i]->pose(sim->world.time);
+        tb.position[i] = k.position, tb.orientation[i] = k.orientation;
+    }
     if (scene.visual_subdivisions >= 0) build_surface(sim->world, sim->world.visual, scene.visual_subdivisions);
     if (scene.collision_subdivisions >= 0)
         build_surface(sim->world, sim->world.collision, scene.collision_subdivisions);
@@ -50,6 +56,8 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output
 void step_simulation(Simulation& sim) {
     sim.scheduler.step(sim.world);
     if (sim.output) sim.output->metrics_row(sim.world);
+    if (sim.recorder) sim.recorder->record(sim.world);
+    if (sim.haptics) sim.haptics->publish(sim.world);
     SolverSettings& s = sim.world.solver;
     if (s.realtime) s.dt = std::clamp(sim.world.metrics.current.step_ms * 1e-3, s.dt_min, s.dt_max);
 }

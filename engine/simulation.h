@@ -3,6 +3,8 @@
 // benchmarks drive directly.
 #include <memory>
 
+#include "engine/device.h"
+#include "engine/haptic_loop.h"
 #include "engine/output.h"
 #include "engine/scene.h"
 #include "engine/scheduler.h"
@@ -14,11 +16,17 @@ struct Simulation {
     World world;
     Scheduler scheduler;
     std::unique_ptr<OutputWriter> output;   ///< null when the scene writes no output
+    std::vector<std::unique_ptr<ToolDevice>> devices;  ///< one per tool: where its pose comes from
+    std::unique_ptr<SessionRecorder> recorder;        ///< records the tools' poses when set
+    HapticLoop* haptics = nullptr;                     ///< published to after each step when set
 };
 
 /// Builds the world and registers every system in pipeline order; the scheduler keeps those whose
 /// components the scene holds. `with_output` false: no files written (tests, benchmarks).
-std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output = true);
+/// `replay_directory`: drive the tools from a recorded session (engine/device.h) instead of the
+/// scene's trajectories.
+std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output = true,
+                                            const std::string& replay_directory = "");
 /// Registers the systems of the pipeline (DESIGN.md "One step") on a scheduler.
 void register_systems(Scheduler& scheduler, Simulation& sim);
 /// One step; in real-time mode, the next dt follows the measured step time (paper §4.3).

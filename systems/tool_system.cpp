@@ -27,19 +27,23 @@ void blade_in_world(const World& world, int i, Vec3& tip, Vec3& heel) {
 }
 
 void advance_tools(World& world, double t) {
+    advance_tools(world, t, [&world](int i, double s) { return sample_trajectory(world.tools.trajectory[i], s); });
+}
+
+void advance_tools(World& world, double t, const ToolPoseSource& source) {
     ToolBodies& tb = world.tools;
     const double dt = t - world.time;
     tb.velocity.resize(tb.count(), Vec3::Zero());
     for (int i = 0; i < tb.count(); ++i) {
-        const Keyframe k = sample_trajectory(tb.trajectory[i], t);
+        const Keyframe k = source(i, t);
         tb.velocity[i] = dt > 0.0 ? Vec3((k.position - tb.position[i]) / dt) : Vec3::Zero();
         tb.position[i] = k.position;
         tb.orientation[i] = k.orientation;
     }
 }
 
-SystemDesc tool_system() {
-    return {"ToolSystem", kTools, kTools, [](World& w) { advance_tools(w, w.time + w.solver.dt); }};
+SystemDesc tool_system(ToolPoseSource source) {
+    return {"ToolSystem", kTools, kTools, [source](World& w) { advance_tools(w, w.time + w.solver.dt, source); }};
 }
 
 }  // namespace xcut

@@ -25,6 +25,8 @@ struct RunOptions {
     std::string output;
     std::vector<std::string> overrides;
     bool quiet = false;
+    std::string record, replay;  ///< session directories (engine/device.h)
+    bool haptics = false;        ///< run the 1 kHz haptic loop beside the physics
 };
 
 void render_to(const xcut::Scene& scene, const xcut::World& w, const std::string& png) {
@@ -52,7 +54,16 @@ int run_command(const RunOptions& o) {
     Scene scene = load_scene(o.scene, o.overrides);
     if (!o.output.empty()) scene.output.directory = o.output;
     const int steps = o.steps >= 0 ? o.steps : scene.steps;
-    auto sim = make_simulation(scene);
+    auto sim = make_simulation(scene, true, o.replay);
+    if (!o.record.empty()) sim->recorder = std::make_unique<SessionRecorder>(sim->world, o.record);
+    std::unique_ptr<HapticLoop> haptics;
+    if (o.haptics) {
+        std::vector<ToolDevice*> devices;
+        for (auto& d : sim->devices) devices.push_back(d.get());
+        haptics = std::make_unique<HapticLoop>(devices);
+        sim->haptics = haptics.get();
+        haptics->start();
+    }
     sim->world.verbose = true;
     const World& w = sim->world;
     fmt::print("scene {} ({}): {} nodes, {} {}, {} threads, dt {} s ({}), {} steps\n", scene.name, o.scene,
@@ -62,6 +73,13 @@ int run_command(const RunOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     run_simulation(*sim, steps, !o.quiet);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (haptics) {
+        haptics->stop();
+        const HapticStats h = haptics->stats();
+        fmt::print("haptics: {} ticks in {:.2f} s ({:.0f} Hz, target 1000); period p50 {:.3f} ms, p99 {:.3f} ms, max {:.3f} ms\n",
+                   h.ticks, h.seconds, h.rate_hz, h.period_p50_ms, h.period_p99_ms, h.period_max_ms);
+    }
+    if (!o.record.empty()) fmt::print("session recorded: {}/<tool>.csv\n", o.record);
     const StepMetrics& m = w.metrics.current;
     double max_disp = 0.0;
     for (int i = 0; i < w.nodes.count(); ++i) max_disp = std::max(max_disp, (w.nodes.position[i] - w.nodes.rest[i]).norm());
@@ -99,6 +117,9 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--output,-o", run.output, "Output directory (default: the scene's output.directory)");
     run_cmd->add_option("--set", run.overrides, "Override a scene field: field.path=value (JSON value)");
     run_cmd->add_flag("--quiet,-q", run.quiet, "No progress bar");
+    run_cmd->add_option("--record", run.record, "Record the tools' poses each step to DIR/<tool>.csv");
+    run_cmd->add_option("--replay", run.replay, "Drive the tools from a session recorded with --record (bit-identical)");
+    run_cmd->add_flag("--haptics", run.haptics, "Run the 1 kHz haptic loop beside the physics; report its rate and jitter");
     RunOptions render;
     std::string png;
     CLI::App* render_cmd = app.add_subcommand("render", "Run a scene and render its visual surface to a PNG (Embree)");
