@@ -13,7 +13,7 @@
 
 namespace xcut {
 
-using Bvh = fcl::BVHModel<fcl::OBBRSSd>;
+using Bvh = fcl::BVHModel<fcl::AABBd>;  // AABB: a bottom-up refit merges child boxes, O(n)
 
 struct CollisionModel {
     std::shared_ptr<Bvh> surface;

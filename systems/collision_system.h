@@ -1,6 +1,6 @@
 #pragma once
 // CollisionSystem (paper §3.5): tool contact shapes against the tissue's collision surface.
-//  - Broad and narrow phase by FCL: the collision surface is an FCL BVH (OBBRSS) refitted every step
+//  - Broad and narrow phase by FCL: the collision surface is an FCL BVH (AABB) refitted every step
 //    to the mapped vertex positions, rebuilt only when a cut changes its triangles; each shaped
 //    tool is an FCL sphere, capsule, box or mesh at its current pose. FCL reports the surface
 //    triangles touching the tool; their vertices are tested exactly (systems/tool_shape_depth.h).

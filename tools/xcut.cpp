@@ -8,6 +8,7 @@
 #include <exception>
 
 #include "engine/bench.h"
+#include "engine/bench_collision.h"
 #include "engine/bench_cut.h"
 #include "engine/bench_mapping.h"
 #include "engine/error.h"
@@ -134,8 +135,8 @@ int main(int argc, char** argv) {
     xcut::CutBenchOptions cut;
     std::string suite = "perf";
     CLI::App* bench_cmd = app.add_subcommand("bench", "Benchmarks: print figures and write CSV (never pass/fail)");
-    bench_cmd->add_option("--suite", suite, "perf: steps/s, CG, bytes per tet; cut: cut update per quad, crossing delay; mapping: surface update and re-binding")
-        ->check(CLI::IsMember({"perf", "cut", "mapping"}));
+    bench_cmd->add_option("--suite", suite, "perf: steps/s, CG, bytes per tet; cut: cut update per quad, crossing delay; mapping: surface update and re-binding; collision: contact time per step, haptic rate")
+        ->check(CLI::IsMember({"perf", "cut", "mapping", "collision"}));
     bench_cmd->add_option("--sizes", perf.sizes, "Target tetrahedron counts")->delimiter(',');
     bench_cmd->add_option("--threads", perf.threads, "Thread counts (perf)")->delimiter(',');
     bench_cmd->add_option("--steps", perf.steps, "Timed steps per run (perf)")->check(CLI::PositiveNumber);
@@ -152,6 +153,12 @@ int main(int argc, char** argv) {
                 m.threads = perf.threads;
                 if (bench_cmd->count("--csv")) m.csv = perf.csv;
                 return xcut::mapping_bench_command(m);
+            }
+            if (suite == "collision") {
+                xcut::CollisionBenchOptions c;
+                if (bench_cmd->count("--csv")) c.csv = perf.csv;
+                if (bench_cmd->count("--steps")) c.steps = perf.steps;
+                return xcut::collision_bench_command(c);
             }
             if (suite == "cut") {
                 cut.sizes = perf.sizes;
