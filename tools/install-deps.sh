@@ -11,4 +11,5 @@ $SUDO apt-get install -y -q --no-install-recommends \
   libeigen3-dev libembree-dev libfcl-dev libccd-dev \
   nlohmann-json3-dev libcli11-dev libfmt-dev libspdlog-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libtet1.5-dev \
-  zlib1g-dev libpng-dev libstb-dev python3 python3-matplotlib
+  zlib1g-dev libpng-dev libstb-dev python3 python3-matplotlib \
+  clang-14 libclang-rt-14-dev libomp-14-dev
