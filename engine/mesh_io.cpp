@@ -357,6 +357,28 @@ void check_closed(const std::string& path, const Surface& s) {
     if (open > 0)
         throw InputError(path, "faces",
                          fmt::format("the surface is not closed: {} edges are not shared by exactly two triangles", open));
+    // TetGen asserts or crashes on a flat point set (or fewer than 4 points), so a closed but flat
+    // surface stops here: the farthest point from p0, from that line, from that plane.
+    const auto farthest = [&](auto&& distance) {
+        size_t best = 0;
+        for (size_t i = 1; i < s.points.size(); ++i)
+            if (distance(s.points[i]) > distance(s.points[best])) best = i;
+        return s.points[best];
+    };
+    const Vec3 p0 = s.points[0];
+    const Vec3 p1 = farthest([&](const Vec3& p) { return (p - p0).norm(); });
+    const double size = (p1 - p0).norm();
+    const Vec3 u = (p1 - p0).normalized();
+    const Vec3 p2 = farthest([&](const Vec3& p) { return (p - p0 - (p - p0).dot(u) * u).norm(); });
+    const Vec3 n = u.cross(p2 - p0).normalized();
+    const double thickness = (farthest([&](const Vec3& p) { return std::abs((p - p0).dot(n)); }) - p0).dot(n);
+    double volume = 0.0;
+    for (const auto& t : s.triangles)
+        volume += (s.points[t[0]] - p0).dot((s.points[t[1]] - p0).cross(s.points[t[2]] - p0)) / 6.0;
+    if (!(size > 0.0) || !(std::abs(thickness) > 1e-9 * size))
+        throw InputError(path, "faces", "the surface encloses no volume: its vertices lie in one plane");
+    if (!(std::abs(volume) > 1e-12 * size * size * size))
+        throw InputError(path, "faces", fmt::format("the surface encloses no volume ({:.3g} m^3)", volume));
 }
 
 }  // namespace
@@ -453,6 +475,20 @@ MeshData read_surface_tetrahedralize(const std::string& path, double max_volume,
         facet.polygonlist[0].numberofvertices = 3;
         facet.polygonlist[0].vertexlist = new int[3];
         for (int k = 0; k < 3; ++k) facet.polygonlist[0].vertexlist[k] = s.triangles[f][k];
+    }
+    // TetGen 1.5 crashes (instead of throwing) when it meets intersecting facets while meshing: ask
+    // its own self-intersection check (d: detect only) first.
+    {
+        tetgenio diagnosis;
+        char detect[] = "pdQ";
+        try {
+            tetrahedralize(detect, &in, &diagnosis);
+        } catch (int code) {
+            throw InputError(path, "surface", fmt::format("TetGen could not check it (error {})", code));
+        }
+        if (diagnosis.numberoftrifaces > 0)
+            throw InputError(path, "faces", fmt::format("the surface intersects itself ({} triangles cross or overlap "
+                                                        "others)", diagnosis.numberoftrifaces));
     }
     // p: a piecewise linear complex; q: quality (radius-edge ratio bound); a: volume bound; Q: quiet.
     std::string switches = fmt::format("pq{}Q", min_ratio);
