@@ -8,6 +8,10 @@
 namespace xcut {
 namespace {
 const nlohmann::json kEmptyObject = nlohmann::json::object();
+
+/// A value for a message. Strings from --set overrides may hold invalid UTF-8, which a plain dump()
+/// throws on: replace it instead.
+std::string shown(const nlohmann::json& v) { return v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); }
 }
 
 JsonFields::JsonFields(const nlohmann::json& object, std::string file, std::string path)
@@ -47,7 +51,7 @@ std::vector<JsonFields> JsonFields::array_of_objects(const std::string& key) con
 double JsonFields::required_number(const std::string& key, double min, double max) const {
     if (!has(key)) fail(key, "required field is missing");
     const auto& v = get(key);
-    if (!v.is_number()) fail(key, fmt::format("expected a number, got {}", v.dump()));
+    if (!v.is_number()) fail(key, fmt::format("expected a number, got {}", shown(v)));
     const double d = v.get<double>();
     if (!std::isfinite(d)) fail(key, "must be finite");
     if (d < min || d > max) fail(key, fmt::format("{} is out of range [{}, {}]", d, min, max));
@@ -61,7 +65,7 @@ double JsonFields::number(const std::string& key, double fallback, double min, d
 int JsonFields::integer(const std::string& key, int fallback, int min, int max) const {
     if (!has(key)) return fallback;
     const auto& v = get(key);
-    if (!v.is_number_integer()) fail(key, fmt::format("expected an integer, got {}", v.dump()));
+    if (!v.is_number_integer()) fail(key, fmt::format("expected an integer, got {}", shown(v)));
     const long long i = v.get<long long>();
     if (i < min || i > max) fail(key, fmt::format("{} is out of range [{}, {}]", i, min, max));
     return static_cast<int>(i);
@@ -69,13 +73,13 @@ int JsonFields::integer(const std::string& key, int fallback, int min, int max) 
 
 bool JsonFields::boolean(const std::string& key, bool fallback) const {
     if (!has(key)) return fallback;
-    if (!get(key).is_boolean()) fail(key, fmt::format("expected true or false, got {}", get(key).dump()));
+    if (!get(key).is_boolean()) fail(key, fmt::format("expected true or false, got {}", shown(get(key))));
     return get(key).get<bool>();
 }
 
 std::string JsonFields::string(const std::string& key, const std::string& fallback) const {
     if (!has(key)) return fallback;
-    if (!get(key).is_string()) fail(key, fmt::format("expected a string, got {}", get(key).dump()));
+    if (!get(key).is_string()) fail(key, fmt::format("expected a string, got {}", shown(get(key))));
     return get(key).get<std::string>();
 }
 
@@ -94,7 +98,7 @@ std::string JsonFields::choice(const std::string& key, const std::string& fallba
 Eigen::Vector3d JsonFields::required_vec3(const std::string& key) const {
     if (!has(key)) fail(key, "required field is missing");
     const auto& v = get(key);
-    if (!v.is_array() || v.size() != 3) fail(key, fmt::format("expected an array of 3 numbers, got {}", v.dump()));
+    if (!v.is_array() || v.size() != 3) fail(key, fmt::format("expected an array of 3 numbers, got {}", shown(v)));
     Eigen::Vector3d out;
     for (int k = 0; k < 3; ++k) {
         if (!v[k].is_number()) fail(fmt::format("{}[{}]", key, k), "expected a number");
@@ -128,7 +132,7 @@ std::vector<Eigen::Vector3d> JsonFields::vec3_list(const std::string& key) const
     if (!v.is_array()) fail(key, "expected an array of [x, y, z] points");
     for (size_t i = 0; i < v.size(); ++i) {
         const std::string item = fmt::format("{}[{}]", key, i);
-        if (!v[i].is_array() || v[i].size() != 3) fail(item, fmt::format("expected [x, y, z], got {}", v[i].dump()));
+        if (!v[i].is_array() || v[i].size() != 3) fail(item, fmt::format("expected [x, y, z], got {}", shown(v[i])));
         Eigen::Vector3d p;
         for (int k = 0; k < 3; ++k) {
             if (!v[i][k].is_number() || !std::isfinite(v[i][k].get<double>()))

@@ -107,7 +107,8 @@ void check_cut_polygon(const JsonFields& c, const std::vector<Eigen::Vector3d>& 
 
 /// "orientation": [w, x, y, z] (tool frame -> world), normalized; a zero quaternion is an error.
 Eigen::Quaterniond read_quaternion(const JsonFields& k, const nlohmann::json& v, const std::string& field) {
-    if (!v.is_array() || v.size() != 4) k.fail(field, fmt::format("expected [w, x, y, z], got {}", v.dump()));
+    if (!v.is_array() || v.size() != 4) k.fail(field, fmt::format("expected [w, x, y, z], got {}",
+                                                                 v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)));
     double q[4];
     for (int i = 0; i < 4; ++i) {
         if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
@@ -268,6 +269,8 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
         root = nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
     } catch (const nlohmann::json::parse_error& e) {
         throw InputError(path, "JSON", fmt::format("not valid JSON (byte {}): {}", e.byte, e.what()));
+    } catch (const nlohmann::json::exception& e) {  // out_of_range: a number too large for a double
+        throw InputError(path, "JSON", fmt::format("not valid JSON: {}", e.what()));
     }
     for (const auto& o : overrides) apply_override(root, path, o);
 

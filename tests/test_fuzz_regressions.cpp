@@ -31,6 +31,12 @@ const Regression kRegressions[] = {
     {"self-intersecting OBJ", "mesh", "surface/crash_self_intersecting.obj", "faces", "intersects itself"},
     // Two copies of one triangle: "closed", 3 points; TetGen's Delaunay step segfaults on it.
     {"doubled triangle STL", "mesh", "surface/crash_three_points.stl", "faces", "encloses no volume"},
+    // A number beyond double's range: nlohmann::json throws out_of_range, not parse_error.
+    {"number overflow", "scene", "scene/crash_number_overflow.json", "JSON", "not valid JSON"},
+    // A --set override that is not JSON becomes a string; one with invalid UTF-8 made the message's
+    // json::dump() throw a type_error instead of the InputError.
+    {"override with invalid UTF-8", "scene", "scene/crash_override_invalid_utf8.json", "material.young",
+     "expected a number, got \""},
 };
 
 void PrintTo(const Regression& r, std::ostream* os) { *os << r.file; }
