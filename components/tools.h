@@ -20,11 +20,12 @@ struct Keyframe {
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< tool frame -> world
 };
 
-/// A tool's contact shape in its own frame. Capsule and box are centred on the tool origin, the
-/// capsule's axis along the tool's z.
+/// A tool's contact shape in its own frame: sphere, capsule and box centred on `centre` (a scalpel's
+/// handle sits above its blade), the capsule's axis along the tool's z; a mesh as given.
 struct ToolShape {
     enum Kind : uint8_t { kNone, kSphere, kCapsule, kBox, kMesh };
     Kind kind = kNone;
+    Vec3 centre = Vec3::Zero();            ///< sphere, capsule, box: centre in the tool frame [m]
     double radius = 0.0;                   ///< sphere, capsule [m]
     double length = 0.0;                   ///< capsule: distance between the two sphere centres [m]
     Vec3 half_extent = Vec3::Zero();       ///< box [m]

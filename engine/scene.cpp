@@ -132,16 +132,16 @@ void read_tool_shape(const JsonFields& t, const fs::path& scene_dir, ToolBodies&
         const JsonFields sh = t.object("shape");
         const std::string type = sh.choice("type", "", {"sphere", "capsule", "box", "mesh"});
         if (type == "sphere") {
-            sh.allow_only({"type", "radius"});
+            sh.allow_only({"type", "radius", "centre"});
             shape.kind = ToolShape::kSphere;
             shape.radius = sh.required_number("radius", 1e-6, 1.0);
         } else if (type == "capsule") {
-            sh.allow_only({"type", "radius", "length"});
+            sh.allow_only({"type", "radius", "length", "centre"});
             shape.kind = ToolShape::kCapsule;
             shape.radius = sh.required_number("radius", 1e-6, 1.0);
             shape.length = sh.required_number("length", 0.0, 10.0);
         } else if (type == "box") {
-            sh.allow_only({"type", "size"});
+            sh.allow_only({"type", "size", "centre"});
             shape.kind = ToolShape::kBox;
             shape.half_extent = 0.5 * sh.required_vec3("size");
             if (!(shape.half_extent.minCoeff() > 0.0)) sh.fail("size", "every side must be > 0 [m]");
@@ -152,6 +152,7 @@ void read_tool_shape(const JsonFields& t, const fs::path& scene_dir, ToolBodies&
             shape.vertices = m.points;
             shape.triangles = m.triangles;
         }
+        shape.centre = sh.vec3("centre", Vec3::Zero());
     }
     const JsonFields contact = t.object("contact");
     contact.allow_only({"stiffness", "damping"});

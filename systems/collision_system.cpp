@@ -97,6 +97,7 @@ void detect_contacts(World& w, CollisionModel& m) {
         fcl::Transform3d pose = fcl::Transform3d::Identity();
         pose.linear() = tb.orientation[i].toRotationMatrix();
         pose.translation() = tb.position[i];
+        if (tb.shape[i].kind != ToolShape::kMesh) pose.translate(tb.shape[i].centre);  // FCL shapes are centred
         fcl::CollisionObjectd tool(m.tool_geometry[i], pose);
         fcl::CollisionRequestd request(1 << 20, false);
         fcl::CollisionResultd result;

@@ -63,7 +63,8 @@ Penetration mesh_penetration(const ToolShape& s, const Vec3& q) {
 
 }  // namespace
 
-Penetration penetration(const ToolShape& s, const Vec3& q) {
+Penetration penetration(const ToolShape& s, const Vec3& point) {
+    const Vec3 q = s.kind == ToolShape::kMesh ? point : Vec3(point - s.centre);
     switch (s.kind) {
         case ToolShape::kSphere: return from_core(q, Vec3::Zero(), s.radius);
         case ToolShape::kCapsule: {

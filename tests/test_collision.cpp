@@ -29,6 +29,9 @@ TEST(ToolShape, PenetrationOfEachShape) {
     Penetration p = penetration(sphere, Vec3(0.003, 0.004, 0));
     EXPECT_NEAR(p.depth, 0.005, 1e-15);
     EXPECT_NEAR((p.normal - Vec3(0.6, 0.8, 0)).norm(), 0.0, 1e-15);
+    sphere.centre = Vec3(0, 0, 0.05);  // centred above the tool origin, like a handle
+    EXPECT_NEAR(penetration(sphere, Vec3(0.003, 0.004, 0.05)).depth, 0.005, 1e-15);
+    EXPECT_LT(penetration(sphere, Vec3(0.003, 0.004, 0)).depth, 0.0);
     ToolShape capsule;
     capsule.kind = ToolShape::kCapsule, capsule.radius = 0.002, capsule.length = 0.02;
     p = penetration(capsule, Vec3(0.001, 0, 0.008));
