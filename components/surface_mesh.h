@@ -32,6 +32,7 @@ struct SurfaceMesh {
     std::vector<std::array<int, 3>> base_triangles;  ///< the skin as built, outward
     std::vector<std::vector<int>> base_of;   ///< per mesh element: its base triangles
     std::vector<std::vector<int>> pieces_of; ///< per mesh element: its output triangles
+    std::vector<int> node_vertex;            ///< per mesh node: its base vertex, -1 if none
     /// Points made by cuts, made once and reused by every element and triangle that meets them (the
     /// paper's "existing or future points"). Key: {kind, a, b, c}: a point on a mesh edge is
     /// {side, node, node, 0} (side 0 while some whole element still holds the edge: the crack

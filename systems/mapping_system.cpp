@@ -133,6 +133,8 @@ void build_surface(const World& w, SurfaceMesh& s, int subdivisions) {
     s.base_of.assign(w.mesh_elements, {});
     for (size_t t = 0; t < owner.size(); ++t) s.base_of[owner[t]].push_back(static_cast<int>(t));
     s.pieces_of = s.base_of;
+    s.node_vertex.assign(w.mesh_nodes, -1);
+    for (const auto& [node, v] : vertex_of_node) s.node_vertex[node] = v;
     update_surface_positions(w, s);
 }
 

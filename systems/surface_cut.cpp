@@ -116,6 +116,8 @@ int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector
     int n = 0;
     for (int a = 0; a < npe; ++a)
         if (b[a] != 0.0) support[n++] = w.elements.nodes[e][a];
+    // A cut through a node: on the node's own side the point is the node's base vertex.
+    if (n == 1 && w.enriched.sign[support[0]] == side && s.node_vertex[support[0]] >= 0) return s.node_vertex[support[0]];
     std::array<int64_t, 4> key;
     if (n <= 2) {
         key = {side, std::min(support[0], support[n - 1]), std::max(support[0], support[n - 1]), 0};
@@ -134,7 +136,10 @@ int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector
     return it->second;
 }
 
+/// Adds triangle t to `owner`'s pieces; one with a repeated vertex (a cut through a node or along
+/// an edge collapses it) is not a triangle and is dropped.
 void add_piece(SurfaceMesh& s, const std::array<int, 3>& t, int owner, bool cut) {
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) return;
     s.pieces_of[owner].push_back(static_cast<int>(s.triangles.size()));
     s.triangles.push_back(t);
     s.triangle_owner.push_back(owner);
@@ -289,8 +294,20 @@ void front_seams(World& w, SurfaceMesh& s, int c, const std::vector<std::pair<in
 
 int side_of_cut(const World& w, const CutPlaneInfo& cp, int e, const Eigen::Vector4d& b) {
     const int npe = w.elements.nodes_per_element();
+    const auto& en = w.elements.nodes[e];
     for (int a = 0; a < npe; ++a)
-        if (b[a] == 1.0) return w.enriched.sign[w.elements.nodes[e][a]];
+        if (b[a] == 1.0) return w.enriched.sign[en[a]];
+    // On a mesh edge, every element holding the edge must agree: decide by the nodes' H and the
+    // edge's own crossing, not by this element's plane.
+    int i = -1, j = -1;
+    for (int a = 0; a < npe; ++a)
+        if (b[a] != 0.0) (i < 0 ? i : j) = a;
+    if (j >= 0 && b[i] + b[j] == 1.0) {
+        const int hi = w.enriched.sign[en[i]], hj = w.enriched.sign[en[j]];
+        if (hi == hj && hi != 0) return hi;
+        const double t = edge_crossing(w, en[i], en[j]);  // from node i
+        if (hi != 0 && hj != 0 && t > 0.0 && t < 1.0) return b[j] < t ? hi : hj;
+    }
     double level = 0.0;
     for (int a = 0; a < npe; ++a) level += b[a] * cp.phi[a];
     return cp.orient * level >= 0.0 ? 1 : -1;

@@ -15,6 +15,7 @@
 #include "engine/render.h"
 #include "engine/parallel.h"
 #include "engine/simulation.h"
+#include "engine/stress.h"
 #include "systems/enrichment_system.h"
 
 namespace {
@@ -143,10 +144,17 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--scene", perf.scene, "Scene whose mesh.grid is resized (perf)");
     bench_cmd->add_option("--csv", perf.csv, "CSV to write (default results/bench_<suite>.csv)");
     bench_cmd->add_option("--speed", cut.speed, "Blade speed [m/s] (cut)")->check(CLI::PositiveNumber);
+    xcut::StressOptions stress;
+    CLI::App* stress_cmd = app.add_subcommand("stress", "Stability stress suite (VERIFICATION.md 7-9); exit 1 if an invariant broke");
+    stress_cmd->add_option("--count", stress.count, "Random blade trajectories (problem 8)")->check(CLI::NonNegativeNumber);
+    stress_cmd->add_option("--budget", stress.budget_s, "Wall-time budget for problem 8 [s]")->check(CLI::PositiveNumber);
+    stress_cmd->add_option("--seed", stress.seed, "Random seed (reproducible)");
+    stress_cmd->add_option("--csv", stress.csv, "CSV of every case");
     CLI11_PARSE(app, argc, argv);
     try {
         if (run_cmd->parsed()) return run_command(run);
         if (render_cmd->parsed()) return render_command(render, png);
+        if (stress_cmd->parsed()) return xcut::stress_command(stress);
         if (bench_cmd->parsed()) {
             if (suite == "mapping") {
                 xcut::MappingBenchOptions m;
