@@ -38,6 +38,9 @@ struct CutState {
     std::unordered_map<int, ElementCrossings> crossing;  ///< partly crossed elements
     std::array<std::vector<int>, 3> lists;  ///< L1, L2, L3 (element ids)
     std::vector<int> front;           ///< elements the last quad crossed: seeds of the next search
+    /// Per mesh element: a split was queued for it; it is not tested again. The decision is the
+    /// CutSystem's, whichever cutter (XFEM or snapping) applies the split.
+    std::vector<uint8_t> queued;
 
     // Figures (per step, reset by the CutSystem; delays kept for the whole run).
     int quads_built = 0;

@@ -22,26 +22,30 @@ void build_bodies(World& world, const MeshData& mesh) {
     el.rotation.assign(m, Mat3::Identity());
     el.material.assign(m, 0);
     el.weight.assign(m, 1.0);
-    for (int e = 0; e < m; ++e) {
-        const auto& c = el.nodes[e];
-        const Material& mat = world.materials.list[el.material[e]];
-        if (el.dim == 3) {
-            Mat3 Dm;
-            for (int k = 0; k < 3; ++k) Dm.col(k) = nodes.rest[c[k + 1]] - nodes.rest[c[0]];
-            el.rest_volume[e] = Dm.determinant() / 6.0;
-            el.dm_inv[e] = Dm.inverse();
-        } else {
-            Eigen::Matrix2d Dm;
-            for (int k = 0; k < 2; ++k) Dm.col(k) = (nodes.rest[c[k + 1]] - nodes.rest[c[0]]).head<2>();
-            el.rest_volume[e] = 0.5 * Dm.determinant() * mat.thickness;
-            el.dm_inv[e].topLeftCorner<2, 2>() = Dm.inverse();
-        }
-    }
+    for (int e = 0; e < m; ++e) compute_rest_shape(world, e);
     world.mesh_nodes = n;
     world.mesh_elements = m;
     lump_masses(world);
     build_incidence(world);
     apply_constraints(world);
+}
+
+void compute_rest_shape(World& world, int e) {
+    Elements& el = world.elements;
+    const Vec3* X = world.nodes.rest.data();
+    const auto& c = el.nodes[e];
+    if (el.dim == 3) {
+        Mat3 Dm;
+        for (int k = 0; k < 3; ++k) Dm.col(k) = X[c[k + 1]] - X[c[0]];
+        el.rest_volume[e] = Dm.determinant() / 6.0;
+        el.dm_inv[e] = Dm.inverse();
+    } else {
+        Eigen::Matrix2d Dm;
+        for (int k = 0; k < 2; ++k) Dm.col(k) = (X[c[k + 1]] - X[c[0]]).head<2>();
+        el.rest_volume[e] = 0.5 * Dm.determinant() * world.materials.list[el.material[e]].thickness;
+        el.dm_inv[e].setIdentity();
+        el.dm_inv[e].topLeftCorner<2, 2>() = Dm.inverse();
+    }
 }
 
 double element_mass_share(const World& world, int e) {

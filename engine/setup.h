@@ -13,6 +13,9 @@ namespace xcut {
 /// (exact total mass; the standard lumping for linear simplices).
 void build_bodies(World& world, const MeshData& mesh);
 
+/// Rest volume V (2D: area x thickness) and Dm^-1 of element e from its nodes' rest positions.
+void compute_rest_shape(World& world, int e);
+
 /// Lumped masses from the elements: rho V weight / (nodes per element) to each node. For a cut
 /// element this is the phantom-node lumping: each side's share goes to that side's vertices, which
 /// equals the block-diagonal lumping of Menouillard et al. (IJNME 74, 2008) in the enriched DOFs.

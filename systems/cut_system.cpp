@@ -206,7 +206,7 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q) {
     const auto& cut = w.cuts.cut_of_element;
     std::vector<int> crossed;
     for (int e : candidates) {
-        if (!cut.empty() && cut[e] >= 0) continue;
+        if ((!cut.empty() && cut[e] >= 0) || (!cs.queued.empty() && cs.queued[e])) continue;
         ++cs.elements_tested;
         const int found = test_element(w, e, q, normal);
         cs.crossings_found += found;
@@ -221,6 +221,8 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q) {
             CutEvent ev;
             if (make_event(w, e, c, ev)) {
                 w.pending_cuts.push_back(ev);
+                if (cs.queued.empty()) cs.queued.assign(w.mesh_elements, 0);
+                cs.queued[e] = 1;
                 cs.delay_sim.push_back(w.time - c.first_time);
                 cs.delay_wall.push_back(wall_seconds() - c.first_wall);
                 ++cs.elements_split;
