@@ -167,9 +167,14 @@ void read_tool_shape(const JsonFields& t, const fs::path& scene_dir, ToolBodies&
 
 void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) {
     const JsonFields cutter = top.object("cutter");
-    cutter.allow_only({"threshold", "neighbourhood_depth"});
+    cutter.allow_only({"threshold", "neighbourhood_depth", "type", "snap_threshold"});
     scene.cut_threshold = cutter.number("threshold", 0.0, 0.0);
     scene.cut_min_depth = cutter.integer("neighbourhood_depth", 1, 0, 50);
+    scene.cutter = cutter.choice("type", "xfem", {"xfem", "snap"});
+    scene.snap_threshold = cutter.number("snap_threshold", 0.1);
+    if (!(scene.snap_threshold > 0.0 && scene.snap_threshold < 0.5))
+        cutter.fail("snap_threshold", fmt::format("{} is out of range (0, 0.5): a fraction of the crossed edge's length",
+                                                  scene.snap_threshold));
     ToolBodies& tb = scene.tools;
     const auto tools = top.array_of_objects("tools");
     for (size_t i = 0; i < tools.size(); ++i) {
@@ -408,6 +413,10 @@ World build_world(const Scene& scene) {
     world.tools = scene.tools;
     world.cut_state.threshold = scene.cut_threshold;
     world.cut_state.min_depth = scene.cut_min_depth;
+    world.snap.enabled = scene.cutter == "snap";
+    world.snap.threshold = scene.snap_threshold;
+    world.snap.visual_subdivisions = scene.visual_subdivisions;
+    world.snap.collision_subdivisions = scene.collision_subdivisions;
     build_bodies(world, mesh);
     return world;
 }

@@ -33,6 +33,8 @@ struct Scene {
     ToolBodies tools;                ///< "tools"
     double cut_threshold = 0.0;      ///< "cutter.threshold" [m]; 0: mean edge length
     int cut_min_depth = 1;           ///< "cutter.neighbourhood_depth"
+    std::string cutter = "xfem";     ///< "cutter.type": "xfem" (enrichment) or "snap" (snapping and subdivision)
+    double snap_threshold = 0.1;     ///< "cutter.snap_threshold": fraction of the crossed edge (components/snap_mesh.h)
     int visual_subdivisions = -1;    ///< "visual.subdivisions"; -1: no visual surface
     int collision_subdivisions = -1; ///< "collision.subdivisions"; -1: no collision surface
     Camera camera;                   ///< "camera"; automatic framing unless given

@@ -8,6 +8,7 @@
 #include "systems/force_system.h"
 #include "systems/mapping_system.h"
 #include "systems/scripted_cut_system.h"
+#include "systems/snap_cut_system.h"
 #include "systems/tool_system.h"
 #include "systems/solver_system.h"
 
@@ -21,7 +22,7 @@ void register_systems(Scheduler& scheduler, Simulation& sim) {
     if (blades) prepare_enrichment(sim.world);
     scheduler.add(cut_system(bvh));
     scheduler.add(scripted_cut_system());
-    scheduler.add(enrichment_system());
+    scheduler.add(sim.world.snap.enabled ? snap_cut_system(sim.world) : enrichment_system());
     scheduler.add(force_system());
     scheduler.add(collision_system(make_collision_model()));
     scheduler.add(solver_system());

@@ -15,6 +15,7 @@
 #include "components/material.h"
 #include "components/metrics.h"
 #include "components/nodes.h"
+#include "components/snap_mesh.h"
 #include "components/surface_mesh.h"
 #include "components/tools.h"
 
@@ -93,6 +94,7 @@ struct World {
     CutElements cuts;
     VirtualElements virtual_elements;
     EnrichedDofs enriched;
+    SnapMesh snap;           ///< the snapping-and-subdivision cutter, when the scene chooses it
     SurfaceMesh visual;
     SurfaceMesh collision;   ///< the surface tools touch (paper §3.5): coarser than the visual one
     Contacts contacts;       ///< this step's tool contacts on the collision surface

@@ -87,6 +87,9 @@ std::vector<BadScene> bad_scenes() {
          "tools=[{\"blade\":{\"tip\":[0,0,0],\"heel\":[0,0,1]},\"trajectory\":[{\"time\":0,\"position\":[0,0,0],\"orientation\":[0,0,0,0]}]}]",
          "orientation", "zero length"},
         {"bad override path", "steps.x=1", "--set steps.x", "not an object field path"},
+        {"unknown cutter type", "cutter.type=\"laser\"", "cutter.type", "is not one of \"xfem\", \"snap\""},
+        {"snap threshold of half an edge", "cutter.snap_threshold=0.5", "cutter.snap_threshold", "out of range (0, 0.5)"},
+        {"zero snap threshold", "cutter.snap_threshold=0", "cutter.snap_threshold", "out of range (0, 0.5)"},
     };
 }
 

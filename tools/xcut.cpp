@@ -29,7 +29,14 @@ struct RunOptions {
     bool quiet = false;
     std::string record, replay;  ///< session directories (engine/device.h)
     bool haptics = false;        ///< run the 1 kHz haptic loop beside the physics
+    std::string cutter;   ///< --cutter: sets cutter.type
 };
+
+std::vector<std::string> overrides_of(const RunOptions& o) {
+    std::vector<std::string> all = o.overrides;
+    if (!o.cutter.empty()) all.push_back("cutter.type=\"" + o.cutter + "\"");
+    return all;
+}
 
 void render_to(const xcut::Scene& scene, const xcut::World& w, const std::string& png) {
     const xcut::Camera cam = scene.camera.automatic ? xcut::frame_surface(w.visual, scene.camera.width, scene.camera.height)
@@ -40,7 +47,7 @@ void render_to(const xcut::Scene& scene, const xcut::World& w, const std::string
 int render_command(const RunOptions& o, const std::string& png) {
     using namespace xcut;
     set_thread_count(o.threads);
-    Scene scene = load_scene(o.scene, o.overrides);
+    Scene scene = load_scene(o.scene, overrides_of(o));
     if (scene.visual_subdivisions < 0) scene.visual_subdivisions = 0;
     auto sim = make_simulation(scene, /*with_output=*/false);
     run_simulation(*sim, o.steps >= 0 ? o.steps : scene.steps, !o.quiet);
@@ -53,7 +60,7 @@ int render_command(const RunOptions& o, const std::string& png) {
 int run_command(const RunOptions& o) {
     using namespace xcut;
     set_thread_count(o.threads);
-    Scene scene = load_scene(o.scene, o.overrides);
+    Scene scene = load_scene(o.scene, overrides_of(o));
     if (!o.output.empty()) scene.output.directory = o.output;
     const int steps = o.steps >= 0 ? o.steps : scene.steps;
     auto sim = make_simulation(scene, true, o.replay);
@@ -96,6 +103,9 @@ int run_command(const RunOptions& o) {
                    w.cuts.count(), w.enriched.count(),
                    std::count(w.enriched.front_fixed.begin(), w.enriched.front_fixed.end(), 1), opening);
     }
+    if (w.snap.elements_split > 0)
+        fmt::print("cut (snap): {} elements split, {} nodes snapped (largest move {:.3g} m), {} edge points, {} copies\n",
+                   w.snap.elements_split, w.snap.snaps, w.snap.max_snap_distance, w.snap.points, w.snap.copies);
     if (sim->output && w.visual.vertex_count() > 0) {
         const std::string png = sim->output->directory() + "/" + scene.name + ".png";
         render_to(scene, w, png);
@@ -122,6 +132,8 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--record", run.record, "Record the tools' poses each step to DIR/<tool>.csv");
     run_cmd->add_option("--replay", run.replay, "Drive the tools from a session recorded with --record (bit-identical)");
     run_cmd->add_flag("--haptics", run.haptics, "Run the 1 kHz haptic loop beside the physics; report its rate and jitter");
+    run_cmd->add_option("--cutter", run.cutter, "Cutter: xfem (default) or snap (snapping and subdivision)")
+        ->check(CLI::IsMember({"xfem", "snap"}));
     RunOptions render;
     std::string png;
     CLI::App* render_cmd = app.add_subcommand("render", "Run a scene and render its visual surface to a PNG (Embree)");
@@ -131,6 +143,7 @@ int main(int argc, char** argv) {
     render_cmd->add_option("--set", render.overrides, "Override a scene field: field.path=value");
     render_cmd->add_option("--threads,-j", render.threads, "OpenMP threads")->check(CLI::Range(1, 256));
     render_cmd->add_flag("--quiet,-q", render.quiet, "No progress bar");
+    render_cmd->add_option("--cutter", render.cutter, "Cutter: xfem (default) or snap")->check(CLI::IsMember({"xfem", "snap"}));
 
     xcut::PerfBenchOptions perf;
     xcut::CutBenchOptions cut;
