@@ -15,16 +15,12 @@
 #include "systems/tool_system.h"
 
 namespace xcut {
-namespace {
-
 double percentile(std::vector<double> v, double p) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
     const size_t i = std::min(v.size() - 1, static_cast<size_t>(std::ceil(p * v.size())) - (p > 0 ? 1 : 0));
     return v[i];
 }
-
-}  // namespace
 
 World block_with_scalpel(int tets, double speed) {
     const Vec3 size(0.1, 0.1, 0.05);

@@ -31,6 +31,9 @@ struct CutBenchRow {
 struct World;
 World block_with_scalpel(int tets, double speed);
 
+/// The p-quantile (0..1) of v, nearest rank; 0 for an empty list.
+double percentile(std::vector<double> v, double p);
+
 std::vector<CutBenchRow> run_cut_bench(const CutBenchOptions& options);
 /// Prints the table and writes the CSV; returns 0.
 int cut_bench_command(const CutBenchOptions& options);

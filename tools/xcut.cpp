@@ -11,6 +11,7 @@
 #include "engine/bench_collision.h"
 #include "engine/bench_cut.h"
 #include "engine/bench_mapping.h"
+#include "engine/compare.h"
 #include "engine/error.h"
 #include "engine/render.h"
 #include "engine/parallel.h"
@@ -163,11 +164,30 @@ int main(int argc, char** argv) {
     stress_cmd->add_option("--budget", stress.budget_s, "Wall-time budget for problem 8 [s]")->check(CLI::PositiveNumber);
     stress_cmd->add_option("--seed", stress.seed, "Random seed (reproducible)");
     stress_cmd->add_option("--csv", stress.csv, "CSV of every case");
+    xcut::CompareOptions cmp;
+    bool no_delay = false, no_plots = false;
+    CLI::App* compare_cmd = app.add_subcommand(
+        "compare", "XFEM against snapping and subdivision on one scene: DOFs per cut, crossing delay, quality, step time (CSV + PNG in out/<scene>/compare)");
+    compare_cmd->add_option("scene", cmp.scene, "Scene file with a bladed tool (its incision is repeated)")->required();
+    compare_cmd->add_option("--cuts", cmp.cuts, "Incisions, one after another, offset sideways")->check(CLI::Range(1, 200));
+    compare_cmd->add_option("--spacing", cmp.spacing, "Sideways distance between incisions [m] (default: automatic)")
+        ->check(CLI::NonNegativeNumber);
+    compare_cmd->add_option("--threads,-j", cmp.threads, "OpenMP threads")->check(CLI::Range(1, 256));
+    compare_cmd->add_option("--output,-o", cmp.output, "Output directory (default out/<scene>/compare)");
+    compare_cmd->add_option("--set", cmp.overrides, "Override a scene field: field.path=value");
+    compare_cmd->add_flag("--no-delay-sweep", no_delay, "Skip the crossing-delay sweep (blade speeds x mesh sizes)");
+    compare_cmd->add_flag("--no-plots", no_plots, "CSVs only");
+    compare_cmd->add_flag("--quiet,-q", cmp.quiet, "No progress bars");
     CLI11_PARSE(app, argc, argv);
     try {
         if (run_cmd->parsed()) return run_command(run);
         if (render_cmd->parsed()) return render_command(render, png);
         if (stress_cmd->parsed()) return xcut::stress_command(stress);
+        if (compare_cmd->parsed()) {
+            cmp.delay_sweep = !no_delay;
+            cmp.plots = !no_plots;
+            return xcut::compare_command(cmp);
+        }
         if (bench_cmd->parsed()) {
             if (suite == "mapping") {
                 xcut::MappingBenchOptions m;
