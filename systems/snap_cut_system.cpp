@@ -327,7 +327,9 @@ void rebuild_surface(World& w, SurfaceMesh& surface, int subdivisions) {
     view.elements.dim = w.elements.dim;
     for (int q : live) view.elements.nodes.push_back(w.elements.nodes[q]);
     view.mesh_elements = static_cast<int>(live.size());
+    view.mesh_nodes = w.nodes.count();
     build_surface(view, surface, subdivisions);
+    surface.node_vertex.resize(w.mesh_nodes);  // per mesh node, as for a surface built on the mesh
     const int npe = w.elements.nodes_per_element();
     auto parent_of = [&](int q) { return q < w.mesh_elements ? q : w.snap.piece_parent[q - w.mesh_elements]; };
     auto on_cut = [&](int v) {  // every node the vertex is interpolated from lies on a cut surface
