@@ -1,12 +1,14 @@
 #include "systems/collision_system.h"
 
 #include <algorithm>
+#include <limits>
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/capsule.h>
 #include <fcl/geometry/shape/sphere.h>
-#include <fcl/narrowphase/collision.h>
-#include <fcl/narrowphase/collision_object.h>
+#include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+#include <fcl/narrowphase/detail/traversal/collision/mesh_shape_collision_traversal_node.h>
+#include <fcl/narrowphase/detail/traversal/collision_node.h>
 
 #include "systems/mapping_system.h"
 #include "systems/tool_shape_depth.h"
@@ -15,10 +17,19 @@ namespace xcut {
 
 using Bvh = fcl::BVHModel<fcl::AABBd>;  // AABB: a bottom-up refit merges child boxes, O(n)
 
+/// The FCL shape that finds the surface triangles near a tool, and where its centre sits in the tool
+/// frame. A mesh tool is found by its bounding box: a surface triangle deep inside a closed mesh meets
+/// none of its triangles, so a mesh-mesh test would miss it; the exact inside test and depth come
+/// after, per vertex (`penetration`).
+struct BroadShape {
+    std::shared_ptr<fcl::CollisionGeometryd> geometry;
+    Vec3 centre = Vec3::Zero();
+};
+
 struct CollisionModel {
     std::shared_ptr<Bvh> surface;
     size_t triangles = 0;  ///< triangle count the BVH was built with
-    std::vector<std::shared_ptr<fcl::CollisionGeometryd>> tool_geometry;
+    std::vector<BroadShape> tool_shape;  ///< per tool, made on first use
 };
 
 std::shared_ptr<CollisionModel> make_collision_model() { return std::make_shared<CollisionModel>(); }
@@ -34,23 +45,19 @@ bool shaped(const ToolBodies& tb, int i) {
     return i < static_cast<int>(tb.shape.size()) && tb.shape[i].kind != ToolShape::kNone;
 }
 
-std::shared_ptr<fcl::CollisionGeometryd> fcl_geometry(const ToolShape& s) {
+BroadShape broad_shape(const ToolShape& s) {
     switch (s.kind) {
-        case ToolShape::kSphere: return std::make_shared<fcl::Sphered>(s.radius);
-        case ToolShape::kCapsule: return std::make_shared<fcl::Capsuled>(s.radius, s.length);
-        case ToolShape::kBox: return std::make_shared<fcl::Boxd>(2.0 * s.half_extent);
+        case ToolShape::kSphere: return {std::make_shared<fcl::Sphered>(s.radius), s.centre};
+        case ToolShape::kCapsule: return {std::make_shared<fcl::Capsuled>(s.radius, s.length), s.centre};
+        case ToolShape::kBox: return {std::make_shared<fcl::Boxd>(2.0 * s.half_extent), s.centre};
         case ToolShape::kMesh: {
-            auto m = std::make_shared<Bvh>();
-            m->beginModel();
-            std::vector<fcl::Triangle> tris;
-            for (const auto& t : s.triangles) tris.emplace_back(t[0], t[1], t[2]);
-            m->addSubModel(s.vertices, tris);
-            m->endModel();
-            return m;
+            Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
+            for (const Vec3& v : s.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+            return {std::make_shared<fcl::Boxd>(hi - lo), 0.5 * (lo + hi)};
         }
         case ToolShape::kNone: break;
     }
-    return nullptr;
+    return {};
 }
 
 /// The surface BVH at the current positions: refitted, or rebuilt when its triangles changed.
@@ -71,6 +78,31 @@ void refit_surface(const SurfaceMesh& s, CollisionModel& m) {
     m.surface->endUpdateModel(true, true);
 }
 
+/// Surface triangles overlapping a primitive tool placed at `pose`. FCL's own `collide` copies the
+/// whole surface BVH on every call for AABB trees (its generic mesh-shape path); the traversal node
+/// is driven here on the model itself: the surface is already in world coordinates (identity tf1),
+/// so `initialize` leaves it untouched.
+template <typename Shape>
+void collide_surface(Bvh& surface, const Shape& shape, const fcl::Transform3d& pose, fcl::CollisionResultd& result) {
+    const fcl::detail::GJKSolver_libccd<double> solver;
+    const fcl::CollisionRequestd request(1 << 20, false);
+    fcl::detail::MeshShapeCollisionTraversalNode<fcl::AABBd, Shape, fcl::detail::GJKSolver_libccd<double>> node;
+    fcl::Transform3d identity = fcl::Transform3d::Identity();
+    fcl::detail::initialize(node, surface, identity, shape, pose, &solver, request, result);
+    fcl::detail::collide(&node);
+}
+
+/// Surface triangles overlapping a tool's broad shape (the contacts' `b1` are triangle indices).
+void collide_tool(Bvh& surface, const BroadShape& shape, const fcl::Transform3d& pose, fcl::CollisionResultd& result) {
+    const fcl::CollisionGeometryd* g = shape.geometry.get();
+    switch (g->getNodeType()) {
+        case fcl::GEOM_SPHERE: return collide_surface(surface, *static_cast<const fcl::Sphered*>(g), pose, result);
+        case fcl::GEOM_CAPSULE: return collide_surface(surface, *static_cast<const fcl::Capsuled*>(g), pose, result);
+        case fcl::GEOM_BOX: return collide_surface(surface, *static_cast<const fcl::Boxd*>(g), pose, result);
+        default: return;
+    }
+}
+
 /// Velocity of a surface vertex from its element's DOF velocities.
 Vec3 vertex_velocity(const World& w, const SurfaceMesh& s, int v) {
     Vec3 u = Vec3::Zero();
@@ -86,22 +118,19 @@ void detect_contacts(World& w, CollisionModel& m) {
     ToolBodies& tb = w.tools;
     SurfaceMesh& s = w.collision;
     if (s.vertex_count() == 0) return;
-    m.tool_geometry.resize(tb.count());
+    m.tool_shape.resize(tb.count());
     map_cuts(w, s);  // bindings follow this step's splits before any force lands on them
     update_surface_positions(w, s);
     refit_surface(s, m);
-    fcl::CollisionObjectd surface(m.surface);
     for (int i = 0; i < tb.count(); ++i) {
         if (!shaped(tb, i)) continue;
-        if (!m.tool_geometry[i]) m.tool_geometry[i] = fcl_geometry(tb.shape[i]);
+        if (!m.tool_shape[i].geometry) m.tool_shape[i] = broad_shape(tb.shape[i]);
         fcl::Transform3d pose = fcl::Transform3d::Identity();
         pose.linear() = tb.orientation[i].toRotationMatrix();
         pose.translation() = tb.position[i];
-        if (tb.shape[i].kind != ToolShape::kMesh) pose.translate(tb.shape[i].centre);  // FCL shapes are centred
-        fcl::CollisionObjectd tool(m.tool_geometry[i], pose);
-        fcl::CollisionRequestd request(1 << 20, false);
+        pose.translate(m.tool_shape[i].centre);  // FCL shapes are centred on their frame
         fcl::CollisionResultd result;
-        fcl::collide(&surface, &tool, request, result);
+        collide_tool(*m.surface, m.tool_shape[i], pose, result);
         std::vector<int> candidates;
         for (size_t k = 0; k < result.numContacts(); ++k)
             for (int v : s.triangles[result.getContact(k).b1]) candidates.push_back(v);

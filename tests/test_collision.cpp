@@ -96,6 +96,33 @@ TEST(Collision, PlatformCarriesTheBlocksWeight) {
     EXPECT_LT(sink, 1e-3) << "the block rests on the platform instead of falling through [m]";
 }
 
+// The same platform as a closed OBJ mesh (FCL mesh-mesh path, winding-number depth) gives the same
+// contacts and reactions as the box primitive (FCL mesh-shape traversal, exact box depth).
+TEST(Collision, MeshPlatformActsLikeTheBoxPlatform) {
+    const fs::path obj = temp_file("platform.obj",
+                                   "v -0.02 -0.02 -0.005\nv 0.02 -0.02 -0.005\nv 0.02 0.02 -0.005\nv -0.02 0.02 -0.005\n"
+                                   "v -0.02 -0.02 0.005\nv 0.02 -0.02 0.005\nv 0.02 0.02 0.005\nv -0.02 0.02 0.005\n"
+                                   "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
+                                   "f 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n");
+    nlohmann::json as_mesh = nlohmann::json::parse(kBlockOnPlatform);
+    as_mesh["tools"][0]["shape"] = {{"type", "mesh"}, {"file", obj.string()}};
+    as_mesh["steps"] = 60;
+    nlohmann::json as_box = nlohmann::json::parse(kBlockOnPlatform);
+    as_box["steps"] = 60;
+    auto run = [](const nlohmann::json& j, const std::string& name) {
+        const Scene scene = load_scene(temp_file(name, j.dump()).string());
+        auto sim = make_simulation(scene, false);
+        for (int s = 0; s < scene.steps; ++s) step_simulation(*sim);
+        return std::make_pair(sim->world.contacts.count(), sim->world.tools.reaction_force[0]);
+    };
+    const auto [box_contacts, box_force] = run(as_box, "box_platform.json");
+    const auto [mesh_contacts, mesh_force] = run(as_mesh, "mesh_platform.json");
+    ASSERT_GT(box_contacts, 0);
+    EXPECT_EQ(mesh_contacts, box_contacts);
+    // Depths agree to round-off; 60 implicit steps amplify that to well under 1e-6 of the force.
+    EXPECT_LT((mesh_force - box_force).norm(), 1e-6 * box_force.norm());
+}
+
 /// A 40 x 10 x 10 mm bar clamped at both ends and cut through at x = 21.9 mm; a capsule (radius 1
 /// mm, axis along y) presses 0.4 mm into the top of the left lip, on the cut elements' left side.
 /// No gravity.
