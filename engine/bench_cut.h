@@ -35,6 +35,8 @@ World block_with_scalpel(int tets, double speed);
 double percentile(std::vector<double> v, double p);
 
 std::vector<CutBenchRow> run_cut_bench(const CutBenchOptions& options);
+/// Prints the rows as a table and writes them to the CSV at `path`.
+void write_cut_rows(const std::vector<CutBenchRow>& rows, const std::string& path);
 /// Prints the table and writes the CSV; returns 0.
 int cut_bench_command(const CutBenchOptions& options);
 

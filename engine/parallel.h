@@ -14,10 +14,13 @@ namespace xcut {
 void set_thread_count(int threads);
 int thread_count();
 
+/// Items below which a loop runs serially: forking costs more than it saves.
+constexpr int kParallelMin = 8192;
+
 /// Calls body(i) for i in [0, count), split statically over the threads. Below min_parallel items
-/// the loop runs serially: forking costs more than it saves.
+/// the loop runs serially.
 template <class Body>
-inline void parallel_for(int count, Body&& body, int min_parallel = 8192) {
+inline void parallel_for(int count, Body&& body, int min_parallel = kParallelMin) {
     if (count < min_parallel || thread_count() == 1) {
         for (int i = 0; i < count; ++i) body(i);
         return;
@@ -41,7 +44,7 @@ inline double deterministic_sum(int count, Term&& term) {
             for (int i = lo; i < hi; ++i) s += term(i);
             partial[b] = s;
         },
-        count >= 8192 ? 1 : kBlocks + 1);
+        count >= kParallelMin ? 1 : kBlocks + 1);
     double total = 0.0;
     for (double p : partial) total += p;
     return total;
@@ -62,7 +65,7 @@ inline std::array<double, K> deterministic_sums(int count, Body&& body) {
             if (lo < hi) body(lo, hi, acc);
             partial[b] = acc;
         },
-        count >= 8192 ? 1 : kBlocks + 1);
+        count >= kParallelMin ? 1 : kBlocks + 1);
     std::array<double, K> total{};
     for (const auto& p : partial)
         for (int k = 0; k < K; ++k) total[k] += p[k];

@@ -31,6 +31,8 @@ public:
     /// The schedule as printed at start-up.
     std::string describe(const World& world) const;
     const std::vector<SystemDesc>& scheduled() const { return scheduled_; }
+    /// Every system added, scheduled or not, in pipeline order.
+    const std::vector<SystemDesc>& registered() const { return all_; }
 
 private:
     std::vector<SystemDesc> all_;

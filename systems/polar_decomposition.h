@@ -37,12 +37,16 @@ inline Eigen::Matrix3d extract_rotation_robust(const Eigen::Matrix3d& F, const E
 }
 
 /// Polar rotation of F. Newton stops when an update changes X by less than 1e-15 (Frobenius,
-/// relative), i.e. at round-off; it is capped at 30 iterations.
-inline Eigen::Matrix3d extract_rotation(const Eigen::Matrix3d& F, const Eigen::Matrix3d& warm_start) {
+/// relative), i.e. at round-off; it is capped at 30 iterations. `newton_iterations`, when given,
+/// receives the count (0 when the robust iteration ran instead): the benchmark's flop count uses it.
+inline Eigen::Matrix3d extract_rotation(const Eigen::Matrix3d& F, const Eigen::Matrix3d& warm_start,
+                                        int* newton_iterations = nullptr) {
+    if (newton_iterations) *newton_iterations = 0;
     const double det = F.determinant();
     if (!(det > 1e-12 * F.squaredNorm() * F.norm())) return extract_rotation_robust(F, warm_start);
     Eigen::Matrix3d X = F;
     for (int it = 0; it < 30; ++it) {
+        if (newton_iterations) *newton_iterations = it + 1;
         const Eigen::Matrix3d Xinv_t = X.inverse().transpose();
         const double g = std::sqrt(Xinv_t.norm() / X.norm());  // Frobenius scaling
         const Eigen::Matrix3d next = 0.5 * (g * X + Xinv_t / g);

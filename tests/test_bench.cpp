@@ -1,5 +1,6 @@
 // The benchmarks run in a tiny configuration: their figures are finite and positive and their
-// CSVs have the documented columns (run time itself is never asserted).
+// CSVs have the documented columns (run time itself is never asserted). The perf suite's tests are
+// in test_bench_perf.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +8,6 @@
 #include <sstream>
 #include <fstream>
 
-#include "engine/bench.h"
 #include "engine/bench_cut.h"
 #include "engine/bench_mapping.h"
 
@@ -30,24 +30,6 @@ void expect_finite_positive_row(const std::string& row) {
         EXPECT_TRUE(std::isfinite(v)) << row;
         EXPECT_GE(v, 0.0) << row;
     }
-}
-
-TEST(Bench, PerfSuiteTinyRun) {
-    PerfBenchOptions o;
-    o.scene = std::string(XCUT_SOURCE_DIR) + "/scenes/tissue_block.json";
-    o.sizes = {600};
-    o.steps = 2;
-    o.csv = (fs::temp_directory_path() / ("xcut_bench_perf_" + std::to_string(::getpid()) + ".csv")).string();
-    ASSERT_EQ(perf_bench_command(o), 0);
-    const auto lines = csv_lines(o.csv);
-    ASSERT_EQ(lines.size(), 3u);  // header + 1 and 2 threads
-    EXPECT_EQ(lines[0], "tets,nodes,threads,steps_per_s,ms_per_step,cg_iter_per_step,force_ms,solver_ms,"
-                        "bytes_per_tet_components,bytes_per_tet_rss");
-    for (size_t i = 1; i < lines.size(); ++i) expect_finite_positive_row(lines[i]);
-    const auto rows = run_perf_bench(o, false);
-    EXPECT_GT(rows[0].cg_per_step, 0.0);
-    EXPECT_LT(rows[0].bytes_per_tet_components, 1000.0);
-    fs::remove(o.csv);
 }
 
 TEST(Bench, CutSuiteTinyRun) {
