@@ -47,6 +47,17 @@ ForceKernelCounts force_system_counts(double n, double r) {
     return c;
 }
 
+// The CG's product K p per tetrahedron: Lame 9, V 1; H = R^T (edge matrix of p) Dm^-1: 9 + 45 + 45;
+// stress 49; scatter 108; gather 12: 278 flops. Bytes: the element pass reads ids, Dm^-1, R,
+// material, volume, weight and writes the buffer (274), p gathered once per node (24 r); the gather
+// reads entries and buffer (112), offsets (8 r), writes the product (24 r): 386 + 56 r.
+ForceKernelCounts stiffness_product_counts(double r) {
+    ForceKernelCounts c;
+    c.flops_per_element = 278.0;
+    c.bytes_per_element = 386.0 + 56.0 * r;
+    return c;
+}
+
 double mean_newton_iterations(const World& w) {
     const Elements& el = w.elements;
     if (el.dim != 3 || el.count() == 0) return 0.0;

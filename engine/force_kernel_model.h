@@ -20,6 +20,10 @@ struct ForceKernelCounts {
 /// decomposition takes `newton_iterations` Newton steps on average.
 ForceKernelCounts force_system_counts(double newton_iterations, double nodes_per_element);
 
+/// Counts per tetrahedron of the CG's matrix-free product K p (stiffness_product: the element
+/// pass and the gather), which the SolverSystem runs once per CG iteration.
+ForceKernelCounts stiffness_product_counts(double nodes_per_element);
+
 /// Mean Newton steps of the polar decomposition over the world's tetrahedra at their current
 /// positions (what the ForceSystem's next step will take).
 double mean_newton_iterations(const World& world);
