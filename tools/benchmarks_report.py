@@ -115,6 +115,9 @@ def perf_targets(steps, kernel, cut):
         best = max((r for r in steps if r["threads"] == 2), key=lambda r: r["speedup"])
         lines.append(["≥ 1.8× from 1 to 2 threads", f"{num(r50['speedup'])}× at {num(r50['tets'])} "
                       f"(best {num(best['speedup'])}× at {num(best['tets'])})", verdict(r50["speedup"], 1.8)])
+    worst = max(steps, key=lambda r: r["bytes_per_tet_components"])
+    lines.append(["≤ 400 bytes per tet (component arrays)", f"{num(worst['bytes_per_tet_components'])} at most "
+                  f"(at {num(worst['tets'])})", verdict(worst["bytes_per_tet_components"], 400, higher_is_better=False)])
     if cut:
         c50 = nearest(cut, 50000)
         lines.append(["≤ 1 ms p99 cut update at 50k tets", f"{num(c50['update_p99_ms'])} ms at {num(c50['tets'])}",
