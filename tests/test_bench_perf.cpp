@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -179,6 +181,39 @@ TEST_F(BenchPerf, SkippedSystemsCostExactlyZero) {
     }
     EXPECT_TRUE(scheduled["without"]["ForceSystem"]);
     EXPECT_TRUE(scheduled["without"]["SolverSystem"]);
+}
+
+std::string read_text(const fs::path& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// tools/benchmarks_report.py on the tiny run's CSVs: it fills the perf markers, keeps the text
+// around them, leaves a section whose CSV is missing as it is, and appends a suite it has no
+// markers for.
+TEST_F(BenchPerf, ReportRegeneratesOnlyBetweenMarkers) {
+    if (std::system("python3 -c 'import csv' > /dev/null 2>&1") != 0) GTEST_SKIP() << "no python3";
+    const fs::path doc = dir_ / "BENCHMARKS.md";
+    {
+        std::ofstream out(doc);
+        out << "# Benchmarks\nhand-written intro\n<!-- generated: perf -->\nold table\n<!-- end -->\n"
+               "hand-written analysis\n<!-- generated: accuracy -->\nkept accuracy table\n<!-- end -->\n";
+        std::ofstream extra(dir_ / "bench_extra.csv");
+        extra << "size,value\n1,2.5\n";
+    }
+    const std::string cmd = "python3 " + std::string(XCUT_SOURCE_DIR) + "/tools/benchmarks_report.py --no-plots --results " +
+                            dir_.string() + " --doc " + doc.string() + " > /dev/null";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    const std::string text = read_text(doc);
+    EXPECT_NE(text.find("hand-written intro"), std::string::npos);
+    EXPECT_NE(text.find("hand-written analysis"), std::string::npos);
+    EXPECT_EQ(text.find("old table"), std::string::npos);
+    EXPECT_NE(text.find("### Targets"), std::string::npos);
+    EXPECT_NE(text.find("### Kernels against the roofline"), std::string::npos);
+    EXPECT_NE(text.find("kept accuracy table"), std::string::npos) << "no bench_accuracy.csv: section left as it is";
+    EXPECT_NE(text.find("<!-- generated: extra -->"), std::string::npos) << "a new suite gets a section";
+    EXPECT_LT(text.find("hand-written analysis"), text.find("<!-- generated: extra -->"));
+    fs::remove(dir_ / "bench_extra.csv");
 }
 
 TEST(BenchRoofline, MeasuresPositiveFigures) {
