@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
+#include <thread>
 
 #include "engine/bench_cut.h"
 #include "engine/bench_kernel.h"
@@ -36,6 +37,14 @@ double peak_rss_bytes() {
         std::getline(in, key);
     }
     return 0.0;
+}
+
+/// The 1-minute load average: a run measured while other work shares the cores is noisy.
+double load_average() {
+    std::ifstream in("/proc/loadavg");
+    double load = 0.0;
+    in >> load;
+    return load;
 }
 
 double system_ms(const PerfBenchRow& r, const std::string& name) {
@@ -82,6 +91,7 @@ PerfBenchRow timed_run(const Scene& scene, int threads, int steps) {
     r.solver_ms = system_ms(r, "SolverSystem");
     r.bytes_per_tet_components = static_cast<double>(world_bytes(w)) / r.tets;
     r.bytes_per_tet_rss = peak_rss_bytes() / r.tets;
+    r.load_average = load_average();
     r.newton_iterations = mean_newton_iterations(w);
     r.product_ms = time_stiffness_product(sim->world);
     return r;
@@ -96,7 +106,7 @@ double speedup(const std::vector<PerfBenchRow>& rows, const PerfBenchRow& r) {
 void write_steps_table(const PerfBenchOptions& o, const std::vector<PerfBenchRow>& rows) {
     auto csv = open_csv(o.csv);
     csv.print("tets,nodes,threads,steps_per_s,ms_per_step,cg_iter_per_step,force_ms,solver_ms,"
-              "bytes_per_tet_components,bytes_per_tet_rss,speedup\n");
+              "bytes_per_tet_components,bytes_per_tet_rss,speedup,load_average\n");
     fmt::print("perf benchmark: {} ({} timed steps per run, after 2 warm-up steps)\n", o.scene, o.steps);
     fmt::print("{:>8} {:>7} {:>7} {:>9} {:>9} {:>8} {:>9} {:>9} {:>10} {:>9} {:>8}\n", "tets", "nodes", "threads",
                "steps/s", "ms/step", "CG/step", "force ms", "solver ms", "B/tet comp", "B/tet RSS", "speed-up");
@@ -105,10 +115,17 @@ void write_steps_table(const PerfBenchOptions& o, const std::vector<PerfBenchRow
         fmt::print("{:>8} {:>7} {:>7} {:>9.1f} {:>9.2f} {:>8.1f} {:>9.2f} {:>9.2f} {:>10.0f} {:>9.0f} {:>7.2f}x\n", r.tets,
                    r.nodes, r.threads, r.steps_per_s, r.ms_per_step, r.cg_per_step, r.force_ms, r.solver_ms,
                    r.bytes_per_tet_components, r.bytes_per_tet_rss, s);
-        csv.print("{},{},{},{:.4f},{:.4f},{:.2f},{:.4f},{:.4f},{:.1f},{:.1f},{:.3f}\n", r.tets, r.nodes, r.threads,
+        csv.print("{},{},{},{:.4f},{:.4f},{:.2f},{:.4f},{:.4f},{:.1f},{:.1f},{:.3f},{:.2f}\n", r.tets, r.nodes, r.threads,
                   r.steps_per_s, r.ms_per_step, r.cg_per_step, r.force_ms, r.solver_ms, r.bytes_per_tet_components,
-                  r.bytes_per_tet_rss, s);
+                  r.bytes_per_tet_rss, s, r.load_average);
     }
+    const auto busiest = std::max_element(rows.begin(), rows.end(), [](const auto& a, const auto& b) {
+        return a.load_average < b.load_average;
+    });
+    if (busiest != rows.end() && busiest->load_average > 1.0 + busiest->threads)
+        fmt::print("note: load average up to {:.1f} on {} cores during the runs: other work shared the machine, "
+                   "the figures are noisy\n",
+                   busiest->load_average, std::thread::hardware_concurrency());
     fmt::print("targets: >= 60 steps/s at 50k tets and >= 1000 steps/s at 2k tets on 2 threads; >= 1.8x from 1 to 2 "
                "threads; <= 400 bytes per tet\n");
 }

@@ -35,6 +35,7 @@ struct PerfBenchRow {
     double bytes_per_tet_rss = 0;         ///< peak resident set of the process / tets (upper bound)
     double newton_iterations = 0;         ///< polar decomposition, mean per tetrahedron
     double product_ms = 0;                ///< one CG product K p (stiffness_product), mean of 10 [ms]
+    double load_average = 0;              ///< the machine's 1-minute load average after the run (this run counts)
     std::vector<std::string> system_names;  ///< the schedule
     std::vector<double> system_ms;          ///< mean wall time per step of each scheduled system [ms]
 };

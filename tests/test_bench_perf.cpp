@@ -104,7 +104,7 @@ TEST_F(BenchPerf, StepsTable) {
     ASSERT_EQ(rc_, 0);
     const Table t = read_table(options_.csv);
     expect_table(t, "tets,nodes,threads,steps_per_s,ms_per_step,cg_iter_per_step,force_ms,solver_ms,"
-                    "bytes_per_tet_components,bytes_per_tet_rss,speedup");
+                    "bytes_per_tet_components,bytes_per_tet_rss,speedup,load_average");
     ASSERT_EQ(t.rows.size(), 2u);  // 1 and 2 threads
     EXPECT_GT(t.number(0, "steps_per_s"), 0.0);
     EXPECT_GT(t.number(0, "cg_iter_per_step"), 0.0);

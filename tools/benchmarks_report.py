@@ -137,7 +137,13 @@ def perf_section(d, plt, plots):
     for name in ("systems", "roofline", "kernel", "cut", "skip"):
         p = os.path.join(d, f"bench_perf_{name}.csv")
         part[name] = read_csv(p)[0] if os.path.exists(p) else []
-    out = ["### Targets", "", perf_targets(steps, part["kernel"], part["cut"]), "",
+    loads = [r["load_average"] for r in steps if "load_average" in r]
+    noise = []
+    # The load average counts this suite's own threads: more than one beyond them is other work.
+    if any(r["load_average"] > r["threads"] + 1 for r in steps if "load_average" in r):
+        noise = [f"**Noisy:** the machine's load average was {num(min(loads))}–{num(max(loads))} during these runs "
+                 "(this suite's own threads count 1–2 on 2 cores): other work shared the cores.", ""]
+    out = noise + ["### Targets", "", perf_targets(steps, part["kernel"], part["cut"]), "",
            "### Steps per second against mesh size", "",
            table(["tets", "nodes", "threads", "steps/s", "ms/step", "CG it./step", "force ms", "solver ms",
                   "B/tet (components)", "B/tet (peak RSS)", "speed-up"],
