@@ -159,15 +159,6 @@ DelayRow delay_run(const Scene& base, int blade, const char* cutter, double mesh
     return row;
 }
 
-/// tools/plot_compare.py beside the executable's source tree, or under the working directory.
-std::string plot_script() {
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    for (const fs::path& p : {exe.parent_path() / ".." / "tools" / "plot_compare.py", fs::path("tools/plot_compare.py")})
-        if (fs::exists(p, ec)) return p.lexically_normal().string();
-    return "";
-}
-
 void write_csvs(const std::string& dir, const Incisions& inc, const Run run[2], const std::vector<DelayRow>& delays) {
     auto dofs = fmt::output_file(dir + "/dofs_vs_cuts.csv");
     dofs.print("cuts,time_s,xfem_dofs,snap_dofs,xfem_added,snap_added,xfem_split,snap_split\n");
@@ -335,16 +326,7 @@ int compare_command(const CompareOptions& o) {
     summary.close();
     fmt::print("csv: {}/{{dofs_vs_cuts,steps,profile,quality,crossing_delay,summary}}.csv\n", dir);
 
-    if (o.plots) {
-        const std::string script = plot_script();
-        // Debian's python3-matplotlib is installed for the system interpreter; a python3 earlier on
-        // PATH (a virtual environment) may not have it.
-        const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-        const int rc = script.empty() ? -1 : std::system(fmt::format("{} '{}' '{}'", python, script, dir).c_str());
-        if (rc != 0)
-            fmt::print(stderr, "warning: no plots ({}); the CSVs are complete\n",
-                       script.empty() ? "tools/plot_compare.py not found" : "python3 with matplotlib failed");
-    }
+    if (o.plots) run_plot_script("plot_compare.py", fmt::format("'{}'", dir));
     return 0;
 }
 

@@ -34,17 +34,16 @@ Eigen::Vector3i cells_for_size(const Eigen::Vector3d& size, double element_size)
     return c;
 }
 
-MeshData generate_box(const GridSpec& spec) {
+MeshData generate_box_on_lines(const std::array<std::vector<double>, 3>& lines) {
     MeshData mesh;
     mesh.dim = 3;
     mesh.source = "generator box";
-    const Eigen::Vector3i c = spec.cells;
+    const Eigen::Vector3i c(static_cast<int>(lines[0].size()) - 1, static_cast<int>(lines[1].size()) - 1,
+                            static_cast<int>(lines[2].size()) - 1);
     auto id = [&](int i, int j, int k) { return (k * (c.y() + 1) + j) * (c.x() + 1) + i; };
     for (int k = 0; k <= c.z(); ++k)
         for (int j = 0; j <= c.y(); ++j)
-            for (int i = 0; i <= c.x(); ++i)
-                mesh.points.push_back(spec.origin + spec.size.cwiseProduct(Eigen::Vector3d(
-                                                        double(i) / c.x(), double(j) / c.y(), double(k) / c.z())));
+            for (int i = 0; i <= c.x(); ++i) mesh.points.emplace_back(lines[0][i], lines[1][j], lines[2][k]);
     // The six monotone lattice paths from corner (0,0,0) to (1,1,1), one tet each.
     static const int kPerm[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
     for (int k = 0; k < c.z(); ++k)
@@ -65,6 +64,15 @@ MeshData generate_box(const GridSpec& spec) {
         for (int s = 0; s < 3; ++s) D.col(s) = mesh.points[t[s + 1]] - mesh.points[t[0]];
         if (D.determinant() < 0) std::swap(t[2], t[3]);
     }
+    return mesh;
+}
+
+MeshData generate_box(const GridSpec& spec) {
+    std::array<std::vector<double>, 3> lines;
+    for (int a = 0; a < 3; ++a)
+        for (int i = 0; i <= spec.cells[a]; ++i)
+            lines[a].push_back(spec.origin[a] + spec.size[a] * (double(i) / spec.cells[a]));
+    MeshData mesh = generate_box_on_lines(lines);
     jitter_interior(mesh, spec, 3);
     if (spec.bend_radius > 0.0) bend_around_x(mesh, spec);
     return mesh;

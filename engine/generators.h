@@ -1,7 +1,9 @@
 #pragma once
 // Built-in structured meshes, parameterized by element size, for scenes and benchmarks.
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
+#include <vector>
 
 #include "engine/mesh_data.h"
 
@@ -19,6 +21,9 @@ struct GridSpec {
 /// Box of hexahedral cells, each split into 6 tetrahedra around its main diagonal (Kuhn): conforming
 /// because every cell is split the same way. Tet count = 6 * cells.prod().
 MeshData generate_box(const GridSpec& spec);
+/// The same Kuhn split on a tensor-product grid: node coordinates along x, y and z (each increasing,
+/// at least two), so a chosen plane can be a grid plane (a conforming crack, engine/crack_reference.h).
+MeshData generate_box_on_lines(const std::array<std::vector<double>, 3>& lines);
 /// Wraps a box around the x axis: the mid-line y = origin.y + size.y / 2 becomes the crest at
 /// y = 0; the bottom face z = origin.z lies on the cylinder of radius `radius` whose top is z = 0,
 /// and z above it stays the distance from that cylinder (a skin layer of constant thickness).

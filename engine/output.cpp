@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <algorithm>
 #include <filesystem>
 #include <fmt/format.h>
@@ -201,6 +202,23 @@ void ProgressBar::update(int done) {
 
 void ProgressBar::finish() {
     if (enabled_ && last_percent_ >= 0) fmt::print(stderr, "\n");
+}
+
+bool run_plot_script(const std::string& script, const std::string& arguments) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    std::string path;
+    for (const fs::path& p : {exe.parent_path() / ".." / "tools" / script, fs::path("tools") / script})
+        if (path.empty() && fs::exists(p, ec)) path = p.lexically_normal().string();
+    // Debian's python3-matplotlib is installed for the system interpreter; a python3 earlier on
+    // PATH (a virtual environment) may not have it.
+    const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    const int rc = path.empty() ? -1 : std::system(fmt::format("{} '{}' {}", python, path, arguments).c_str());
+    if (rc != 0)
+        fmt::print(stderr, "warning: no plots ({}); the CSVs are complete\n",
+                   path.empty() ? "tools/" + script + " not found" : "python3 with matplotlib failed");
+    return rc == 0;
 }
 
 }  // namespace xcut

@@ -41,6 +41,11 @@ private:
     std::vector<std::pair<double, std::string>> surface_frames_;
 };
 
+/// Runs the plot script tools/<script> (beside the executable's source tree, or under the working
+/// directory) with the system's python3 and `arguments` (already quoted). Plots are optional: when
+/// the script, python3 or matplotlib is missing it prints a warning and returns false.
+bool run_plot_script(const std::string& script, const std::string& arguments);
+
 /// Prints a one-line progress bar to stderr when it is a terminal and the run lasts over a second.
 class ProgressBar {
 public:

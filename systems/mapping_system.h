@@ -10,6 +10,7 @@
 // Two surfaces are mapped: the visual one and the collision one (coarser, for tool contact).
 #include "engine/scheduler.h"
 #include "engine/world.h"
+#include "systems/surface_cut.h"
 
 namespace xcut {
 
@@ -18,6 +19,12 @@ namespace xcut {
 /// four (edge midpoints bound to the owning tetrahedron), so the surface is finer than the physics.
 void build_surface(const World& world, SurfaceMesh& surface, int subdivisions);
 void build_visual_surface(World& world, int subdivisions);
+/// The force element carrying the point at barycentric `b` of cut element c (a CutElements index;
+/// `cp` = cut_plane_info(world, c)): the virtual element of the point's side. `side` gets that side
+/// (+1 / -1) when given. Surface vertices and probe points are bound this way.
+int side_element(const World& world, int c, const CutPlaneInfo& cp, const Eigen::Vector4d& b, int8_t* side = nullptr);
+/// Current position of the point at barycentric `b` of force element `element` (eq. 4, 6).
+Vec3 bound_position(const World& world, int element, const Eigen::Vector4d& b);
 /// Maps the cuts made since the last call onto `surface`: re-binds the vertices of newly cut
 /// elements and cuts the surface; returns how many vertices were re-bound.
 int map_cuts(World& world, SurfaceMesh& surface);

@@ -168,9 +168,16 @@ bool record_split(World& w, const CutEvent& ev, std::vector<int>& moved) {
 /// cut crosses is on the cut, level 0; a point on another edge takes that edge's side).
 int8_t piece_side(const World& w, int f, const std::array<int, 4>& roots) {
     const SnapMesh& s = w.snap;
-    if (!s.split[f]) return 0;
     const int npe = w.elements.nodes_per_element();
     const auto& c = w.elements.nodes[f];
+    if (!s.split[f]) {
+        // A whole element around a node snapped onto the cut lies on the side its nodes were on
+        // (H, fixed when a cut first met them; a node no cut met has none): it must not join the
+        // pieces across the cut. One with nodes on both sides spans the cut (the crack front): 0.
+        bool above = false, below = false;
+        for (int a = 0; a < npe; ++a) above |= w.enriched.sign[c[a]] > 0, below |= w.enriched.sign[c[a]] < 0;
+        return static_cast<int8_t>(above == below ? 0 : (above ? 1 : -1));
+    }
     auto level_of_node = [&](int node) {
         for (int a = 0; a < npe; ++a)
             if (c[a] == node) return static_cast<int>(s.level[f][a]);

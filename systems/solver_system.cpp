@@ -1,5 +1,7 @@
 #include "systems/solver_system.h"
 
+#include <stdexcept>
+
 #include "engine/parallel.h"
 #include "systems/force_system.h"
 
@@ -68,15 +70,18 @@ void implicit_euler_step(World& world) {
 }
 
 StaticResult static_solve(World& world, double tolerance, int max_newton, double cg_tolerance,
-                          int cg_max_iterations) {
+                          int cg_max_iterations, const Eigen::VectorXd& load) {
     const int n3 = 3 * world.nodes.count();
     Eigen::Map<Eigen::VectorXd> x(world.nodes.position[0].data(), n3);
     const Eigen::VectorXd mask = free_mask(world);
+    if (load.size() != 0 && load.size() != n3)
+        throw std::invalid_argument("static_solve: the load needs 3 entries per DOF node");
     StaticResult result;
     double f0 = -1.0;
     for (; result.newton_iterations < max_newton; ++result.newton_iterations) {
         update_rotations(world);
         compute_forces(world);
+        if (load.size() > 0) world.forces.force += load;
         const Eigen::VectorXd f = world.forces.force.cwiseProduct(mask);
         const double fnorm = std::sqrt(deterministic_dot(f, f));
         if (f0 < 0.0) f0 = fnorm;

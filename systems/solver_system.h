@@ -44,9 +44,10 @@ struct StaticResult {
 };
 /// Static equilibrium f(x) = 0 on the free axes: Newton iterations with the corotational stiffness
 /// (rotations refreshed per iteration), each solved by Jacobi-CG to `cg_tolerance`. For
-/// verification problems (patch test, cantilever); velocities are left untouched.
+/// verification problems (patch test, cantilever); velocities are left untouched. `load`: external
+/// nodal forces [N], 3 per DOF node (a traction spread on boundary nodes), or empty.
 StaticResult static_solve(World& world, double tolerance, int max_newton, double cg_tolerance,
-                          int cg_max_iterations);
+                          int cg_max_iterations, const Eigen::VectorXd& load = Eigen::VectorXd());
 SystemDesc solver_system();
 
 }  // namespace xcut

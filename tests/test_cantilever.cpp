@@ -7,41 +7,27 @@
 
 #include <cstdio>
 
+#include "engine/accuracy_problems.h"
 #include "test_helpers.h"
 
 namespace xcut {
 namespace {
 
-constexpr double kL = 0.2, kB = 0.01, kH = 0.01, kE = 2e8, kRho = 1000.0, kG = 9.81;
+const CantileverSpec kBeam;  // engine/accuracy_problems.h: 200 x 10 x 10 mm, E = 200 MPa, nu = 0
 
-double reference_deflection() {
-    const double q = kRho * kG * kB * kH, I = kB * kH * kH * kH / 12.0, A = kB * kH, G = kE / 2.0;
-    return q * std::pow(kL, 4) / (8.0 * kE * I) + q * kL * kL / (2.0 * (5.0 / 6.0) * G * A);
-}
+double reference_deflection() { return cantilever_reference(kBeam); }
 
 /// Static tip deflection (mean downward displacement of the nodes at x = L) with n cells across.
 double tip_deflection(int n) {
-    Material m;
-    m.young = kE;
-    m.poisson = 0.0;
-    m.density = kRho;
-    World w;
-    w.materials.list = {m};
-    w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
-    build_bodies(w, generate_box(testing::grid({kL, kB, kH}, {20 * n, n, n})));
-    w.gravity = Vec3(0, 0, -kG);
+    World w = cantilever_world(kBeam, n);
     const StaticResult r = static_solve(w, 1e-7, 20, 1e-9, 100000);
     EXPECT_TRUE(r.converged) << "n = " << n;
-    double sum = 0.0;
-    int count = 0;
-    for (int i = 0; i < w.mesh_nodes; ++i)
-        if (std::abs(w.nodes.rest[i].x() - kL) < 1e-12) sum -= w.nodes.position[i].z() - w.nodes.rest[i].z(), ++count;
-    return sum / count;
+    return cantilever_tip_deflection(w, kBeam);
 }
 
 TEST(Cantilever, ConvergesToBeamTheory) {
     const double ref = reference_deflection();
-    ASSERT_LT(ref, 0.01 * kL) << "small deflection: below 1 % of L";
+    ASSERT_LT(ref, 0.01 * kBeam.length) << "small deflection: below 1 % of L";
     std::vector<double> d;
     for (int n = 1; n <= 4; ++n) {
         d.push_back(tip_deflection(n));

@@ -8,6 +8,7 @@
 #include <exception>
 
 #include "engine/bench.h"
+#include "engine/bench_accuracy.h"
 #include "engine/bench_collision.h"
 #include "engine/bench_cut.h"
 #include "engine/bench_mapping.h"
@@ -150,14 +151,21 @@ int main(int argc, char** argv) {
     xcut::CutBenchOptions cut;
     std::string suite = "perf";
     CLI::App* bench_cmd = app.add_subcommand("bench", "Benchmarks: print figures and write CSV (never pass/fail)");
-    bench_cmd->add_option("--suite", suite, "perf: steps/s, CG, bytes per tet; cut: cut update per quad, crossing delay; mapping: surface update and re-binding; collision: contact time per step, haptic rate")
-        ->check(CLI::IsMember({"perf", "cut", "mapping", "collision"}));
+    bench_cmd->add_option("--suite", suite, "perf: steps/s, CG, bytes per tet; cut: cut update per quad, crossing delay; mapping: surface update and re-binding; collision: contact time per step, haptic rate; accuracy: error against run time, XFEM and snapping (VERIFICATION.md 3, 5, 6)")
+        ->check(CLI::IsMember({"perf", "cut", "mapping", "collision", "accuracy"}));
     bench_cmd->add_option("--sizes", perf.sizes, "Target tetrahedron counts")->delimiter(',');
     bench_cmd->add_option("--threads", perf.threads, "Thread counts (perf)")->delimiter(',');
     bench_cmd->add_option("--steps", perf.steps, "Timed steps per run (perf)")->check(CLI::PositiveNumber);
     bench_cmd->add_option("--scene", perf.scene, "Scene whose mesh.grid is resized (perf)");
     bench_cmd->add_option("--csv", perf.csv, "CSV to write (default results/bench_<suite>.csv)");
     bench_cmd->add_option("--speed", cut.speed, "Blade speed [m/s] (cut)")->check(CLI::PositiveNumber);
+    xcut::AccuracyBenchOptions accuracy;
+    bool accuracy_tiny = false, accuracy_no_plots = false;
+    bench_cmd->add_option("--problems", accuracy.problems, "VERIFICATION.md problems (accuracy): 3, 5, 6")->delimiter(',');
+    bench_cmd->add_flag("--tiny", accuracy_tiny, "The small CI configuration (accuracy)");
+    bench_cmd->add_option("--cache-dir", accuracy.cache_dir,
+                          "Where the conforming reference of problem 5 is cached (accuracy; default <build>/accuracy_cache)");
+    bench_cmd->add_flag("--no-plots", accuracy_no_plots, "CSV only (accuracy)");
     xcut::StressOptions stress;
     CLI::App* stress_cmd = app.add_subcommand("stress", "Stability stress suite (VERIFICATION.md 7-9); exit 1 if an invariant broke");
     stress_cmd->add_option("--count", stress.count, "Random blade trajectories (problem 8)")->check(CLI::NonNegativeNumber);
@@ -200,6 +208,16 @@ int main(int argc, char** argv) {
                 if (bench_cmd->count("--csv")) c.csv = perf.csv;
                 if (bench_cmd->count("--steps")) c.steps = perf.steps;
                 return xcut::collision_bench_command(c);
+            }
+            if (suite == "accuracy") {
+                xcut::AccuracyBenchOptions a = accuracy_tiny ? xcut::AccuracyBenchOptions::tiny() : xcut::AccuracyBenchOptions{};
+                a.problems = accuracy.problems;
+                a.cache_dir = accuracy.cache_dir;
+                a.plots = !accuracy_no_plots;
+                a.progress = true;
+                if (bench_cmd->count("--threads")) a.threads = perf.threads.front();
+                if (bench_cmd->count("--csv")) a.csv = perf.csv;
+                return xcut::accuracy_bench_command(a);
             }
             if (suite == "cut") {
                 cut.sizes = perf.sizes;
