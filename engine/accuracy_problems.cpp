@@ -52,7 +52,7 @@ Eigen::Vector4d barycentric(const World& w, int e, const Vec3& X) {
 }  // namespace
 
 StaticResult solve_equilibrium(World& world, const Eigen::VectorXd& load) {
-    return static_solve(world, 1e-7, 30, 1e-10, 50000, load);
+    return static_solve(world, 1e-6, 30, 1e-10, 50000, load);
 }
 
 // ---- Problem 3 ---------------------------------------------------------------------------------------

@@ -196,7 +196,7 @@ double front_ratio(const std::vector<AccuracyRow>& rows, int problem) {
 int accuracy_bench_command(const AccuracyBenchOptions& o) {
     const auto rows = run_accuracy_bench(o);
     write_accuracy_csv(o.csv, rows);
-    fmt::print("accuracy benchmark: static solves (Newton 1e-7, CG 1e-10), {} threads; run time = cut + solve\n",
+    fmt::print("accuracy benchmark: static solves (Newton 1e-6, CG 1e-10), {} threads; run time = cut + solve\n",
                thread_count());
     fmt::print("{:>3} {:>6} {:>5} {:>9} {:>8} {:>6} {:>9} {:>7} {:>8} {:>12} {:>12} {:>9}\n", "pb", "cutter", "level",
                "h [mm]", "DOFs", "split", "run [s]", "Newton", "CG", "value [m]", "ref [m]", "error");
