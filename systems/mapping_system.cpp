@@ -140,19 +140,6 @@ void build_surface(const World& w, SurfaceMesh& s, int subdivisions) {
 
 void build_visual_surface(World& w, int subdivisions) { build_surface(w, w.visual, subdivisions); }
 
-int side_element(const World& w, int c, const CutPlaneInfo& cp, const Eigen::Vector4d& b, int8_t* side) {
-    const int h = side_of_cut(w, cp, w.cuts.element[c], b);
-    if (side) *side = static_cast<int8_t>(h);
-    return w.virtual_elements.element[w.cuts.virtual_element[c][h > 0 ? 0 : 1]];
-}
-
-Vec3 bound_position(const World& w, int element, const Eigen::Vector4d& b) {
-    const auto& nodes = w.elements.nodes[element];
-    Vec3 p = Vec3::Zero();
-    for (int a = 0; a < w.elements.nodes_per_element(); ++a) p += b[a] * w.nodes.position[nodes[a]];
-    return p;
-}
-
 int map_cuts(World& w, SurfaceMesh& s) {
     if (s.vertex_count() == 0 || s.cuts_mapped >= w.cuts.count()) return 0;
     int rebound = 0;
@@ -160,7 +147,9 @@ int map_cuts(World& w, SurfaceMesh& s) {
         const int e = w.cuts.element[c];
         const CutPlaneInfo cp = cut_plane_info(w, c);
         for (int v : s.bound_to[e]) {
-            s.element[v] = side_element(w, c, cp, s.bary[v], &s.side[v]);
+            const int side = side_of_cut(w, cp, e, s.bary[v]);
+            s.element[v] = w.virtual_elements.element[w.cuts.virtual_element[c][side > 0 ? 0 : 1]];
+            s.side[v] = static_cast<int8_t>(side);
             ++rebound;
         }
     }
@@ -176,7 +165,15 @@ int rebind_cut_vertices(World& w) {
 }
 
 void update_surface_positions(const World& w, SurfaceMesh& s) {
-    parallel_for(s.vertex_count(), [&](int v) { s.position[v] = bound_position(w, s.element[v], s.bary[v]); });
+    const Elements& el = w.elements;
+    const int npe = el.nodes_per_element();
+    const Vec3* x = w.nodes.position.data();
+    parallel_for(s.vertex_count(), [&](int v) {
+        const auto& nodes = el.nodes[s.element[v]];
+        Vec3 p = Vec3::Zero();
+        for (int a = 0; a < npe; ++a) p += s.bary[v][a] * x[nodes[a]];
+        s.position[v] = p;
+    });
 }
 
 void update_surface_positions(World& w) {

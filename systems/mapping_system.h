@@ -20,11 +20,21 @@ namespace xcut {
 void build_surface(const World& world, SurfaceMesh& surface, int subdivisions);
 void build_visual_surface(World& world, int subdivisions);
 /// The force element carrying the point at barycentric `b` of cut element c (a CutElements index;
-/// `cp` = cut_plane_info(world, c)): the virtual element of the point's side. `side` gets that side
-/// (+1 / -1) when given. Surface vertices and probe points are bound this way.
-int side_element(const World& world, int c, const CutPlaneInfo& cp, const Eigen::Vector4d& b, int8_t* side = nullptr);
-/// Current position of the point at barycentric `b` of force element `element` (eq. 4, 6).
-Vec3 bound_position(const World& world, int element, const Eigen::Vector4d& b);
+/// `cp` = cut_plane_info(world, c)): the virtual element of the point's side, as map_cuts binds a
+/// surface vertex. `side` gets that side (+1 / -1) when given. Probe points are bound this way.
+inline int side_element(const World& w, int c, const CutPlaneInfo& cp, const Eigen::Vector4d& b, int8_t* side = nullptr) {
+    const int h = side_of_cut(w, cp, w.cuts.element[c], b);
+    if (side) *side = static_cast<int8_t>(h);
+    return w.virtual_elements.element[w.cuts.virtual_element[c][h > 0 ? 0 : 1]];
+}
+/// Current position of the point at barycentric `b` of force element `element` (eq. 4, 6), as
+/// update_surface_positions places a surface vertex.
+inline Vec3 bound_position(const World& w, int element, const Eigen::Vector4d& b) {
+    const auto& nodes = w.elements.nodes[element];
+    Vec3 p = Vec3::Zero();
+    for (int a = 0; a < w.elements.nodes_per_element(); ++a) p += b[a] * w.nodes.position[nodes[a]];
+    return p;
+}
 /// Maps the cuts made since the last call onto `surface`: re-binds the vertices of newly cut
 /// elements and cuts the surface; returns how many vertices were re-bound.
 int map_cuts(World& world, SurfaceMesh& surface);
