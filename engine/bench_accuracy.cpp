@@ -128,7 +128,7 @@ AccuracyBenchOptions AccuracyBenchOptions::tiny() {
     o.cantilever_levels = {1, 2, 3};
     o.block_levels = {4, 8, 12};
     o.block_reference = 24;
-    o.plate_levels = {8, 16, 32};
+    o.plate_levels = {16, 32, 64};
     o.plots = false;
     o.progress = false;
     return o;

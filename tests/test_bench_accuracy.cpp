@@ -88,16 +88,17 @@ TEST(AccuracyBench, ErrorDecreasesWithResolutionForBothCutters) {
 TEST(AccuracyBench, EdgeCrackOpeningApproachesTheHandbook) {
     // Tada, Paris & Irwin, SENT: a / W = 1/2 gives V1 = 2 (1.46 + 3.42 (1 - sqrt(2)/2)) = 4.9233896.
     const EdgeCrackSpec spec;
-    EXPECT_NEAR(edge_crack_reference_cmod(spec), 4.0 * 10.0 * 0.02 / 1e4 * 4.9233896, 1e-6 * 3.94e-4);
-    // The tiny configuration (32 cells across W) is short of the 5 % the converged opening is held to
-    // (the full suite's finest levels are; docs/BENCHMARKS.md): here the finest is within 15 % and
-    // below the handbook (Heaviside enrichment without tip functions is stiff at the tip).
+    EXPECT_NEAR(edge_crack_reference_cmod(spec), 4.0 * 0.01 * 0.02 / 1e4 * 4.9233896, 1e-6 * 3.94e-7);
+    // VERIFICATION.md holds the converged opening to 5 %: the tiny configuration's finest level (64
+    // cells across W) reaches it with both cutters (measured -4.6 % XFEM, -3.5 % snapping; below the
+    // handbook: linear elements without tip functions are stiff at the tip, and converge from below).
     for (const char* cutter : {"xfem", "snap"}) {
         const AccuracyRow* finest = nullptr;
         for (const AccuracyRow& r : tiny_rows())
             if (r.problem == 6 && r.cutter == cutter && (!finest || r.resolution > finest->resolution)) finest = &r;
         ASSERT_NE(finest, nullptr);
-        EXPECT_LT(finest->error, 0.15) << cutter;
+        EXPECT_LT(finest->error, 0.05) << cutter;
+        EXPECT_LT(finest->value, finest->reference) << cutter;
     }
 }
 
