@@ -50,12 +50,16 @@ struct AccuracyRow {
 /// Runs every problem at every level; throws std::invalid_argument on a bad option.
 std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& options);
 /// Columns: problem,cutter,resolution,element_size_m,dofs,split,run_time_s,newton,cg_iterations,
-/// value_m,reference_m,error.
-void write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>& rows);
+/// value_m,reference_m,error; then the summary lines, each as a comment ("# ...").
+void write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>& rows,
+                        const std::vector<std::string>& summary = {});
 /// XFEM's error over snapping's at equal run time on `problem`: the geometric mean, over the XFEM
 /// runs inside snapping's run-time range, of XFEM's error / snapping's error interpolated
 /// (log-log) at that run time; 0 when the ranges do not overlap. Below 1: XFEM's front is lower.
 double front_ratio(const std::vector<AccuracyRow>& rows, int problem);
+/// The verdicts, one line each: problem 3's finest and Richardson-extrapolated deflection, problem
+/// 5's front ratio against its target (below 1), problem 6's finest CMOD against the 5 % tolerance.
+std::vector<std::string> accuracy_summary(const std::vector<AccuracyRow>& rows);
 /// Prints the table and the targets, writes the CSV (and plots); returns 0.
 int accuracy_bench_command(const AccuracyBenchOptions& options);
 

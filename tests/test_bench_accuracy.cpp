@@ -43,13 +43,18 @@ std::vector<std::string> split_csv(const std::string& line) {
 TEST(AccuracyBench, CsvHasTheColumnsAndFiniteValues) {
     const auto& rows = tiny_rows();
     const std::string csv = (fs::temp_directory_path() / ("xcut_bench_accuracy_" + std::to_string(::getpid()) + ".csv")).string();
-    write_accuracy_csv(csv, rows);
+    write_accuracy_csv(csv, rows, accuracy_summary(rows));
     std::ifstream in(csv);
     std::string line;
     ASSERT_TRUE(std::getline(in, line));
     EXPECT_EQ(line, "problem,cutter,resolution,element_size_m,dofs,split,run_time_s,newton,cg_iterations,value_m,reference_m,error");
-    size_t count = 0;
+    size_t count = 0, comments = 0;
     while (std::getline(in, line)) {
+        if (line.rfind("# ", 0) == 0) {
+            ++comments;
+            continue;
+        }
+        EXPECT_EQ(comments, 0u) << "the summary comes after the rows";
         const auto cells = split_csv(line);
         ASSERT_EQ(cells.size(), 12u) << line;
         EXPECT_TRUE(cells[1] == "xfem" || cells[1] == "snap" || cells[1] == "uncut") << line;
@@ -63,6 +68,7 @@ TEST(AccuracyBench, CsvHasTheColumnsAndFiniteValues) {
     }
     const AccuracyBenchOptions o = AccuracyBenchOptions::tiny();
     EXPECT_EQ(count, o.cantilever_levels.size() + 2 * o.block_levels.size() + 2 * o.plate_levels.size());
+    EXPECT_EQ(comments, 4u) << "problem 3, problem 5, problem 6 twice";
     fs::remove(csv);
 }
 

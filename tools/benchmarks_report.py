@@ -270,6 +270,41 @@ def cut_section(d, plt, plots):
                  ["---"] + ["---:"] * 9)
 
 
+def accuracy_section(d, plt, plots):
+    """VERIFICATION.md 3, 5, 6: one table per problem (the cutters side by side per resolution), the
+    suite's verdicts (its CSV's comment lines) and one error-against-run-time plot per problem."""
+    rows, comments = read_csv(os.path.join(d, "bench_accuracy.csv"))
+    names = {3: "Problem 3 — cantilever under its own weight (no cut: one series)",
+             5: "Problem 5 — partial cut, pulled apart, against the conforming reference",
+             6: "Problem 6 — edge-cracked plate, CMOD against Tada, Paris & Irwin"}
+    out = []
+    for problem in sorted({r["problem"] for r in rows}):
+        sel = [r for r in rows if r["problem"] == problem]
+        cutters = list(dict.fromkeys(r["cutter"] for r in sel))
+        header = ["level", "h mm"]
+        for c in cutters:
+            header += [f"{c} DOFs", f"{c} run s", f"{c} error %"]
+        body = []
+        for level in sorted({r["resolution"] for r in sel}):
+            at = {r["cutter"]: r for r in sel if r["resolution"] == level}
+            line = [level, 1e3 * next(iter(at.values()))["element_size_m"]]
+            for c in cutters:
+                r = at.get(c)
+                line += [r["dofs"], r["run_time_s"], 100 * r["error"]] if r else ["–"] * 3
+            body.append(line)
+        out += [f"### {names.get(problem, f'Problem {problem}')}", "", table(header, body), ""]
+    out += [f"- {c}" for c in comments] + [""]
+    if plt and plots:
+        sys.path.insert(0, os.path.join(ROOT, "tools"))
+        import plot_accuracy
+
+        os.makedirs(plots, exist_ok=True)
+        rel = os.path.relpath(plots, os.path.dirname(ARGS.doc))
+        out += ["### Error against run time", ""]
+        out += [f"![problem {p}: error against run time]({rel}/{name})\n" for p, name in plot_accuracy.plot(plt, rows, plots)]
+    return "\n".join(out).rstrip()
+
+
 def generic_section(name):
     def render(d, plt, plots):
         rows, comments = read_csv(os.path.join(d, f"bench_{name}.csv"))
@@ -280,7 +315,7 @@ def generic_section(name):
     return render
 
 
-SUITES = {"perf": perf_section, "cut": cut_section}
+SUITES = {"perf": perf_section, "cut": cut_section, "accuracy": accuracy_section}
 
 
 def render_suite(name, d, plt, plots):
