@@ -10,7 +10,8 @@ struct StepMetrics {
     double time = 0.0;            ///< simulated time at the end of the step [s]
     double dt = 0.0;              ///< [s]
     int dofs = 0;                 ///< free scalar degrees of freedom
-    int cg_iterations = 0;
+    int cg_iterations = 0;                 ///< summed over the step's Newton iterations
+    int newton_iterations = 1;
     double cg_residual = 0.0;     ///< relative residual reached
     double kinetic_energy = 0.0;  ///< [J]
     double elastic_energy = 0.0;  ///< [J]

@@ -33,6 +33,9 @@ struct SurfaceMesh {
     std::vector<std::vector<int>> base_of;   ///< per mesh element: its base triangles
     std::vector<std::vector<int>> pieces_of; ///< per mesh element: its output triangles
     std::vector<int> node_vertex;            ///< per mesh node: its base vertex, -1 if none
+    /// Base vertices by quantized rest position (surface_place): a cut point landing exactly on one
+    /// (a crossing at a subdivision midpoint) is that vertex on its own side, never a second copy.
+    std::map<std::array<int64_t, 3>, int> base_vertex_at;
     /// Points made by cuts, made once and reused by every element and triangle that meets them (the
     /// paper's "existing or future points"). Key: {kind, a, b, c}: a point on a mesh edge is
     /// {side, node, node, 0} (side 0 while some whole element still holds the edge: the crack

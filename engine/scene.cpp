@@ -311,7 +311,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     scene.constraints.nodes = con.int_list("fixed_nodes");
 
     const JsonFields sol = top.object("solver");
-    sol.allow_only({"dt", "mode", "cg_tolerance", "cg_max_iterations", "dt_min", "dt_max", "damping"});
+    sol.allow_only({"dt", "mode", "cg_tolerance", "cg_max_iterations", "dt_min", "dt_max", "damping", "newton"});
     SolverSettings& s = scene.solver;
     s.dt = sol.number("dt", 1e-2, 1e-9, 10.0);
     s.realtime = sol.choice("mode", "fixed", {"fixed", "realtime"}) == "realtime";
@@ -323,6 +323,10 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     damp.allow_only({"mass", "stiffness"});
     s.damping_mass = damp.number("mass", 0.0, 0.0);
     s.damping_stiffness = damp.number("stiffness", 0.0, 0.0);
+    const JsonFields newton = sol.object("newton");
+    newton.allow_only({"iterations", "tolerance"});
+    s.newton_iterations = newton.integer("iterations", 1, 1, 1000);
+    s.newton_tolerance = newton.number("tolerance", 1e-6, 1e-16, 1.0);
 
     if (top.has("steps") && top.has("duration")) top.fail("duration", "give \"steps\" or \"duration\", not both");
     scene.steps = top.integer("steps", 100, 0, 100000000);

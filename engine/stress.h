@@ -7,17 +7,28 @@
 //  8  many cuts: random scalpel trajectories (three random waypoints, random depth and tilt) over a
 //     slab with visual and collision surfaces, `count` of them within the time budget;
 //  9  large steps: dt = 1e-4 ... 0.1 s on a slab twisted 180 degrees and released, and on a block cut
-//     through and compressed to 50 % and released.
+//     through and compressed to 50 % and released; once with the paper's once-linearized implicit
+//     Euler ("9 large steps"), once with Newton iterations to convergence ("9 large steps, Newton").
 // Invariants: no NaN or infinity; CG within kStressCgBound iterations; kinetic + elastic energy
 // never above the work put in (gravity's, or the initial elastic energy) by more than 1 %; every
 // surface vertex bound to a live element with barycentric coordinates in [-1e-9, 1 + 1e-9]; every
 // surface edge shared by exactly two triangles, consistently oriented.
 #include <map>
+#include <random>
 #include <string>
+
+#include "engine/scene.h"
 
 namespace xcut {
 
-constexpr int kStressCgBound = 400;
+constexpr int kStressCgBound = 400;        ///< CG iterations per solve (the mean over a step's Newton solves)
+constexpr int kStressNewtonIterations = 50; ///< problem 9 runs again with Newton to 1e-9 (at most this many)
+constexpr int kRandomCutSteps = 25;  ///< steps of a problem-8 run (dt 0.02 s: the blade's 0.4 s and 0.1 s after)
+
+/// Problem 8's scene for the next trajectory of `rng`: a 40 x 40 x 4 mm slab held at its x borders,
+/// visual (1 subdivision) and collision surfaces, a scalpel through three random waypoints at a
+/// random depth (1-6 mm below the top) and tilt (±0.4 rad about its path).
+Scene random_cut_scene(std::mt19937_64& rng);
 
 struct StressOptions {
     int count = 200;          ///< random trajectories of problem 8

@@ -53,6 +53,8 @@ struct SolverSettings {
     double dt_max = 4e-2;
     double damping_mass = 0.0;       ///< Rayleigh alpha [1/s]: D = alpha M + beta K
     double damping_stiffness = 0.0;  ///< Rayleigh beta [s]
+    int newton_iterations = 1;       ///< "newton.iterations": 1 = the once-linearized step (paper)
+    double newton_tolerance = 1e-6;  ///< "newton.tolerance": residual relative to the first [-]
 };
 
 /// Per-step buffers: the solver's right-hand side pieces and the Jacobi preconditioner.

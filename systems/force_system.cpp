@@ -80,6 +80,26 @@ void stiffness_product_dim(World& world, const Eigen::VectorXd& p) {
     });
 }
 
+template <int D>
+double elastic_energy_dim(const World& world) {
+    const Elements& el = world.elements;
+    const Vec3* x = world.nodes.position.data();
+    std::vector<double> energy(el.count());
+    parallel_for(el.count(), [&](int e) {
+        const MatD<D> dm_inv = el.dm_inv[e].template topLeftCorner<D, D>();
+        const MatD<D> F = edge_matrix<D>(gather_vectors(el.nodes[e], D + 1, x)) * dm_inv;
+        MatD<D> R;
+        if constexpr (D == 3)
+            R = extract_rotation(F, el.rotation[e]);
+        else
+            R = extract_rotation(F);
+        std::array<Vec3, 4> unused;
+        energy[e] = corotational_forces<D>(gather_vectors(el.nodes[e], D + 1, x), dm_inv, R, el.rest_volume[e] * el.weight[e],
+                                           lame_of(world.materials.list[el.material[e]], D), unused);
+    });
+    return deterministic_sum(el.count(), [&](int e) { return energy[e]; });
+}
+
 void ensure_buffers(World& world) {
     const int n3 = 3 * world.nodes.count();
     ForceState& fs = world.forces;
@@ -133,6 +153,10 @@ void compute_forces(World& world) {
         stiffness_diagonal_dim<2>(world);
     }
     gather_element_terms(world, fs.stiffness_diagonal);
+}
+
+double elastic_energy_now(const World& world) {
+    return world.elements.dim == 3 ? elastic_energy_dim<3>(world) : elastic_energy_dim<2>(world);
 }
 
 void stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) {

@@ -14,6 +14,9 @@ namespace xcut {
 void update_rotations(World& world);
 /// world.forces.{force, stiffness_diagonal, elastic_energy} from positions, rotations and gravity.
 void compute_forces(World& world);
+/// Strain energy [J] at the current positions, each element's rotation extracted from them (the
+/// stored rotations, forces and energy are those of the step's start and are left untouched).
+double elastic_energy_now(const World& world);
 /// out = K p (K = -df/dx with rotations frozen, positive semi-definite), 3 entries per node.
 void stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out);
 /// Sums per-element nodal terms into per-node entries in a fixed order (node -> element incidence).

@@ -135,6 +135,11 @@ void build_surface(const World& w, SurfaceMesh& s, int subdivisions) {
     s.pieces_of = s.base_of;
     s.node_vertex.assign(w.mesh_nodes, -1);
     for (const auto& [node, v] : vertex_of_node) s.node_vertex[node] = v;
+    for (int v = 0; v < s.vertex_count(); ++v) {
+        Vec3 rest = Vec3::Zero();
+        for (int a = 0; a < el.nodes_per_element(); ++a) rest += s.bary[v][a] * w.nodes.rest[el.nodes[s.element[v]][a]];
+        s.base_vertex_at.emplace(surface_place(rest), v);
+    }
     update_surface_positions(w, s);
 }
 

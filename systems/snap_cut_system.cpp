@@ -331,6 +331,7 @@ void rebuild_surface(World& w, SurfaceMesh& surface, int subdivisions) {
     const std::vector<int> live = live_elements(w);
     World view;
     view.nodes.position = w.nodes.position;
+    view.nodes.rest = w.nodes.rest;
     view.elements.dim = w.elements.dim;
     for (int q : live) view.elements.nodes.push_back(w.elements.nodes[q]);
     view.mesh_elements = static_cast<int>(live.size());

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "engine/parallel.h"
+#include "systems/collision_system.h"
 #include "systems/force_system.h"
 
 namespace xcut {
@@ -22,6 +23,29 @@ void project_constraints(const World& world, Eigen::Ref<Eigen::VectorXd> v) {
             if ((nodes.fixed[i] >> k) & 1) v[3 * i + k] = 0.0;
 }
 
+namespace {
+
+/// rhs = h f(x_n + h v_k) - h beta K_k v_k - h alpha M v_k - M (v_k - v_n): minus the implicit Euler
+/// residual at velocity v_k, with forces, rotations and K_k at x_k = x_n + h v_k (already computed).
+/// Contacts are held at their start-of-step linearization: f_c0 - K_c (x_k - x_n).
+Eigen::VectorXd newton_rhs(World& w, const Eigen::VectorXd& m3, const Eigen::VectorXd& vn, const Eigen::VectorXd& vk,
+                           const Eigen::VectorXd& contact_force) {
+    const SolverSettings& s = w.solver;
+    const double h = s.dt;
+    Eigen::VectorXd kv;
+    stiffness_product(w, vk, kv);  // K_el + K_c
+    Eigen::VectorXd rhs = h * (w.forces.force + contact_force) - h * s.damping_stiffness * kv -
+                          h * s.damping_mass * m3.cwiseProduct(vk) - m3.cwiseProduct(vk - vn);
+    if (w.contacts.count() > 0) {  // contact stiffness times the step's displacement h v_k
+        Eigen::VectorXd kc = Eigen::VectorXd::Zero(vk.size());
+        add_contact_stiffness_product(w, vk, kc);
+        rhs -= h * h * kc;
+    }
+    return rhs;
+}
+
+}  // namespace
+
 void implicit_euler_step(World& world) {
     Nodes& nodes = world.nodes;
     const SolverSettings& s = world.solver;
@@ -37,9 +61,11 @@ void implicit_euler_step(World& world) {
 
     Eigen::VectorXd kv;
     stiffness_product(world, v, kv);
-    const Eigen::VectorXd b = h * world.forces.force - stiff_scale * kv - h * s.damping_mass * m3.cwiseProduct(v);
-    const Eigen::VectorXd inv_diag =
-        (mass_scale * m3 + stiff_scale * world.forces.stiffness_diagonal).cwiseInverse();
+    Eigen::VectorXd b = h * world.forces.force - stiff_scale * kv - h * s.damping_mass * m3.cwiseProduct(v);
+    auto inverse_diagonal = [&] {
+        return (mass_scale * m3 + stiff_scale * world.forces.stiffness_diagonal).cwiseInverse().eval();
+    };
+    Eigen::VectorXd inv_diag = inverse_diagonal();
 
     Eigen::VectorXd& dv = world.forces.last_dv;
     if (dv.size() != n3) dv.setZero(n3);
@@ -48,7 +74,37 @@ void implicit_euler_step(World& world) {
         parallel_for(n3, [&](int i) { out[i] = mass_scale * m3[i] * p[i] + stiff_scale * out[i]; });
     };
     const Eigen::VectorXd mask = free_mask(world);
-    const CgResult cg = conjugate_gradient(apply, b, inv_diag, mask, s.cg_tolerance, s.cg_max_iterations, dv);
+    CgResult cg = conjugate_gradient(apply, b, inv_diag, mask, s.cg_tolerance, s.cg_max_iterations, dv);
+    const double start_energy = world.forces.elastic_energy;
+    int newton = 1;
+    if (s.newton_iterations > 1) {
+        // Newton on the nonlinear step (rotations, forces and K re-evaluated at x_n + h v_k) until
+        // |residual| <= newton_tolerance |residual at v_n|: the converged step is backward Euler
+        // itself, which the once-linearized step only approximates (it gains energy on large
+        // rotations at large dt: VERIFICATION.md problem 9).
+        const Eigen::VectorXd xn = x, vn = v;
+        Eigen::VectorXd contact_force = world.forces.force;  // f at x_n, contacts included ...
+        compute_forces(world);
+        contact_force -= world.forces.force;  // ... less elastic + gravity: the contact part
+        const double r0 = std::sqrt(deterministic_dot(b.cwiseProduct(mask), b.cwiseProduct(mask)));
+        Eigen::VectorXd vk = vn + dv;
+        for (; newton < s.newton_iterations; ++newton) {
+            project_constraints(world, vk);
+            x = xn + h * vk;
+            update_rotations(world);
+            compute_forces(world);
+            b = newton_rhs(world, m3, vn, vk, contact_force);
+            const double r = std::sqrt(deterministic_dot(b.cwiseProduct(mask), b.cwiseProduct(mask)));
+            if (!(r > s.newton_tolerance * r0)) break;
+            inv_diag = inverse_diagonal();
+            Eigen::VectorXd delta = Eigen::VectorXd::Zero(n3);
+            const CgResult step = conjugate_gradient(apply, b, inv_diag, mask, s.cg_tolerance, s.cg_max_iterations, delta);
+            cg.iterations += step.iterations;
+            vk += delta;
+        }
+        x = xn;
+        dv = vk - vn;
+    }
     v += dv;
     project_constraints(world, v);
     x += h * v;
@@ -61,8 +117,9 @@ void implicit_euler_step(World& world) {
     m.dt = h;
     m.cg_iterations = cg.iterations;
     m.cg_residual = cg.relative_residual;
+    m.newton_iterations = newton;
     m.dofs = static_cast<int>(mask.sum());
-    m.elastic_energy = world.forces.elastic_energy;
+    m.elastic_energy = start_energy;
     m.kinetic_energy = 0.5 * deterministic_sum(n3, [&](int i) { return m3[i] * v[i] * v[i]; });
     m.gravity_work = deterministic_sum(nodes.count(), [&](int i) {
         return nodes.mass[i] * world.gravity.dot(nodes.position[i] - nodes.rest[i]);

@@ -73,8 +73,18 @@ Eigen::Vector4d local_bary(const World& w, const SurfaceMesh& s, int e, int v) {
 
 Vec3 vertex_rest(const World& w, const SurfaceMesh& s, int v) { return rest_of(w, s.element[v], s.bary[v]); }
 
+/// A crossing of mesh edge a -> b at parameter t, as the surface places it. A crossing on a skin
+/// subdivision point (t = m / 2^k, k <= 8: the fallback midpoint of an edge crossed only through
+/// its nodes' H, or a blade exactly there) moves by 1e-6 of the edge toward the higher-numbered
+/// node, so no cut point sits on a skin vertex and every element sharing the edge agrees. 1e-6 of
+/// a millimetre edge is a nanometre: nothing to see, far beyond the 1e-11 m point quantum.
+double surface_edge_param(int a, int b, double t) {
+    if (!(t > 0.0 && t < 1.0) || std::abs(t * 256.0 - std::round(t * 256.0)) > 256.0 * 1e-9) return t;
+    return a < b ? t + 1e-6 : t - 1e-6;
+}
+
 /// The crossing of the mesh edge a -> b by the cut of any cut element holding it: its parameter
-/// from a (in [0, 1]), or -1 if no cut element crosses it.
+/// from a (in [0, 1], surface_edge_param), or -1 if no cut element crosses it.
 double edge_crossing(const World& w, int a, int b) {
     double t = -1.0;
     for_elements_around(w, a, b, [&](int e) {
@@ -86,7 +96,7 @@ double edge_crossing(const World& w, int a, int b) {
             const int n0 = w.elements.nodes[e][ed[0]], n1 = w.elements.nodes[e][ed[1]];
             if (!((n0 == a && n1 == b) || (n0 == b && n1 == a))) continue;
             const Vec3 Xa = w.nodes.rest[a], Xb = w.nodes.rest[b];
-            t = (w.cuts.points[c][k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm();
+            t = surface_edge_param(a, b, (w.cuts.points[c][k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm());
             return;
         }
     });
@@ -110,21 +120,31 @@ void bind(World& w, SurfaceMesh& s, int v, int e, int side, const Eigen::Vector4
 /// and place (see SurfaceMesh::cut_point). A point on a mesh edge that a whole element still holds
 /// (the crack front) is bound, for both sides, to that element: the lips meet there. Otherwise it
 /// is bound to the virtual element of cut element e on its side.
-int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector4d& b) {
+int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector4d& b_in) {
     const int npe = w.elements.nodes_per_element();
+    // Weights below 1e-12 are round-off of re-expressing a point in another element: a point on an
+    // edge or at a node is keyed and bound as such, whichever element computed it.
+    Eigen::Vector4d b = b_in;
+    for (int a = 0; a < npe; ++a)
+        if (std::abs(b[a]) < 1e-12) b[a] = 0.0;
+    b /= b.sum();
     std::array<int, 4> support{};
     int n = 0;
     for (int a = 0; a < npe; ++a)
         if (b[a] != 0.0) support[n++] = w.elements.nodes[e][a];
     // A cut through a node: on the node's own side the point is the node's base vertex.
     if (n == 1 && w.enriched.sign[support[0]] == side && s.node_vertex[support[0]] >= 0) return s.node_vertex[support[0]];
+    // A cut through any other skin vertex (a subdivision point): that vertex, on its own side, or on
+    // both while it is bound to a whole element (the crack front, where the lips meet).
+    const std::array<int64_t, 3> place = surface_place(rest_of(w, e, b));
+    if (const auto base = s.base_vertex_at.find(place);
+        base != s.base_vertex_at.end() && (s.side[base->second] == side || s.side[base->second] == 0))
+        return base->second;
     std::array<int64_t, 4> key;
-    if (n <= 2) {
+    if (n <= 2)
         key = {side, std::min(support[0], support[n - 1]), std::max(support[0], support[n - 1]), 0};
-    } else {
-        const Vec3 x = rest_of(w, e, b);
-        key = {side + 4, std::llround(x.x() / kQuantum), std::llround(x.y() / kQuantum), std::llround(x.z() / kQuantum)};
-    }
+    else
+        key = {side + 4, place[0], place[1], place[2]};
     auto [it, fresh] = s.cut_point.emplace(key, s.vertex_count());
     if (fresh) {
         s.position.push_back(rest_of(w, e, b));
@@ -306,7 +326,10 @@ int side_of_cut(const World& w, const CutPlaneInfo& cp, int e, const Eigen::Vect
         const int hi = w.enriched.sign[en[i]], hj = w.enriched.sign[en[j]];
         if (hi == hj && hi != 0) return hi;
         const double t = edge_crossing(w, en[i], en[j]);  // from node i
-        if (hi != 0 && hj != 0 && t > 0.0 && t < 1.0) return b[j] < t ? hi : hj;
+        if (hi != 0 && hj != 0 && t > 0.0 && t < 1.0) {
+            if (b[j] != t) return b[j] < t ? hi : hj;
+            return en[i] < en[j] ? hi : hj;  // exactly at the crossing: the lower node's side, whoever asks
+        }
     }
     double level = 0.0;
     for (int a = 0; a < npe; ++a) level += b[a] * cp.phi[a];
@@ -346,9 +369,21 @@ void close_polygon(World& w, SurfaceMesh& s, int e, int side, const std::vector<
 
 /// A cut element's pieces: its skin triangles split per side, then (3D) the internal mesh: edge
 /// points and rim points around the cut, a fan per side.
+/// The edge points of cut element e as the surface uses them (surface_edge_param).
+void keep_off_skin_vertices(const World& w, int e, CutPlaneInfo& cp) {
+    for (size_t k = 0; k < cp.points.size(); ++k) {
+        const int* ed = local_edge(w, cp.point_edge[k]);
+        const int a = w.elements.nodes[e][ed[0]], b = w.elements.nodes[e][ed[1]];
+        const Vec3 &Xa = w.nodes.rest[a], &Xb = w.nodes.rest[b];
+        const double t = (cp.points[k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm();
+        cp.points[k] = Xa + surface_edge_param(a, b, t) * (Xb - Xa);
+    }
+}
+
 void cut_element_pieces(World& w, SurfaceMesh& s, int c) {
     const int e = w.cuts.element[c];
-    const CutPlaneInfo cp = cut_plane_info(w, c);
+    CutPlaneInfo cp = cut_plane_info(w, c);
+    keep_off_skin_vertices(w, e, cp);
     std::vector<Eigen::Vector4d> rim;  // skin crossing points, for the cut faces' rims
     for (int bt : s.base_of[e]) {
         const auto tri = s.base_triangles[bt];
@@ -419,6 +454,10 @@ void cut_element_pieces(World& w, SurfaceMesh& s, int c) {
 }
 
 }  // namespace
+
+std::array<int64_t, 3> surface_place(const Vec3& x) {
+    return {std::llround(x.x() / kQuantum), std::llround(x.y() / kQuantum), std::llround(x.z() / kQuantum)};
+}
 
 CutPlaneInfo cut_plane_info(const World& w, int c) {
     const Elements& el = w.elements;

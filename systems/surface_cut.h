@@ -33,6 +33,10 @@ CutPlaneInfo cut_plane_info(const World& world, int cut);
 /// node takes that node's H, any other the sign of its level.
 int side_of_cut(const World& world, const CutPlaneInfo& cp, int e, const Eigen::Vector4d& b);
 
+/// Key of a rest position for SurfaceMesh::cut_point and base_vertex_at: points closer than 1e-11 m
+/// are one place.
+std::array<int64_t, 3> surface_place(const Vec3& rest);
+
 /// Regenerates the pieces of the elements cut by cuts [first_cut, world.cuts.count()) and of the
 /// elements around their crossed edges. Vertex bindings of the base surface are not touched here.
 void cut_surface(World& world, SurfaceMesh& surface, int first_cut);

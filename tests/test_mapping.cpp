@@ -89,7 +89,7 @@ TEST(Mapping, SurfaceOfTheFreePartFallsWithIt) {
         update_surface_positions(w);
         const double expected = -0.5 * 9.81 * 1e-6 * n * (n + 1);
         for (int v = 0; v < w.visual.vertex_count(); ++v)
-            if (rest[v].x() > 0.055 + 1e-9) {
+            if (rest[v].x() > 0.055 + 1e-6) {  // cut points sit up to 1e-6 of an edge off skin vertices
                 ASSERT_NEAR(w.visual.position[v].z() - rest[v].z(), expected, 1e-9 * std::abs(expected)) << v;
             }
     }
