@@ -186,7 +186,21 @@ def perf_section(d, plt, plots):
         out += skip_table(part["skip"])
     if plt and plots:
         out += perf_plots(plt, plots, steps, part)
+    else:
+        out += existing_plots(plots, PERF_PLOTS)
     return "\n".join(out).rstrip()
+
+
+PERF_PLOTS = {"perf_steps.png": "steps per second against mesh size",
+              "perf_systems.png": "share of the step per system",
+              "perf_roofline.png": "kernels on the roofline"}
+
+
+def existing_plots(plots, captions):
+    """Links to plots made earlier, when this run makes none (no matplotlib, or --no-plots)."""
+    rel = os.path.relpath(plots, os.path.dirname(ARGS.doc))
+    found = [f"![{c}]({rel}/{n})\n" for n, c in captions.items() if os.path.exists(os.path.join(plots, n))]
+    return ["### Plots", ""] + found if found else []
 
 
 def skip_table(rows):
@@ -219,7 +233,7 @@ def perf_plots(plt, plots, steps, part):
     ax.set_ylabel("steps/s")
     ax.grid(alpha=0.3, which="both")
     ax.legend()
-    images.append(save(fig, plots, "perf_steps.png", rel, "steps per second against mesh size"))
+    images.append(save(fig, plots, "perf_steps.png", rel, PERF_PLOTS["perf_steps.png"]))
     if part["systems"]:
         rows = [r for r in part["systems"] if r["threads"] == max(x["threads"] for x in part["systems"])]
         sizes = sorted({r["tets"] for r in rows})
@@ -234,7 +248,7 @@ def perf_plots(plt, plots, steps, part):
         ax.set_xlabel("tetrahedra")
         ax.set_ylabel("% of the step")
         ax.legend(fontsize=7)
-        images.append(save(fig, plots, "perf_systems.png", rel, "share of the step per system"))
+        images.append(save(fig, plots, "perf_systems.png", rel, PERF_PLOTS["perf_systems.png"]))
     if part["roofline"] and part["kernel"]:
         fig, ax = plt.subplots(figsize=(6, 4))
         ai = [10 ** (x / 20) for x in range(-40, 41)]
@@ -248,7 +262,7 @@ def perf_plots(plt, plots, steps, part):
         ax.set_title("black: ForceSystem, red: CG product K p (circles 1 thread, squares 2)", fontsize=9)
         ax.grid(alpha=0.3, which="both")
         ax.legend()
-        images.append(save(fig, plots, "perf_roofline.png", rel, "force kernel on the roofline"))
+        images.append(save(fig, plots, "perf_roofline.png", rel, PERF_PLOTS["perf_roofline.png"]))
     return ["### Plots", ""] + images
 
 
