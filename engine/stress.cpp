@@ -17,7 +17,7 @@ namespace {
 
 struct CaseResult {
     std::string problem, name;
-    int steps = 0, max_cg = 0, nan = 0, lost = 0, open_edges = 0, cuts = 0;
+    int steps = 0, max_cg = 0, nan = 0, lost = 0, open_edges = 0, pinched_edges = 0, cuts = 0;
     double energy_ratio = 0.0;  ///< max (kinetic + elastic) / work put in
 };
 
@@ -33,17 +33,27 @@ int lost_vertices(const World& w, const SurfaceMesh& s) {
     return lost;
 }
 
-/// Directed edges used other than exactly once with their reverse used once (3D closed surfaces).
-int open_edges(const SurfaceMesh& s) {
+/// Surface edges of `s` (3D closed surfaces: each edge used once in each direction) that break
+/// closure: `open` edges are used a different number of times in the two directions (a gap);
+/// `pinched` ones are used equally often, more than once each way (closed, but not 2-manifold:
+/// two crack sheets, or a crack and the skin, meeting at one point).
+struct EdgeDefects {
+    int open = 0, pinched = 0;
+};
+EdgeDefects edge_defects(const SurfaceMesh& s) {
     std::map<std::pair<int, int>, int> directed;
     for (const auto& t : s.triangles)
         for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
-    int open = 0;
+    EdgeDefects d;
     for (const auto& [e, n] : directed) {
         const auto back = directed.find({e.second, e.first});
-        open += n != 1 || back == directed.end() || back->second != 1;
+        const int m = back == directed.end() ? 0 : back->second;
+        if (m == 0 || e.first < e.second) {  // each undirected edge once
+            d.open += n != m;
+            d.pinched += n == m && n > 1;
+        }
     }
-    return open;
+    return d;
 }
 
 /// Steps `sim` `steps` times, recording CG iterations, NaNs and the energy ratio against `work`
@@ -70,7 +80,11 @@ void run_steps(Simulation& sim, int steps, Work work, CaseResult& r) {
     r.cuts = w.cuts.count();
     if (w.elements.dim == 3) {
         r.lost = lost_vertices(w, w.visual) + lost_vertices(w, w.collision);
-        r.open_edges = open_edges(w.visual) + open_edges(w.collision);
+        for (const SurfaceMesh* surface : {&w.visual, &w.collision}) {
+            const EdgeDefects d = edge_defects(*surface);
+            r.open_edges += d.open;
+            r.pinched_edges += d.pinched;
+        }
     }
 }
 
@@ -212,6 +226,9 @@ void tally(StressSummary& s, const CaseResult& r) {
     s.energy_over += r.energy_ratio > 1.01;
     s.lost_vertices += r.lost;
     s.open_edges += r.open_edges;
+    s.pinched_edges += r.pinched_edges;
+    s.runs_with_open += r.open_edges > 0;
+    s.runs_with_pinched += r.pinched_edges > 0;
     s.max_cg = std::max(s.max_cg, r.max_cg);
     s.max_energy_ratio = std::max(s.max_energy_ratio, r.energy_ratio);
 }
@@ -222,12 +239,12 @@ std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     const std::filesystem::path path(o.csv);
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
     auto csv = fmt::output_file(o.csv);
-    csv.print("problem,case,steps,cuts,max_cg,nan,energy_ratio,lost_vertices,open_edges\n");
+    csv.print("problem,case,steps,cuts,max_cg,nan,energy_ratio,lost_vertices,open_edges,pinched_edges\n");
     std::map<std::string, StressSummary> by_problem;
     auto record = [&](const CaseResult& r) {
         tally(by_problem[r.problem], r);
-        csv.print("{},{},{},{},{},{},{:.6g},{},{}\n", r.problem, r.name, r.steps, r.cuts, r.max_cg, r.nan, r.energy_ratio,
-                  r.lost, r.open_edges);
+        csv.print("{},{},{},{},{},{},{:.6g},{},{},{}\n", r.problem, r.name, r.steps, r.cuts, r.max_cg, r.nan,
+                  r.energy_ratio, r.lost, r.open_edges, r.pinched_edges);
     };
     for (const CaseResult& r : slivers()) record(r);
     for (const CaseResult& r : large_steps()) record(r);
@@ -241,13 +258,15 @@ std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     }
     bar.finish();
     StressSummary all;
-    fmt::print("{:<22} {:>6} {:>5} {:>7} {:>8} {:>13} {:>6} {:>10}\n", "problem", "cases", "NaN", "max CG", "CG>bound",
-               "max E/work", "lost", "open edges");
+    fmt::print("{:<22} {:>6} {:>5} {:>7} {:>8} {:>13} {:>6} {:>16} {:>16}\n", "problem", "cases", "NaN", "max CG",
+               "CG>bound", "max E/work", "lost", "open edges (runs)", "pinched (runs)");
     for (const auto& [name, s] : by_problem) {
-        fmt::print("{:<22} {:>6} {:>5} {:>7} {:>8} {:>13.6f} {:>6} {:>10}\n", name, s.cases, s.nan, s.max_cg, s.cg_over,
-                   s.max_energy_ratio, s.lost_vertices, s.open_edges);
+        fmt::print("{:<22} {:>6} {:>5} {:>7} {:>8} {:>13.6f} {:>6} {:>16} {:>16}\n", name, s.cases, s.nan, s.max_cg,
+                   s.cg_over, s.max_energy_ratio, s.lost_vertices, fmt::format("{} ({})", s.open_edges, s.runs_with_open),
+                   fmt::format("{} ({})", s.pinched_edges, s.runs_with_pinched));
         all.cases += s.cases, all.nan += s.nan, all.cg_over += s.cg_over, all.energy_over += s.energy_over;
-        all.lost_vertices += s.lost_vertices, all.open_edges += s.open_edges;
+        all.lost_vertices += s.lost_vertices, all.open_edges += s.open_edges, all.pinched_edges += s.pinched_edges;
+        all.runs_with_open += s.runs_with_open, all.runs_with_pinched += s.runs_with_pinched;
         all.max_cg = std::max(all.max_cg, s.max_cg), all.max_energy_ratio = std::max(all.max_energy_ratio, s.max_energy_ratio);
     }
     fmt::print("CG bound {} iterations per solve (tolerance 1e-8); energy may not exceed the work put in by more than 1 %\n",

@@ -39,10 +39,12 @@ struct StressOptions {
 };
 
 struct StressSummary {
-    int cases = 0, nan = 0, cg_over = 0, energy_over = 0, lost_vertices = 0, open_edges = 0;
+    int cases = 0, nan = 0, cg_over = 0, energy_over = 0, lost_vertices = 0;
+    int open_edges = 0, pinched_edges = 0;       ///< surface edges with a gap / closed but not 2-manifold
+    int runs_with_open = 0, runs_with_pinched = 0;  ///< cases with at least one such edge
     int max_cg = 0;
     double max_energy_ratio = 0.0;  ///< max over steps of (kinetic + elastic) / work put in
-    int violations() const { return nan + cg_over + energy_over + lost_vertices + open_edges; }
+    int violations() const { return nan + cg_over + energy_over + lost_vertices + open_edges + pinched_edges; }
 };
 
 /// Runs the three problems; prints a summary table; writes one CSV row per case. Returns the

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "components/cut_elements.h"
 
@@ -76,10 +77,13 @@ Vec3 vertex_rest(const World& w, const SurfaceMesh& s, int v) { return rest_of(w
 /// A crossing of mesh edge a -> b at parameter t, as the surface places it. A crossing on a skin
 /// subdivision point (t = m / 2^k, k <= 8: the fallback midpoint of an edge crossed only through
 /// its nodes' H, or a blade exactly there) moves by 1e-6 of the edge toward the higher-numbered
-/// node, so no cut point sits on a skin vertex and every element sharing the edge agrees. 1e-6 of
+/// node, so no cut point sits on a skin vertex and every element sharing the edge agrees (a
+/// crossing within 1e-9 of the edge's end stays: it is the node's vertex, as the plane through it
+/// makes the skin's own crossings there). 1e-6 of
 /// a millimetre edge is a nanometre: nothing to see, far beyond the 1e-11 m point quantum.
 double surface_edge_param(int a, int b, double t) {
-    if (!(t > 0.0 && t < 1.0) || std::abs(t * 256.0 - std::round(t * 256.0)) > 256.0 * 1e-9) return t;
+    const double m = std::round(t * 256.0);  // a crossing within 1e-9 of a node is that node's
+    if (!(m >= 1.0 && m <= 255.0) || std::abs(t * 256.0 - m) > 256.0 * 1e-9) return t;
     return a < b ? t + 1e-6 : t - 1e-6;
 }
 
@@ -224,6 +228,34 @@ Eigen::Vector4d on_edge(int i, int j, double t) {
     return b;
 }
 
+/// The mesh element other than e holding nodes a, b, c, or -1 (a face on the body's boundary).
+int element_across(const World& w, int e, int a, int b, int c) {
+    for (int k = w.incidence.offset[a]; k < w.incidence.offset[a + 1]; ++k) {
+        const int f = w.incidence.entry[k] >> 2;
+        if (f != e && holds(w, f, b) && holds(w, f, c)) return f;
+    }
+    return -1;
+}
+
+/// Whether a cut element shows skin on a face along mesh edge a-b: the incision reaches the body's
+/// surface there. Otherwise the cut touches the edge inside the body only (the crack meets the
+/// surface in one point) and the skin on both sides of the edge keeps one copy of the point: the
+/// crack's two lips meet it through the seams (front_seams), which then close the crack by
+/// themselves, and the skin stays one sheet (a zero-length edge shared by four triangles
+/// otherwise).
+bool skin_cut_along(const World& w, int a, int b) {
+    bool cut_skin = false;
+    for_elements_around(w, a, b, [&](int f) {
+        if (cut_skin || !is_cut(w, f)) return;
+        for (int k = 0; k < w.elements.nodes_per_element(); ++k) {
+            const int third = w.elements.nodes[f][k];
+            if (third == a || third == b) continue;
+            if (w.elements.dim == 2 || element_across(w, f, a, b, third) < 0) cut_skin = true;
+        }
+    });
+    return cut_skin;
+}
+
 /// A whole element's pieces: its skin triangles, each split at the crack-front points on its
 /// edges. Triangle a-b-c with the front point P inside a-b becomes a-Pa-c, Pa-Pb-c, Pb-b-c, with Pa
 /// and Pb the copies of P on a's and b's side of the cut: both are bound to this whole element, so
@@ -237,7 +269,8 @@ void whole_element_pieces(World& w, SurfaceMesh& s, int e) {
         const int i = local_edge(w, k)[0], j = local_edge(w, k)[1];
         const double t = edge_crossing(w, en[i], en[j]);
         if (!(t > 0.0 && t < 1.0)) continue;
-        const int hi = w.enriched.sign[en[i]] >= 0 ? 1 : -1, hj = w.enriched.sign[en[j]] >= 0 ? 1 : -1;
+        int hi = w.enriched.sign[en[i]] >= 0 ? 1 : -1, hj = w.enriched.sign[en[j]] >= 0 ? 1 : -1;
+        if (!skin_cut_along(w, en[i], en[j])) hi = hj = (en[i] < en[j] ? hi : hj);
         const Eigen::Vector4d b = on_edge(i, j, t);
         front.push_back({i, j, surface_point(w, s, e, hi, b), surface_point(w, s, e, hj, b), t});
     }
@@ -268,15 +301,6 @@ void whole_element_pieces(World& w, SurfaceMesh& s, int e) {
 
 /// Outward faces of a positively oriented tetrahedron, as local node triples.
 constexpr int kTetFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-
-/// The mesh element other than e holding nodes a, b, c, or -1 (a face on the body's boundary).
-int element_across(const World& w, int e, int a, int b, int c) {
-    for (int k = w.incidence.offset[a]; k < w.incidence.offset[a + 1]; ++k) {
-        const int f = w.incidence.entry[k] >> 2;
-        if (f != e && holds(w, f, b) && holds(w, f, c)) return f;
-    }
-    return -1;
-}
 
 /// Closes the two lips of cut element e along its crack front: on each face of e toward a whole
 /// element, the cut's segment P-Q exists once per side (P+ Q+ in the fan above, P- Q- below); a
@@ -367,9 +391,39 @@ void close_polygon(World& w, SurfaceMesh& s, int e, int side, const std::vector<
     for (size_t k = 0; k < loop.size(); ++k) add_piece(s, {hub, loop[k], loop[(k + 1) % loop.size()]}, e, true);
 }
 
-/// A cut element's pieces: its skin triangles split per side, then (3D) the internal mesh: edge
-/// points and rim points around the cut, a fan per side.
-/// The edge points of cut element e as the surface uses them (surface_edge_param).
+/// The edge points of cut element e as the surface uses them (surface_edge_param), and the plane
+/// through them: a skin vertex the cut passes through (a subdivision point the crossing was moved
+/// off) then lies clearly on the side its edge's crossing gives it, so the skin's own crossings
+/// near it are made on the cut, not at the vertex.
+/// The plane through cp.points (their centroid; 2D: normal to the segment, 3D: the largest normal
+/// of any three points, as a quad's points stored by edge may be a bow-tie where Newell's sum
+/// cancels) and each node's level and the orientation, for cut element e.
+void fit_cut_plane(const World& w, int e, CutPlaneInfo& cp) {
+    const Elements& el = w.elements;
+    const int npe = el.nodes_per_element();
+    const auto& p = cp.points;
+    cp.origin = Vec3::Zero();
+    cp.normal = Vec3::Zero();
+    for (const Vec3& x : p) cp.origin += x / static_cast<double>(p.size());
+    if (el.dim == 2) {
+        const Vec3 d = p[1] - p[0];
+        cp.normal = Vec3(-d.y(), d.x(), 0.0);
+    } else {
+        for (size_t i = 1; i < p.size(); ++i)
+            for (size_t j = i + 1; j < p.size(); ++j) {
+                const Vec3 m = (p[i] - p[0]).cross(p[j] - p[0]);
+                if (m.squaredNorm() > cp.normal.squaredNorm()) cp.normal = m;
+            }
+    }
+    cp.normal.normalize();
+    int far = 0;
+    for (int a = 0; a < npe; ++a) {
+        cp.phi[a] = cp.normal.dot(w.nodes.rest[el.nodes[e][a]] - cp.origin);
+        if (std::abs(cp.phi[a]) > std::abs(cp.phi[far])) far = a;
+    }
+    cp.orient = (cp.phi[far] >= 0) == (w.enriched.sign[el.nodes[e][far]] > 0) ? 1.0 : -1.0;
+}
+
 void keep_off_skin_vertices(const World& w, int e, CutPlaneInfo& cp) {
     for (size_t k = 0; k < cp.points.size(); ++k) {
         const int* ed = local_edge(w, cp.point_edge[k]);
@@ -378,13 +432,83 @@ void keep_off_skin_vertices(const World& w, int e, CutPlaneInfo& cp) {
         const double t = (cp.points[k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm();
         cp.points[k] = Xa + surface_edge_param(a, b, t) * (Xb - Xa);
     }
+    fit_cut_plane(w, e, cp);
+}
+
+/// A cut element's pieces: its skin triangles split per side, then (3D) the internal mesh: edge
+/// points and rim points around the cut, a fan per side.
+
+/// A skin crossing point of cut element e (barycentric b) and how far the skin triangle it was made
+/// on lies off each face of e: off[a] = the triangle's largest weight on node a (0 for the face
+/// opposite node a when the skin lies on it). A point on a mesh edge lies on two faces; its
+/// triangle tells which one it belongs to.
+struct RimPoint {
+    Eigen::Vector4d b, off;
+};
+
+/// The rim of cut element e's cut face, counter-clockwise about the cut's normal: its edge points
+/// in angular order (3 or 4 points on distinct edges of the tetrahedron: a convex polygon seen
+/// along the normal), and between two consecutive ones P, Q the skin crossing points of the face
+/// holding both, in order along P -> Q. The skin's crossings need not lie on the plane through the
+/// edge points (a fallback midpoint, a curved blade path), so they are not sorted by angle: a rim
+/// that bends around the centre would come out crossed.
+std::vector<Eigen::Vector4d> cut_rim_loop(const World& w, int e, const CutPlaneInfo& cp,
+                                          const std::vector<Eigen::Vector4d>& edge_points,
+                                          const std::vector<RimPoint>& rim) {
+    const Vec3 u = cp.normal.unitOrthogonal(), v = cp.normal.cross(u);
+    auto by_angle = [&](std::vector<Eigen::Vector4d> points) {
+        Vec3 xc = Vec3::Zero();
+        for (const auto& b : points) xc += rest_of(w, e, b) / static_cast<double>(points.size());
+        std::vector<std::pair<double, int>> order;
+        for (size_t k = 0; k < points.size(); ++k) {
+            const Vec3 d = rest_of(w, e, points[k]) - xc;
+            order.emplace_back(std::atan2(d.dot(v), d.dot(u)), static_cast<int>(k));
+        }
+        std::sort(order.begin(), order.end());
+        std::vector<Eigen::Vector4d> sorted;
+        for (const auto& [angle, k] : order) sorted.push_back(points[k]);
+        return sorted;
+    };
+    // Edge points at nodes (a cut through a node, or along a face) make no polygon to anchor the
+    // rim on: there the rim points lie on the plane through the nodes, and sort by angle. So do
+    // the points of a 2D cut.
+    const bool at_node = std::any_of(edge_points.begin(), edge_points.end(), [](const auto& b) { return b.maxCoeff() > 1.0 - 1e-12; });
+    if (edge_points.size() < 3 || at_node) {
+        std::vector<Eigen::Vector4d> all;
+        for (const RimPoint& r : rim) all.push_back(r.b);
+        all.insert(all.end(), edge_points.begin(), edge_points.end());
+        return by_angle(all);
+    }
+    const std::vector<Eigen::Vector4d> anchors = by_angle(edge_points);
+    const size_t n = anchors.size();
+    // The face holding both P_k and P_k+1 is the one opposite the node neither point is weighted
+    // on (none for points on opposite edges).
+    std::vector<Eigen::Vector4d> apart(n);
+    for (size_t k = 0; k < n; ++k) apart[k] = anchors[k].cwiseAbs() + anchors[(k + 1) % n].cwiseAbs();
+    std::vector<std::vector<std::pair<double, int>>> between(n);
+    for (size_t r = 0; r < rim.size(); ++r) {
+        size_t best = 0;
+        double off = std::numeric_limits<double>::infinity();
+        for (size_t k = 0; k < n; ++k)  // the face its skin triangle lies on: least weight off it
+            for (int a = 0; a < w.elements.nodes_per_element(); ++a)
+                if (apart[k][a] == 0.0 && rim[r].off[a] < off) off = rim[r].off[a], best = k;
+        const Vec3 P = rest_of(w, e, anchors[best]), Q = rest_of(w, e, anchors[(best + 1) % n]);
+        between[best].emplace_back((rest_of(w, e, rim[r].b) - P).dot(Q - P), static_cast<int>(r));
+    }
+    std::vector<Eigen::Vector4d> loop;
+    for (size_t k = 0; k < n; ++k) {
+        loop.push_back(anchors[k]);
+        std::sort(between[k].begin(), between[k].end());
+        for (const auto& [along, r] : between[k]) loop.push_back(rim[r].b);
+    }
+    return loop;
 }
 
 void cut_element_pieces(World& w, SurfaceMesh& s, int c) {
     const int e = w.cuts.element[c];
     CutPlaneInfo cp = cut_plane_info(w, c);
     keep_off_skin_vertices(w, e, cp);
-    std::vector<Eigen::Vector4d> rim;  // skin crossing points, for the cut faces' rims
+    std::vector<RimPoint> rim;  // skin crossing points, for the cut faces' rims
     for (int bt : s.base_of[e]) {
         const auto tri = s.base_triangles[bt];
         std::array<int, 3> side;
@@ -406,8 +530,9 @@ void cut_element_pieces(World& w, SurfaceMesh& s, int c) {
         const double s2 = crossing_param(w, cp, e, bL, bM2);
         const Eigen::Vector4d b1 = (1 - s1) * bL + s1 * bM1;
         const Eigen::Vector4d b2 = (1 - s2) * bL + s2 * bM2;
-        rim.push_back(b1);
-        rim.push_back(b2);
+        const Eigen::Vector4d off = lb[0].cwiseAbs().cwiseMax(lb[1].cwiseAbs()).cwiseMax(lb[2].cwiseAbs());
+        rim.push_back({b1, off});
+        rim.push_back({b2, off});
         const int sl = side[lone], sm = -sl;
         const int x1l = surface_point(w, s, e, sl, b1), x2l = surface_point(w, s, e, sl, b2);
         const int x1m = surface_point(w, s, e, sm, b1), x2m = surface_point(w, s, e, sm, b2);
@@ -424,24 +549,18 @@ void cut_element_pieces(World& w, SurfaceMesh& s, int c) {
         const Vec3 Xi = w.nodes.rest[nodes[ed[0]]], Xj = w.nodes.rest[nodes[ed[1]]];
         edge_points.push_back(on_edge(ed[0], ed[1], (cp.points[k] - Xi).dot(Xj - Xi) / (Xj - Xi).squaredNorm()));
     }
-    std::vector<Eigen::Vector4d> ring = rim;
-    ring.insert(ring.end(), edge_points.begin(), edge_points.end());
     std::vector<std::pair<int, int>> fan_edges;  // directed loop edges of both fans
-    const Vec3 u = cp.normal.unitOrthogonal(), v = cp.normal.cross(u);
     Eigen::Vector4d centre = Eigen::Vector4d::Zero();
-    for (const auto& b : ring) centre += b / static_cast<double>(ring.size());
-    const Vec3 xc = rest_of(w, e, centre);
-    std::vector<std::pair<double, Eigen::Vector4d>> around;
-    for (const auto& b : ring) {
-        const Vec3 d = rest_of(w, e, b) - xc;
-        around.emplace_back(std::atan2(d.dot(v), d.dot(u)), b);
-    }
-    std::sort(around.begin(), around.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const RimPoint& r : rim) centre += r.b / static_cast<double>(rim.size() + edge_points.size());
+    for (const auto& b : edge_points) centre += b / static_cast<double>(rim.size() + edge_points.size());
+    const std::vector<Eigen::Vector4d> around = cut_rim_loop(w, e, cp, edge_points, rim);
     for (int side : {1, -1}) {
         std::vector<int> loop;
-        for (const auto& [angle, b] : around) {
+        for (const Eigen::Vector4d& b : around) {
             const int id = surface_point(w, s, e, side, b);
-            if (loop.empty() || (loop.back() != id && loop.front() != id)) loop.push_back(id);
+            // Each point once: a rim point at an edge point's place (the skin's crossing on a
+            // crossed element edge) is that point.
+            if (std::find(loop.begin(), loop.end(), id) == loop.end()) loop.push_back(id);
         }
         if (loop.size() < 3) continue;
         // The loop runs counter-clockwise about the cut's normal; outward for this side's piece is
@@ -460,35 +579,13 @@ std::array<int64_t, 3> surface_place(const Vec3& x) {
 }
 
 CutPlaneInfo cut_plane_info(const World& w, int c) {
-    const Elements& el = w.elements;
-    const int e = w.cuts.element[c], npe = el.nodes_per_element();
     CutPlaneInfo cp;
     for (int k = 0; k < 4; ++k)
         if (w.cuts.point_edge[c][k] >= 0) {
             cp.points.push_back(w.cuts.points[c][k]);
             cp.point_edge.push_back(w.cuts.point_edge[c][k]);
         }
-    for (const Vec3& p : cp.points) cp.origin += p / static_cast<double>(cp.points.size());
-    if (el.dim == 2) {
-        const Vec3 d = cp.points[1] - cp.points[0];
-        cp.normal = Vec3(-d.y(), d.x(), 0.0);
-    } else {
-        // The points are stored by edge, not around the polygon (a quad's order may be a bow-tie,
-        // where Newell's sum cancels): take the largest normal of any three of them.
-        const auto& p = cp.points;
-        for (size_t i = 1; i < p.size(); ++i)
-            for (size_t j = i + 1; j < p.size(); ++j) {
-                const Vec3 m = (p[i] - p[0]).cross(p[j] - p[0]);
-                if (m.squaredNorm() > cp.normal.squaredNorm()) cp.normal = m;
-            }
-    }
-    cp.normal.normalize();
-    int far = 0;
-    for (int a = 0; a < npe; ++a) {
-        cp.phi[a] = cp.normal.dot(w.nodes.rest[el.nodes[e][a]] - cp.origin);
-        if (std::abs(cp.phi[a]) > std::abs(cp.phi[far])) far = a;
-    }
-    cp.orient = (cp.phi[far] >= 0) == (w.enriched.sign[el.nodes[e][far]] > 0) ? 1.0 : -1.0;
+    fit_cut_plane(w, w.cuts.element[c], cp);
     return cp;
 }
 
