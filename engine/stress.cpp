@@ -243,7 +243,8 @@ std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     std::map<std::string, StressSummary> by_problem;
     auto record = [&](const CaseResult& r) {
         tally(by_problem[r.problem], r);
-        csv.print("{},{},{},{},{},{},{:.6g},{},{},{}\n", r.problem, r.name, r.steps, r.cuts, r.max_cg, r.nan,
+        // Problem and case names hold commas: quoted.
+        csv.print("\"{}\",\"{}\",{},{},{},{},{:.6g},{},{},{}\n", r.problem, r.name, r.steps, r.cuts, r.max_cg, r.nan,
                   r.energy_ratio, r.lost, r.open_edges, r.pinched_edges);
     };
     for (const CaseResult& r : slivers()) record(r);

@@ -193,6 +193,49 @@ void remove_pieces(SurfaceMesh& s, const std::vector<int>& elements) {
     }
 }
 
+/// The cut's level at rest point x on the face of cut element e opposite local node o, by the
+/// trace the cut leaves on that face: the line through the two edge points on its edges (the
+/// plane through all of them need not hold both when the points are not coplanar). Positive on
+/// the H = +1 side. False if the face holds no such trace (3D only).
+bool face_trace_level(const World& w, const CutPlaneInfo& cp, int e, int o, const Vec3& x, double& level) {
+    if (w.elements.dim != 3) return false;
+    const auto& en = w.elements.nodes[e];
+    std::array<Vec3, 2> trace;
+    int n = 0;
+    for (size_t k = 0; k < cp.points.size(); ++k) {
+        const int* ed = kTetEdges[cp.point_edge[k]];
+        if (ed[0] == o || ed[1] == o) continue;
+        if (n == 2) return false;
+        trace[n++] = cp.points[k];
+    }
+    const Vec3 along = n == 2 ? Vec3(trace[1] - trace[0]) : Vec3::Zero();
+    std::array<int, 3> face{};
+    for (int a = 0, m = 0; a < 4; ++a)
+        if (a != o) face[m++] = a;
+    const Vec3 normal = (w.nodes.rest[en[face[1]]] - w.nodes.rest[en[face[0]]]).cross(w.nodes.rest[en[face[2]]] - w.nodes.rest[en[face[0]]]);
+    const Vec3 across = normal.cross(along);  // in the face, normal to the trace
+    if (n != 2 || across.norm() <= 1e-12 * normal.norm() * std::max(along.norm(), 1e-300)) return false;
+    int far = face[0];
+    for (int a : face)
+        if (std::abs(across.dot(w.nodes.rest[en[a]] - trace[0])) > std::abs(across.dot(w.nodes.rest[en[far]] - trace[0]))) far = a;
+    const double at_far = across.dot(w.nodes.rest[en[far]] - trace[0]);
+    if (at_far == 0.0) return false;
+    level = across.dot(x - trace[0]) * ((at_far > 0) == (w.enriched.sign[en[far]] > 0) ? 1.0 : -1.0);
+    return true;
+}
+
+/// The local node a point at barycentric b is not weighted on when it lies inside one face of e
+/// (exactly one zero weight), else -1.
+int face_of(const Eigen::Vector4d& b) {
+    int o = -1;
+    for (int a = 0; a < 4; ++a)
+        if (b[a] == 0.0) {
+            if (o >= 0) return -1;
+            o = a;
+        }
+    return o;
+}
+
 /// Where the skin edge a -> b meets the cut (parameter along a -> b). An edge lying on a crossed
 /// element edge uses that edge's own intersection point, so skin and cut faces meet exactly.
 double crossing_param(const World& w, const CutPlaneInfo& cp, int e, const Eigen::Vector4d& ba,
@@ -216,6 +259,12 @@ double crossing_param(const World& w, const CutPlaneInfo& cp, int e, const Eigen
         }
     }
     double la = 0.0, lb = 0.0;
+    // A skin edge inside one face (both ends off the same node) crosses the cut's trace there.
+    for (int o = 0; n == 3 && o < npe; ++o)
+        if (ba[o] == 0.0 && bb[o] == 0.0 && face_trace_level(w, cp, e, o, rest_of(w, e, ba), la) &&
+            face_trace_level(w, cp, e, o, rest_of(w, e, bb), lb))
+            return la != lb ? std::clamp(la / (la - lb), 0.0, 1.0) : 0.5;
+    la = lb = 0.0;
     for (int a = 0; a < npe; ++a) la += ba[a] * cp.phi[a], lb += bb[a] * cp.phi[a];
     return la != lb ? std::clamp(la / (la - lb), 0.0, 1.0) : 0.5;
 }
@@ -356,6 +405,10 @@ int side_of_cut(const World& w, const CutPlaneInfo& cp, int e, const Eigen::Vect
         }
     }
     double level = 0.0;
+    if (npe == 4) {  // inside a face: by the cut's trace on it, as the skin's crossings are made
+        const int o = face_of(b);
+        if (o >= 0 && face_trace_level(w, cp, e, o, rest_of(w, e, b), level)) return level >= 0.0 ? 1 : -1;
+    }
     for (int a = 0; a < npe; ++a) level += b[a] * cp.phi[a];
     return cp.orient * level >= 0.0 ? 1 : -1;
 }
@@ -479,7 +532,27 @@ std::vector<Eigen::Vector4d> cut_rim_loop(const World& w, int e, const CutPlaneI
         all.insert(all.end(), edge_points.begin(), edge_points.end());
         return by_angle(all);
     }
-    const std::vector<Eigen::Vector4d> anchors = by_angle(edge_points);
+    // Around the polygon of edge points, neighbours lie on edges sharing a face (a quad's points on
+    // opposite edges are its diagonal); counter-clockwise about the normal. Not by angle: points
+    // off the plane (a fallback midpoint) can make the angular order a bow-tie.
+    std::vector<int> order = {0};
+    for (size_t step = 1; step < edge_points.size(); ++step) {
+        const int* last = kTetEdges[cp.point_edge[order.back()]];
+        for (int k = 0; k < static_cast<int>(edge_points.size()); ++k) {
+            const int* ed = kTetEdges[cp.point_edge[k]];
+            const bool share_face = ed[0] == last[0] || ed[0] == last[1] || ed[1] == last[0] || ed[1] == last[1];
+            if (share_face && std::find(order.begin(), order.end(), k) == order.end()) {
+                order.push_back(k);
+                break;
+            }
+        }
+    }
+    Vec3 newell = Vec3::Zero();
+    for (size_t k = 0; k < order.size(); ++k)
+        newell += rest_of(w, e, edge_points[order[k]]).cross(rest_of(w, e, edge_points[order[(k + 1) % order.size()]]));
+    if (newell.dot(cp.normal) < 0.0) std::reverse(order.begin(), order.end());
+    std::vector<Eigen::Vector4d> anchors;
+    for (int k : order) anchors.push_back(edge_points[k]);
     const size_t n = anchors.size();
     // The face holding both P_k and P_k+1 is the one opposite the node neither point is weighted
     // on (none for points on opposite edges).
@@ -506,8 +579,7 @@ std::vector<Eigen::Vector4d> cut_rim_loop(const World& w, int e, const CutPlaneI
 
 void cut_element_pieces(World& w, SurfaceMesh& s, int c) {
     const int e = w.cuts.element[c];
-    CutPlaneInfo cp = cut_plane_info(w, c);
-    keep_off_skin_vertices(w, e, cp);
+    const CutPlaneInfo cp = cut_plane_info(w, c);
     std::vector<RimPoint> rim;  // skin crossing points, for the cut faces' rims
     for (int bt : s.base_of[e]) {
         const auto tri = s.base_triangles[bt];
@@ -585,7 +657,7 @@ CutPlaneInfo cut_plane_info(const World& w, int c) {
             cp.points.push_back(w.cuts.points[c][k]);
             cp.point_edge.push_back(w.cuts.point_edge[c][k]);
         }
-    fit_cut_plane(w, w.cuts.element[c], cp);
+    keep_off_skin_vertices(w, w.cuts.element[c], cp);
     return cp;
 }
 
