@@ -34,7 +34,7 @@ struct StressOptions {
     int count = 200;          ///< random trajectories of problem 8
     double budget_s = 120.0;  ///< wall-time budget for problem 8 [s]; it stops early when spent
     unsigned seed = 1;
-    std::string csv = "results/stress.csv";
+    std::string csv = "results/bench_stress.csv";
     bool progress = true;
 };
 

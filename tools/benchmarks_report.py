@@ -319,6 +319,23 @@ def accuracy_section(d, plt, plots):
     return "\n".join(out).rstrip()
 
 
+def stress_section(d, plt, plots):
+    """VERIFICATION.md 7-9 (`xcut stress`): one line per problem from the per-case CSV, the figures
+    the command's own summary prints (bounds as in engine/stress.h: CG 400 per solve, energy 1 %)."""
+    rows, _ = read_csv(os.path.join(d, "bench_stress.csv"))
+    body = []
+    for problem in dict.fromkeys(r["problem"] for r in rows):
+        sel = [r for r in rows if r["problem"] == problem]
+        runs = lambda key: sum(1 for r in sel if r[key] > 0)
+        body.append([problem, len(sel), sum(1 for r in sel if r["nan"] > 0), max(r["max_cg"] for r in sel),
+                     sum(1 for r in sel if r["max_cg"] > 400), max(float(r["energy_ratio"]) for r in sel),
+                     sum(1 for r in sel if r["energy_ratio"] > 1.01), sum(r["lost_vertices"] for r in sel),
+                     f"{sum(r['open_edges'] for r in sel)} ({runs('open_edges')})",
+                     f"{sum(r['pinched_edges'] for r in sel)} ({runs('pinched_edges')})"])
+    return table(["problem", "cases", "NaN", "max CG", "CG > 400", "max E / work", "E / work > 1.01", "lost vertices",
+                  "open edges (runs)", "pinched edges (runs)"], body, ["---"] + ["---:"] * 9)
+
+
 def generic_section(name):
     def render(d, plt, plots):
         rows, comments = read_csv(os.path.join(d, f"bench_{name}.csv"))
@@ -329,7 +346,7 @@ def generic_section(name):
     return render
 
 
-SUITES = {"perf": perf_section, "cut": cut_section, "accuracy": accuracy_section}
+SUITES = {"perf": perf_section, "cut": cut_section, "accuracy": accuracy_section, "stress": stress_section}
 
 
 def render_suite(name, d, plt, plots):
