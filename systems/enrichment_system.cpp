@@ -38,27 +38,6 @@ namespace {
 int edge_count(int dim) { return dim == 3 ? 6 : 3; }
 const int* edge_nodes(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
 
-/// Where an earlier cut element holding mesh edge a -> b put its point on it: the parameter from a,
-/// or -1. One crack has one point per edge: an element split later (its own crossing of the edge
-/// measured at a later quad, or inferred from its plane or a midpoint) takes it, so the crack
-/// surface stays continuous from element to element.
-double existing_edge_t(const World& w, int a, int b) {
-    const Elements& el = w.elements;
-    const int dim = el.dim;
-    for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
-        const int f = w.incidence.entry[p] >> 2;
-        const int c = w.cuts.cut_of_element[f];
-        if (c < 0) continue;
-        for (int k = 0; k < 4 && w.cuts.point_edge[c][k] >= 0; ++k) {
-            const int* ed = edge_nodes(dim, w.cuts.point_edge[c][k]);
-            const int n0 = el.nodes[f][ed[0]], n1 = el.nodes[f][ed[1]];
-            if (!((n0 == a && n1 == b) || (n0 == b && n1 == a))) continue;
-            const Vec3 &Xa = w.nodes.rest[a], &Xb = w.nodes.rest[b];
-            return std::clamp((w.cuts.points[c][k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm(), 0.0, 1.0);
-        }
-    }
-    return -1.0;
-}
 
 /// Splits one element as `ev` asks; returns false if it is already cut or the signs do not differ.
 bool record_cut(World& w, const CutEvent& ev) {
@@ -89,7 +68,7 @@ bool record_cut(World& w, const CutEvent& ev) {
         double tk = ev.edge_has_t[k] ? ev.edge_t[k] : 0.5;
         const double li = ev.level[i], lj = ev.level[j];
         if (!ev.edge_has_t[k] && li != lj) tk = li / (li - lj);
-        const double earlier = existing_edge_t(w, c[i], c[j]);
+        const double earlier = crack_edge_param(w, c[i], c[j]);
         t[k] = earlier >= 0.0 ? earlier : std::clamp(tk, 0.0, 1.0);
         points[np] = edge_point(X, dim, k, t[k]);
         point_edge[np++] = static_cast<int8_t>(k);
@@ -231,6 +210,24 @@ int apply_cut_events(World& w) {
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     relump_nodes(w, touched);
     return split;
+}
+
+double crack_edge_param(const World& w, int a, int b) {
+    const Elements& el = w.elements;
+    const int dim = el.dim;
+    for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
+        const int f = w.incidence.entry[p] >> 2;
+        const int c = w.cuts.cut_of_element[f];
+        if (c < 0) continue;
+        for (int k = 0; k < 4 && w.cuts.point_edge[c][k] >= 0; ++k) {
+            const int* ed = (dim == 3 ? kTetEdges : kTriEdges)[w.cuts.point_edge[c][k]];
+            const int n0 = el.nodes[f][ed[0]], n1 = el.nodes[f][ed[1]];
+            if (!((n0 == a && n1 == b) || (n0 == b && n1 == a))) continue;
+            const Vec3 &Xa = w.nodes.rest[a], &Xb = w.nodes.rest[b];
+            return std::clamp((w.cuts.points[c][k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm(), 0.0, 1.0);
+        }
+    }
+    return -1.0;
 }
 
 Vec3 enriched_displacement(const World& w, int j) {

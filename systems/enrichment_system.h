@@ -30,6 +30,11 @@ void prepare_enrichment(World& world);
 /// Applies `world.pending_cuts` (and clears it). Returns the number of elements split.
 int apply_cut_events(World& world);
 
+/// Where the crack crosses mesh edge a -> b: the parameter from a of the point a cut element holding
+/// the edge put on it, or -1 if no cut element crosses it. One crack has one point per edge: an
+/// element split later takes this one, and the surface cuts along it.
+double crack_edge_param(const World& world, int a, int b);
+
 /// a_j of mesh node j (eq. 6), zero if the node has no phantom.
 Vec3 enriched_displacement(const World& world, int node);
 Vec3 enriched_velocity(const World& world, int node);

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "components/cut_elements.h"
+#include "systems/enrichment_system.h"
 
 namespace xcut {
 namespace {
@@ -87,24 +88,11 @@ double surface_edge_param(int a, int b, double t) {
     return a < b ? t + 1e-6 : t - 1e-6;
 }
 
-/// The crossing of the mesh edge a -> b by the cut of any cut element holding it: its parameter
-/// from a (in [0, 1], surface_edge_param), or -1 if no cut element crosses it.
+/// The crossing of the mesh edge a -> b by the crack (crack_edge_param) as the surface places it
+/// (surface_edge_param), or -1 if no cut element crosses it.
 double edge_crossing(const World& w, int a, int b) {
-    double t = -1.0;
-    for_elements_around(w, a, b, [&](int e) {
-        const int c = w.cuts.cut_of_element[e];
-        if (t >= 0.0 || c < 0) return;
-        for (int k = 0; k < 4; ++k) {
-            if (w.cuts.point_edge[c][k] < 0) continue;
-            const int* ed = local_edge(w, w.cuts.point_edge[c][k]);
-            const int n0 = w.elements.nodes[e][ed[0]], n1 = w.elements.nodes[e][ed[1]];
-            if (!((n0 == a && n1 == b) || (n0 == b && n1 == a))) continue;
-            const Vec3 Xa = w.nodes.rest[a], Xb = w.nodes.rest[b];
-            t = surface_edge_param(a, b, (w.cuts.points[c][k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm());
-            return;
-        }
-    });
-    return t;
+    const double t = crack_edge_param(w, a, b);
+    return t < 0.0 ? t : surface_edge_param(a, b, t);
 }
 
 /// Binds vertex v at barycentric b of mesh element e: to `whole` if that whole element holds it (a
