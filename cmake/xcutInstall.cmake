@@ -1,4 +1,4 @@
-# cmake --install BUILD --prefix P: bin/xcut, lib/libxcut_core.a, include/xcut/{engine,systems,
+# cmake --install BUILD --prefix P: bin/xcut, lib/libxcut_core.a, share/xcut/{scenes,report}, include/xcut/{engine,systems,
 # components}/*, lib/cmake/xcut/ (find_package(xcut CONFIG) -> xcut::core). docs/example uses it.
 include(CMakePackageConfigHelpers)
 
@@ -19,3 +19,8 @@ write_basic_package_version_file(${CMAKE_BINARY_DIR}/xcutConfigVersion.cmake
   VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_BINARY_DIR}/xcutConfig.cmake ${CMAKE_BINARY_DIR}/xcutConfigVersion.cmake
   ${CMAKE_SOURCE_DIR}/cmake/xcutTetgen.cmake DESTINATION ${XCUT_CMAKE_DIR})
+
+# What the binary and a user need beside it: the shipped scenes, and the report and plot scripts
+# `xcut compare` and `xcut bench` call (looked for in <prefix>/share/xcut/report).
+install(DIRECTORY ${CMAKE_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/xcut/scenes FILES_MATCHING PATTERN "*.json")
+install(DIRECTORY ${CMAKE_SOURCE_DIR}/tools/report/ DESTINATION ${CMAKE_INSTALL_DATADIR}/xcut/report FILES_MATCHING PATTERN "*.py")

@@ -9,7 +9,7 @@
 //   H_j = +1:  p_aj = x_j,          p_bj = x_j - a_j = y_j   ->  a_j = x_j - y_j
 //   H_j = -1:  p_aj = x_j + a_j = y_j,  p_bj = x_j           ->  a_j = y_j - x_j
 // a linear, invertible change of variables, so forces, stiffness and implicit Euler steps are those
-// of eq. 1-5 (tests/test_xfem_element.cpp checks this against the paper's formulas to 1e-12).
+// of eq. 1-5 (tests/systems/test_xfem_element.cpp checks this against the paper's formulas to 1e-12).
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>

@@ -42,4 +42,30 @@ std::string Scheduler::describe(const World& world) const {
     return out;
 }
 
+std::string Scheduler::dataflow_markdown() const {
+    auto names = [](uint32_t mask) {
+        std::vector<std::string> out;
+        for (uint32_t bit = 1; bit != 0; bit <<= 1)
+            if (mask & bit) out.push_back(component_name(bit));
+        return out;
+    };
+    std::string table = "| # | system | reads | writes |\n|---|---|---|---|\n";
+    std::string chart = "```mermaid\nflowchart LR\n";
+    uint32_t used = 0;
+    for (size_t i = 0; i < all_.size(); ++i) {
+        const SystemDesc& s = all_[i];
+        table += fmt::format("| {} | {} | {} | {} |\n", i + 1, s.name, component_list(s.reads), component_list(s.writes));
+        chart += fmt::format("  S{}[\"{}. {}\"]\n", i, i + 1, s.name);
+        if (i > 0) chart += fmt::format("  S{} ==> S{}\n", i - 1, i);
+        used |= s.reads | s.writes;
+    }
+    for (const std::string& c : names(used)) chart += fmt::format("  {}[({})]\n", c, c);
+    for (size_t i = 0; i < all_.size(); ++i) {
+        for (const std::string& c : names(all_[i].writes)) chart += fmt::format("  S{} --> {}\n", i, c);
+        for (const std::string& c : names(all_[i].reads & ~all_[i].writes))
+            chart += fmt::format("  {} -.-> S{}\n", c, i);
+    }
+    return table + "\n" + chart + "```\n";
+}
+
 }  // namespace xcut

@@ -30,6 +30,9 @@ public:
     void step(World& world);
     /// The schedule as printed at start-up.
     std::string describe(const World& world) const;
+    /// Every registered system in pipeline order with the components it reads and writes, as a
+    /// Markdown table and a Mermaid flowchart (docs/architecture.md holds this text, generated).
+    std::string dataflow_markdown() const;
     const std::vector<SystemDesc>& scheduled() const { return scheduled_; }
     /// Every system added, scheduled or not, in pipeline order.
     const std::vector<SystemDesc>& registered() const { return all_; }

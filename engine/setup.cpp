@@ -97,4 +97,17 @@ void apply_constraints(World& world) {
         if (nodes.mass[i] <= 0.0) nodes.fixed[i] = 7;
 }
 
+int add_scalpel(World& world, const std::string& name, const std::vector<Keyframe>& trajectory, const Vec3& tip,
+                const Vec3& heel) {
+    ToolBodies& tb = world.tools;
+    tb.name.push_back(name);
+    tb.trajectory.push_back(trajectory);
+    tb.position.push_back(trajectory.front().position);
+    tb.orientation.push_back(trajectory.front().orientation);
+    tb.has_blade.push_back(1);
+    tb.blade_tip.push_back(tip);
+    tb.blade_heel.push_back(heel);
+    return tb.count() - 1;
+}
+
 }  // namespace xcut

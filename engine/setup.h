@@ -1,6 +1,7 @@
 #pragma once
 // Turns a validated mesh into the world's node and element components: rest shape gradients, rest
 // volumes, lumped masses, identity rotations, constraint flags and the node -> element incidence.
+#include <string>
 #include <vector>
 
 #include "engine/mesh_data.h"
@@ -25,5 +26,10 @@ void relump_nodes(World& world, const std::vector<int>& nodes);
 
 /// Sets nodes.fixed from world.constraints (boxes and node lists); in 2D every node's z is held.
 void apply_constraints(World& world);
+
+/// Adds a scalpel with no contact shape: its cutting edge from `tip` (deep end) to `heel` in the
+/// tool frame [m], moved along `trajectory` and starting at its first keyframe. Returns its index.
+int add_scalpel(World& world, const std::string& name, const std::vector<Keyframe>& trajectory, const Vec3& tip,
+                const Vec3& heel);
 
 }  // namespace xcut

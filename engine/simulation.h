@@ -1,12 +1,14 @@
 #pragma once
-// A scene turned into a world plus its schedule: what `xcut run` steps, and what tests and
-// benchmarks drive directly.
+// A scene turned into a world plus its schedule, and the step loop: what `xcut run` steps, and what
+// tests and benchmarks drive directly. The engine knows no concrete system: which systems run, and
+// in what order, is a Pipeline handed in (xcut's own is composed in systems/pipeline.h).
+#include <functional>
 #include <memory>
 
-#include "engine/device.h"
-#include "engine/haptic_loop.h"
-#include "engine/output.h"
-#include "engine/scene.h"
+#include "engine/devices/device.h"
+#include "engine/devices/haptic_loop.h"
+#include "engine/io/output.h"
+#include "engine/io/scene.h"
 #include "engine/scheduler.h"
 #include "engine/world.h"
 
@@ -21,14 +23,16 @@ struct Simulation {
     HapticLoop* haptics = nullptr;                     ///< published to after each step when set
 };
 
-/// Builds the world and registers every system in pipeline order; the scheduler keeps those whose
-/// components the scene holds. `with_output` false: no files written (tests, benchmarks).
-/// `replay_directory`: drive the tools from a recorded session (engine/device.h) instead of the
-/// scene's trajectories.
-std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output = true,
-                                            const std::string& replay_directory = "");
-/// Registers the systems of the pipeline (DESIGN.md "One step") on a scheduler.
-void register_systems(Scheduler& scheduler, Simulation& sim);
+/// Prepares what the systems need beyond the world (surfaces, search structures) and adds the
+/// systems to the scheduler in pipeline order.
+using Pipeline = std::function<void(const Scene& scene, Scheduler& scheduler, Simulation& sim)>;
+
+/// Builds the world from the scene, places the tools where their devices start, and registers the
+/// pipeline's systems; the scheduler keeps those whose components the scene holds. `with_output`
+/// false: no files written (tests, benchmarks). `replay_directory`: drive the tools from a recorded
+/// session (engine/devices/device.h) instead of the scene's trajectories.
+std::unique_ptr<Simulation> build_simulation(const Scene& scene, const Pipeline& pipeline, bool with_output = true,
+                                             const std::string& replay_directory = "");
 /// One step; in real-time mode, the next dt follows the measured step time (paper §4.3).
 void step_simulation(Simulation& sim);
 /// Runs `steps` steps, with a progress bar on a terminal.

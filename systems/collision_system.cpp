@@ -11,7 +11,7 @@
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 
 #include "systems/mapping_system.h"
-#include "systems/tool_shape_depth.h"
+#include "systems/kernels/tool_shape_depth.h"
 
 namespace xcut {
 

@@ -3,7 +3,7 @@
 //  - Broad and narrow phase by FCL: the collision surface is an FCL BVH (AABB) refitted every step
 //    to the mapped vertex positions, rebuilt only when a cut changes its triangles; each shaped
 //    tool is an FCL sphere, capsule, box or mesh at its current pose. FCL reports the surface
-//    triangles touching the tool; their vertices are tested exactly (systems/tool_shape_depth.h).
+//    triangles touching the tool; their vertices are tested exactly (systems/kernels/tool_shape_depth.h).
 //  - Response by penalty, one contact per vertex inside a tool: f = max(0, k d - c v_n) n on the
 //    tissue, n out of the tool, d the depth, v_n the vertex's normal speed relative to the tool.
 //    The force acts on the element the vertex is bound to, spread to its (real or phantom) DOF

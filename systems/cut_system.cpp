@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "components/cut_elements.h"
-#include "systems/intersection.h"
+#include "systems/kernels/intersection.h"
 #include "systems/tool_system.h"
 
 namespace xcut {

@@ -14,7 +14,7 @@
 // 2D: the blade is a point (its tip) moving in the plane; the quad is the segment it swept.
 #include <memory>
 
-#include "engine/element_bvh.h"
+#include "systems/kernels/element_bvh.h"
 #include "engine/scheduler.h"
 #include "engine/world.h"
 

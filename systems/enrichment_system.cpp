@@ -4,7 +4,7 @@
 #include <fmt/format.h>
 
 #include "engine/setup.h"
-#include "systems/cut_geometry.h"
+#include "systems/kernels/cut_geometry.h"
 
 namespace xcut {
 namespace {

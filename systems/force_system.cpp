@@ -2,8 +2,8 @@
 
 #include "engine/parallel.h"
 #include "systems/collision_system.h"
-#include "systems/corotational_kernel.h"
-#include "systems/polar_decomposition.h"
+#include "systems/kernels/corotational_kernel.h"
+#include "systems/kernels/polar_decomposition.h"
 
 namespace xcut {
 namespace {

@@ -6,9 +6,9 @@
 #include <numeric>
 
 #include "engine/setup.h"
-#include "systems/cut_geometry.h"
+#include "systems/kernels/cut_geometry.h"
 #include "systems/mapping_system.h"
-#include "systems/snap_split_patterns.h"
+#include "systems/kernels/snap_split_patterns.h"
 
 namespace xcut {
 namespace {

@@ -8,7 +8,7 @@
 //    (rest and current position, velocity interpolated along the edge), unless the node is held, or
 //    on the boundary and the edge is not, or the move would invert an element;
 //  - otherwise the crossing becomes a new node on the edge (state interpolated), and every element
-//    holding that edge is bisected on it (systems/snap_split_patterns.h): split elements into
+//    holding that edge is bisected on it (systems/kernels/snap_split_patterns.h): split elements into
 //    pieces on either side of the cut, whole neighbours conformingly;
 //  - a node of the cut surface (an edge point or a snapped node) is duplicated once the elements
 //    around it fall apart into groups that touch only across the cut: one copy per group, so the

@@ -81,7 +81,7 @@ void implicit_euler_step(World& world) {
         // Newton on the nonlinear step (rotations, forces and K re-evaluated at x_n + h v_k) until
         // |residual| <= newton_tolerance |residual at v_n|: the converged step is backward Euler
         // itself, which the once-linearized step only approximates (it gains energy on large
-        // rotations at large dt: VERIFICATION.md problem 9).
+        // rotations at large dt: docs/verification.md problem 9).
         const Eigen::VectorXd xn = x, vn = v;
         Eigen::VectorXd contact_force = world.forces.force;  // f at x_n, contacts included ...
         compute_forces(world);

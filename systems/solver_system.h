@@ -52,4 +52,4 @@ SystemDesc solver_system();
 
 }  // namespace xcut
 
-#include "systems/conjugate_gradient.inl"
+#include "systems/kernels/conjugate_gradient.h"

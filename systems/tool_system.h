@@ -1,6 +1,6 @@
 #pragma once
 // ToolSystem: moves every tool to its pose at the end of the step (t + dt), from its device (a
-// scripted trajectory, a replayed session or a haptic device: engine/device.h), and sets its
+// scripted trajectory, a replayed session or a haptic device: engine/devices/device.h), and sets its
 // velocity over the step.
 #include <functional>
 

@@ -2,7 +2,7 @@
 // Small builders shared by the tests.
 #include <Eigen/Geometry>
 
-#include "engine/generators.h"
+#include "engine/io/generators.h"
 #include "engine/setup.h"
 #include "engine/world.h"
 #include "systems/enrichment_system.h"

@@ -10,6 +10,8 @@
 # targets at a time (default 1). A crash, a sanitizer report, a leak, an uncaught exception other
 # than InputError or an input taking over 10 s stops that target; its input is saved as
 # build-fuzz/artifacts/TARGET/crash-* (or timeout-*, leak-*, oom-*) and the script exits 1.
+# XCUT_FUZZ_DIR=DIR runs the targets already built in DIR instead (CI builds them with its
+# sanitizer stage, preset "ci-sanitize", and does not build them twice).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 minutes="${1:-5}"
@@ -23,11 +25,15 @@ esac
 [[ "$seconds" =~ ^[0-9]+$ ]] || { echo "usage: tools/fuzz.sh [MINUTES|SECONDSs] [TARGET...]" >&2; exit 2; }
 jobs="${XCUT_FUZZ_JOBS:-1}"
 
-cmake --preset fuzz > /dev/null
-cmake --build --preset fuzz
+dir="${XCUT_FUZZ_DIR:-}"
+if [ -z "$dir" ]; then
+    dir="build-fuzz"
+    cmake --preset fuzz > /dev/null
+    cmake --build --preset fuzz
+fi
 
 run_one() {
-    local t="$1" dir="build-fuzz"
+    local t="$1"
     mkdir -p "$dir/corpus/$t" "$dir/artifacts/$t"
     local log="$dir/fuzz_$t.log" dict=()
     [ -f "tests/fuzz/$t.dict" ] && dict=(-dict="tests/fuzz/$t.dict")

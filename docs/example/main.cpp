@@ -4,7 +4,7 @@
 #include <cstdlib>
 
 #include "engine/error.h"
-#include "engine/simulation.h"
+#include "systems/pipeline.h"
 
 int main(int argc, char** argv) {
     if (argc < 2) {

@@ -1,5 +1,5 @@
 // Gmsh reader (.msh, ASCII 2.2 and 4.1) and the mesh validation behind it.
-#include "engine/mesh_io.h"
+#include "engine/io/mesh_io.h"
 #include "tests/fuzz/fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

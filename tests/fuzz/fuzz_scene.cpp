@@ -3,7 +3,7 @@
 #include <sstream>
 #include <vector>
 
-#include "engine/scene.h"
+#include "engine/io/scene.h"
 #include "tests/fuzz/fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

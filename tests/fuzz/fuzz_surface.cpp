@@ -2,7 +2,7 @@
 // an STL when it starts with "solid" or holds a NUL byte (binary STL), else an OBJ.
 #include <cstring>
 
-#include "engine/mesh_io.h"
+#include "engine/io/mesh_io.h"
 #include "tests/fuzz/fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

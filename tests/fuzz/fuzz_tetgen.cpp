@@ -1,7 +1,7 @@
 // TetGen reader (.node + .ele) and the mesh validation behind it. The input holds both files: the
 // .node text, then a line "#ele" (a comment to TetGen), then the .ele text. Without the marker both
 // files get the whole input.
-#include "engine/mesh_io.h"
+#include "engine/io/mesh_io.h"
 #include "tests/fuzz/fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,5 +1,5 @@
 // Recorded tool trajectory reader (read_trajectory_csv).
-#include "engine/scene.h"
+#include "engine/io/scene.h"
 #include "tests/fuzz/fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

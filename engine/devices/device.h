@@ -1,0 +1,67 @@
+#pragma once
+// Tool devices: where a tool's pose comes from and where its feedback force goes (paper §4.2).
+// `ToolDevice` is the interface a real haptic device (a Phantom, a Virtuose, ...) implements: the
+// physics asks it for the tool's pose at a simulated time, and the haptic loop (engine/devices/haptic_loop.h)
+// sends it the force to render at 1 kHz. Two implementations here:
+//  - ScriptedDevice: the scene's keyframes (or trajectory_csv), interpolated;
+//  - ReplayDevice: a session recorded by SessionRecorder, one CSV per tool, replayed exactly: each
+//    step asks for the pose at a recorded time and gets the recorded bits back, so a replay with the
+//    same thread count is bit-identical to the run that was recorded.
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "components/tools.h"
+#include "engine/world.h"
+
+namespace xcut {
+
+class ToolDevice {
+public:
+    virtual ~ToolDevice() = default;
+    /// The tool's pose (tool frame -> world) at simulated time t [s].
+    virtual Keyframe pose(double t) = 0;
+    /// The force and torque the user should feel [N, N m]; called from the haptic thread.
+    virtual void render_force(const Vec3& force, const Vec3& torque) = 0;
+    virtual const char* kind() const = 0;
+};
+
+/// Keyframes, interpolated (linear position, slerp orientation); the rendered force is kept.
+class ScriptedDevice : public ToolDevice {
+public:
+    explicit ScriptedDevice(std::vector<Keyframe> keys, const char* kind = "scripted")
+        : keys_(std::move(keys)), kind_(kind) {}
+    Keyframe pose(double t) override;
+    void render_force(const Vec3& force, const Vec3& torque) override;
+    const char* kind() const override { return kind_; }
+    Vec3 last_force() const;
+
+private:
+    std::vector<Keyframe> keys_;
+    const char* kind_;
+    mutable std::mutex mutex_;  ///< the haptic thread writes the force, others read it
+    Vec3 force_ = Vec3::Zero(), torque_ = Vec3::Zero();
+};
+
+/// A recorded session: the poses a run's tools had at each step (SessionRecorder's files).
+std::unique_ptr<ToolDevice> make_replay_device(const std::string& directory, const std::string& tool);
+
+/// Devices for every tool of `world`: scripted from its trajectories, or, when `replay_directory`
+/// is given, replayed from `<replay_directory>/<tool name>.csv`.
+std::vector<std::unique_ptr<ToolDevice>> make_devices(const World& world, const std::string& replay_directory);
+
+/// Writes every tool's pose each step to `<directory>/<tool name>.csv` (the trajectory_csv format,
+/// 17 significant digits: the doubles read back exactly).
+class SessionRecorder {
+public:
+    /// Opens the files and records the tools' initial poses.
+    SessionRecorder(const World& world, const std::string& directory);
+    void record(const World& world);
+
+private:
+    std::vector<std::ofstream> files_;
+};
+
+}  // namespace xcut

@@ -1,0 +1,59 @@
+#pragma once
+// Output of a run: a ParaView series (.pvd indexing one .vtu per frame) and a metrics CSV with one
+// row per step. Written by the OutputSystem, which runs only when the scene asks for output.
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/scheduler.h"
+#include "engine/world.h"
+
+namespace xcut {
+
+/// Writes the mesh of `world` at its current positions as a VTK UnstructuredGrid (ASCII XML) with
+/// point fields displacement [m], velocity [m/s], fixed, and cell fields volume [m^3].
+void write_vtu(const World& world, const std::string& path);
+/// Writes the visual surface as OBJ (positions [m], triangles) and as a VTK triangle grid.
+void write_surface_obj(const World& world, const std::string& path);
+void write_surface_vtu(const World& world, const std::string& path);
+/// Writes the .pvd collection listing (time, file) pairs.
+void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& frames);
+
+class OutputWriter {
+public:
+    explicit OutputWriter(const World& world);
+    /// The OutputSystem's work: a frame every `every` steps (step 0 is written at start).
+    void frame_if_due(const World& world);
+    /// One CSV row, once the step (and its timings) is complete.
+    void metrics_row(const World& world);
+    void write_frame(const World& world);
+    void finish();
+    std::string directory() const { return dir_; }
+
+private:
+    std::string dir_;
+    std::string stem_;
+    std::ofstream csv_;
+    bool cut_columns_ = false;   ///< the scene has tools: per-step cut figures
+    bool force_columns_ = false; ///< the scene has shaped tools: reaction force and torque per tool
+    std::vector<std::pair<double, std::string>> frames_;
+    std::vector<std::pair<double, std::string>> surface_frames_;
+};
+
+/// Prints a one-line progress bar to stderr when it is a terminal and the run lasts over a second.
+class ProgressBar {
+public:
+    ProgressBar(std::string label, int total);
+    void update(int done);
+    void finish();
+
+private:
+    std::string label_;
+    int total_;
+    bool enabled_;
+    double start_;
+    int last_percent_ = -1;
+};
+
+}  // namespace xcut

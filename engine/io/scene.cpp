@@ -1,0 +1,428 @@
+#include "engine/io/scene.h"
+
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <cstdlib>
+#include <sstream>
+
+#include "engine/error.h"
+#include "engine/io/json_fields.h"
+#include "engine/io/mesh_io.h"
+#include "engine/setup.h"
+
+namespace xcut {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Applies one "a.b.c=value" override; the value is JSON, or a bare string if it does not parse.
+void apply_override(nlohmann::json& root, const std::string& file, const std::string& item) {
+    const size_t eq = item.find('=');
+    if (eq == std::string::npos || eq == 0) throw InputError(file, "--set " + item, "expected field.path=value");
+    const std::string path = item.substr(0, eq), text = item.substr(eq + 1);
+    nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
+    if (value.is_discarded()) value = text;
+    nlohmann::json* at = &root;
+    std::stringstream ss(path);
+    std::string part;
+    while (std::getline(ss, part, '.')) {
+        if (at->is_null()) *at = nlohmann::json::object();  // a section the file leaves out
+        if (part.empty() || !at->is_object()) throw InputError(file, "--set " + path, "not an object field path");
+        at = &(*at)[part];
+    }
+    *at = value;
+}
+
+MeshSpec read_mesh(const JsonFields& m, const fs::path& scene_dir) {
+    MeshSpec spec;
+    m.allow_only({"generator", "origin", "size", "cells", "element_size", "jitter", "seed", "file", "max_volume",
+                  "bend_radius"});
+    if (m.has("file") == m.has("generator")) m.fail("file", "give exactly one of \"file\" or \"generator\"");
+    if (m.has("file")) {
+        const fs::path p = m.string("file", "");
+        spec.file = (p.is_absolute() ? p : scene_dir / p).lexically_normal().string();
+        spec.max_volume = m.number("max_volume", 0.0, 0.0);
+        return spec;
+    }
+    spec.generator = m.choice("generator", "box", {"box", "plate"});
+    GridSpec& g = spec.grid;
+    g.origin = m.vec3("origin", Eigen::Vector3d::Zero());
+    g.size = m.required_vec3("size");
+    const int dims = spec.generator == "plate" ? 2 : 3;
+    for (int k = 0; k < dims; ++k)
+        if (!(g.size[k] > 0.0)) m.fail(fmt::format("size[{}]", k), "must be > 0");
+    if (m.has("cells") == m.has("element_size"))
+        m.fail("element_size", "give exactly one of \"element_size\" [m] or \"cells\"");
+    if (m.has("cells")) {
+        const std::vector<int> c = m.int_list("cells");
+        if (c.size() != 3) m.fail("cells", "expected 3 integers");
+        for (int k = 0; k < 3; ++k)
+            if (c[k] < 1 || c[k] > 2000) m.fail(fmt::format("cells[{}]", k), "must be in [1, 2000]");
+        g.cells = Eigen::Vector3i(c[0], c[1], c[2]);
+    } else {
+        const double h = m.required_number("element_size", 1e-9);
+        g.cells = cells_for_size(g.size, h);
+    }
+    if (dims == 2) g.cells.z() = 1;
+    const double count = double(g.cells.x()) * g.cells.y() * g.cells.z();
+    if (count * (dims == 3 ? 6 : 2) > 2e7) m.fail("element_size", fmt::format("gives {:.3g} elements (max 2e7)", count * 6));
+    g.jitter = m.number("jitter", 0.0, 0.0, 0.3);
+    g.seed = static_cast<uint64_t>(m.integer("seed", 1, 0));
+    g.bend_radius = m.number("bend_radius", 0.0, 0.0);
+    if (g.bend_radius > 0.0 && dims == 2) m.fail("bend_radius", "only for the 3D box generator");
+    if (g.bend_radius > 0.0 && g.size.y() > 3.0 * g.bend_radius)
+        m.fail("bend_radius", "the box would wrap more than 3 radians around the cylinder");
+    return spec;
+}
+
+uint8_t read_axes(const JsonFields& f, const std::string& key) {
+    const std::string s = f.string(key, "xyz");
+    uint8_t mask = 0;
+    for (char c : s) {
+        if (c < 'x' || c > 'z') f.fail(key, fmt::format("\"{}\": use letters x, y, z", s));
+        mask |= uint8_t(1u << (c - 'x'));
+    }
+    if (mask == 0) f.fail(key, "must name at least one axis");
+    return mask;
+}
+
+/// A 3D cut polygon must be planar and have area; a 2D segment must have length.
+void check_cut_polygon(const JsonFields& c, const std::vector<Eigen::Vector3d>& poly) {
+    double size = 0.0;
+    for (const auto& p : poly) size = std::max(size, (p - poly[0]).norm());
+    if (!(size > 0.0)) c.fail("polygon", "all points coincide");
+    if (poly.size() == 2) return;
+    Eigen::Vector3d n = Eigen::Vector3d::Zero(), centre = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < poly.size(); ++i) n += poly[i].cross(poly[(i + 1) % poly.size()]), centre += poly[i];
+    centre /= static_cast<double>(poly.size());
+    if (!(n.norm() > 1e-12 * size * size)) c.fail("polygon", "has zero area (points on one line)");
+    n.normalize();
+    for (size_t i = 0; i < poly.size(); ++i)
+        if (std::abs((poly[i] - centre).dot(n)) > 1e-9 * size)
+            c.fail(fmt::format("polygon[{}]", i), "is off the polygon's plane: cut polygons must be planar");
+}
+
+/// "orientation": [w, x, y, z] (tool frame -> world), normalized; a zero quaternion is an error.
+Eigen::Quaterniond read_quaternion(const JsonFields& k, const nlohmann::json& v, const std::string& field) {
+    if (!v.is_array() || v.size() != 4) k.fail(field, fmt::format("expected [w, x, y, z], got {}",
+                                                                 v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)));
+    double q[4];
+    for (int i = 0; i < 4; ++i) {
+        if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
+            k.fail(fmt::format("{}[{}]", field, i), "expected a finite number");
+        q[i] = v[i].get<double>();
+    }
+    Eigen::Quaterniond out(q[0], q[1], q[2], q[3]);
+    if (!(out.norm() > 1e-12)) k.fail(field, "quaternion has zero length");
+    return out.normalized();
+}
+
+fs::path beside_scene(const fs::path& scene_dir, const std::string& file) {
+    const fs::path p = file;
+    return (p.is_absolute() ? p : scene_dir / p).lexically_normal();
+}
+
+/// "shape": the tool's contact shape in its frame; "contact": its penalty parameters.
+void read_tool_shape(const JsonFields& t, const fs::path& scene_dir, ToolBodies& tb) {
+    ToolShape shape;
+    if (t.has("shape")) {
+        const JsonFields sh = t.object("shape");
+        const std::string type = sh.choice("type", "", {"sphere", "capsule", "box", "mesh"});
+        if (type == "sphere") {
+            sh.allow_only({"type", "radius", "centre"});
+            shape.kind = ToolShape::kSphere;
+            shape.radius = sh.required_number("radius", 1e-6, 1.0);
+        } else if (type == "capsule") {
+            sh.allow_only({"type", "radius", "length", "centre"});
+            shape.kind = ToolShape::kCapsule;
+            shape.radius = sh.required_number("radius", 1e-6, 1.0);
+            shape.length = sh.required_number("length", 0.0, 10.0);
+        } else if (type == "box") {
+            sh.allow_only({"type", "size", "centre"});
+            shape.kind = ToolShape::kBox;
+            shape.half_extent = 0.5 * sh.required_vec3("size");
+            if (!(shape.half_extent.minCoeff() > 0.0)) sh.fail("size", "every side must be > 0 [m]");
+        } else {
+            sh.allow_only({"type", "file"});
+            shape.kind = ToolShape::kMesh;
+            const ClosedSurface m = read_closed_surface(beside_scene(scene_dir, sh.string("file", "")).string());
+            shape.vertices = m.points;
+            shape.triangles = m.triangles;
+        }
+        shape.centre = sh.vec3("centre", Vec3::Zero());
+    }
+    const JsonFields contact = t.object("contact");
+    contact.allow_only({"stiffness", "damping"});
+    tb.shape.push_back(shape);
+    const double stiffness = contact.number("stiffness", 100.0);
+    if (!(stiffness > 0.0)) contact.fail("stiffness", "must be > 0 [N/m]");
+    const double damping = contact.number("damping", 0.0);
+    if (!(damping >= 0.0)) contact.fail("damping", "must be >= 0 [N s/m]");
+    tb.contact_stiffness.push_back(stiffness);
+    tb.contact_damping.push_back(damping);
+}
+
+void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) {
+    const JsonFields cutter = top.object("cutter");
+    cutter.allow_only({"threshold", "neighbourhood_depth", "type", "snap_threshold"});
+    scene.cut_threshold = cutter.number("threshold", 0.0, 0.0);
+    scene.cut_min_depth = cutter.integer("neighbourhood_depth", 1, 0, 50);
+    scene.cutter = cutter.choice("type", "xfem", {"xfem", "snap"});
+    scene.snap_threshold = cutter.number("snap_threshold", 0.1);
+    if (!(scene.snap_threshold > 0.0 && scene.snap_threshold < 0.5))
+        cutter.fail("snap_threshold", fmt::format("{} is out of range (0, 0.5): a fraction of the crossed edge's length",
+                                                  scene.snap_threshold));
+    ToolBodies& tb = scene.tools;
+    const auto tools = top.array_of_objects("tools");
+    for (size_t i = 0; i < tools.size(); ++i) {
+        const JsonFields& t = tools[i];
+        t.allow_only({"name", "blade", "shape", "contact", "trajectory", "trajectory_csv"});
+        tb.name.push_back(t.string("name", fmt::format("tool{}", i)));
+        const JsonFields blade = t.object("blade");
+        blade.allow_only({"tip", "heel"});
+        tb.has_blade.push_back(t.has("blade") ? 1 : 0);
+        tb.blade_tip.push_back(blade.vec3("tip", Vec3::Zero()));
+        tb.blade_heel.push_back(blade.vec3("heel", Vec3::Zero()));
+        if (t.has("blade") && !((tb.blade_heel.back() - tb.blade_tip.back()).norm() > 1e-9))
+            blade.fail("heel", "the blade has zero length: tip and heel must differ by more than 1e-9 m");
+        std::vector<Keyframe> keys;
+        if (t.has("trajectory") == t.has("trajectory_csv"))
+            t.fail("trajectory", "give exactly one of \"trajectory\" (keyframes) or \"trajectory_csv\" (a recorded file)");
+        read_tool_shape(t, scene_dir, tb);
+        if (t.has("trajectory_csv")) {
+            keys = read_trajectory_csv(beside_scene(scene_dir, t.string("trajectory_csv", "")).string());
+        } else {
+            const auto frames = t.array_of_objects("trajectory");
+            for (const JsonFields& k : frames) {
+                k.allow_only({"time", "position", "orientation"});
+                Keyframe key;
+                key.time = k.required_number("time");
+                key.position = k.required_vec3("position");
+                key.orientation = k.has("orientation") ? read_quaternion(k, k.raw("orientation"), "orientation")
+                                                       : Eigen::Quaterniond::Identity();
+                keys.push_back(key);
+            }
+        }
+        check_trajectory(keys, top.file(), t.field("trajectory"));
+        tb.trajectory.push_back(keys);
+        tb.position.push_back(keys.front().position);
+        tb.orientation.push_back(keys.front().orientation);
+    }
+}
+
+}  // namespace
+
+void check_trajectory(std::vector<Keyframe>& keys, const std::string& file, const std::string& where) {
+    if (keys.empty()) throw InputError(file, where, "needs at least one keyframe");
+    for (size_t i = 0; i < keys.size(); ++i) {
+        const std::string f = fmt::format("{}[{}]", where, i);
+        if (!std::isfinite(keys[i].time)) throw InputError(file, f + ".time", "must be finite");
+        if (!keys[i].position.allFinite()) throw InputError(file, f + ".position", "must be finite");
+        if (!keys[i].orientation.coeffs().allFinite() || !(keys[i].orientation.norm() > 1e-12))
+            throw InputError(file, f + ".orientation", "must be a finite, non-zero quaternion");
+        // Unit quaternions are kept bit for bit (a recorded session replays exactly).
+        if (std::abs(keys[i].orientation.norm() - 1.0) > 1e-14) keys[i].orientation.normalize();
+        if (i > 0 && !(keys[i].time > keys[i - 1].time))
+            throw InputError(file, f + ".time",
+                             fmt::format("times must increase strictly ({} after {})", keys[i].time, keys[i - 1].time));
+    }
+}
+
+std::vector<Keyframe> read_trajectory_csv(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path, "file", "cannot open the trajectory file");
+    std::string line;
+    std::vector<Keyframe> keys;
+    int line_no = 0;
+    bool header = false;
+    while (std::getline(in, line)) {
+        ++line_no;
+        if (line.empty() || line[0] == '#') continue;
+        if (!header) {
+            header = true;
+            if (line.rfind("time", 0) == 0) continue;  // header row
+        }
+        std::stringstream ss(line);
+        std::string cell;
+        double v[8];
+        int n = 0;
+        while (std::getline(ss, cell, ',') && n < 9) {
+            if (n == 8) throw InputError(path, fmt::format("line {}", line_no), "expected 8 columns: time,x,y,z,qw,qx,qy,qz");
+            char* end = nullptr;
+            v[n] = std::strtod(cell.c_str(), &end);
+            if (end == cell.c_str()) throw InputError(path, fmt::format("line {}", line_no), fmt::format("\"{}\" is not a number", cell));
+            ++n;
+        }
+        if (n != 8) throw InputError(path, fmt::format("line {}", line_no), "expected 8 columns: time,x,y,z,qw,qx,qy,qz");
+        Keyframe k;
+        k.time = v[0];
+        k.position = Vec3(v[1], v[2], v[3]);
+        k.orientation = Eigen::Quaterniond(v[4], v[5], v[6], v[7]);
+        keys.push_back(k);
+    }
+    check_trajectory(keys, path, "rows");
+    return keys;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path, "file", "cannot open the scene file");
+    nlohmann::json root;
+    try {
+        root = nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw InputError(path, "JSON", fmt::format("not valid JSON (byte {}): {}", e.byte, e.what()));
+    } catch (const nlohmann::json::exception& e) {  // out_of_range: a number too large for a double
+        throw InputError(path, "JSON", fmt::format("not valid JSON: {}", e.what()));
+    }
+    for (const auto& o : overrides) apply_override(root, path, o);
+
+    Scene scene;
+    scene.file = path;
+    const JsonFields top(root, path, "");
+    top.allow_only({"name", "description", "mesh", "material", "gravity", "constraints", "solver", "steps",
+                    "duration", "output", "cuts", "tools", "cutter", "visual", "collision", "camera"});
+    scene.name = top.string("name", fs::path(path).stem().string());
+    if (!top.has("mesh")) top.fail("mesh", "required field is missing");
+    scene.mesh = read_mesh(top.object("mesh"), fs::path(path).parent_path());
+
+    const JsonFields mat = top.object("material");
+    mat.allow_only({"name", "young", "poisson", "density", "thickness"});
+    scene.material.name = mat.string("name", "skin");
+    scene.material.young = mat.number("young", 1.0e4, 1e-12);
+    scene.material.poisson = mat.number("poisson", 0.3, -0.999, 0.4999);
+    scene.material.density = mat.number("density", 1000.0, 1e-12);
+    scene.material.thickness = mat.number("thickness", 1.0e-3, 1e-12);
+
+    scene.gravity = top.vec3("gravity", Eigen::Vector3d::Zero());
+
+    const JsonFields con = top.object("constraints");
+    con.allow_only({"fixed_boxes", "fixed_nodes"});
+    for (const JsonFields& b : con.array_of_objects("fixed_boxes")) {
+        b.allow_only({"min", "max", "axes", "displacement"});
+        FixedBox box{b.required_vec3("min"), b.required_vec3("max"), read_axes(b, "axes"),
+                     b.vec3("displacement", Eigen::Vector3d::Zero())};
+        if ((box.min.array() > box.max.array()).any()) b.fail("max", "every component must be >= min");
+        scene.constraints.boxes.push_back(box);
+    }
+    scene.constraints.nodes = con.int_list("fixed_nodes");
+
+    const JsonFields sol = top.object("solver");
+    sol.allow_only({"dt", "mode", "cg_tolerance", "cg_max_iterations", "dt_min", "dt_max", "damping", "newton"});
+    SolverSettings& s = scene.solver;
+    s.dt = sol.number("dt", 1e-2, 1e-9, 10.0);
+    s.realtime = sol.choice("mode", "fixed", {"fixed", "realtime"}) == "realtime";
+    s.cg_tolerance = sol.number("cg_tolerance", 1e-6, 1e-16, 1.0);
+    s.cg_max_iterations = sol.integer("cg_max_iterations", 200, 1, 1000000);
+    s.dt_min = sol.number("dt_min", 1e-4, 1e-9, 10.0);
+    s.dt_max = sol.number("dt_max", 4e-2, s.dt_min, 10.0);
+    const JsonFields damp = sol.object("damping");
+    damp.allow_only({"mass", "stiffness"});
+    s.damping_mass = damp.number("mass", 0.0, 0.0);
+    s.damping_stiffness = damp.number("stiffness", 0.0, 0.0);
+    const JsonFields newton = sol.object("newton");
+    newton.allow_only({"iterations", "tolerance"});
+    s.newton_iterations = newton.integer("iterations", 1, 1, 1000);
+    s.newton_tolerance = newton.number("tolerance", 1e-6, 1e-16, 1.0);
+
+    if (top.has("steps") && top.has("duration")) top.fail("duration", "give \"steps\" or \"duration\", not both");
+    scene.steps = top.integer("steps", 100, 0, 100000000);
+    if (top.has("duration"))
+        scene.steps = static_cast<int>(std::ceil(top.required_number("duration", 0.0, 1e6) / s.dt - 1e-9));
+
+    for (const JsonFields& c : top.array_of_objects("cuts")) {
+        c.allow_only({"time", "polygon"});
+        ScriptedCut cut;
+        cut.time = c.number("time", 0.0, 0.0);
+        cut.polygon = c.vec3_list("polygon");
+        if (cut.polygon.size() < 2) c.fail("polygon", "needs 2 points (a segment, 2D) or at least 3 (a planar polygon, 3D)");
+        check_cut_polygon(c, cut.polygon);
+        scene.cuts.push_back(cut);
+    }
+
+    read_tools(top, fs::path(path).parent_path(), scene);
+    if (top.has("visual")) {
+        const JsonFields vis = top.object("visual");
+        vis.allow_only({"subdivisions"});
+        scene.visual_subdivisions = vis.integer("subdivisions", 0, 0, 3);
+    }
+    if (top.has("collision")) {
+        const JsonFields col = top.object("collision");
+        col.allow_only({"subdivisions"});
+        scene.collision_subdivisions = col.integer("subdivisions", 0, 0, 3);
+    }
+    if (top.has("camera")) {
+        const JsonFields cam = top.object("camera");
+        cam.allow_only({"position", "target", "up", "fov_deg", "width", "height"});
+        Camera& c = scene.camera;
+        c.automatic = false;
+        c.position = cam.required_vec3("position");
+        c.target = cam.required_vec3("target");
+        c.up = cam.vec3("up", Vec3::UnitY());
+        c.fov_deg = cam.number("fov_deg", 40.0, 1.0, 170.0);
+        c.width = cam.integer("width", 800, 16, 8192);
+        c.height = cam.integer("height", 600, 16, 8192);
+        if (!((c.target - c.position).norm() > 0.0)) cam.fail("target", "must differ from position");
+        if (!((c.target - c.position).normalized().cross(c.up).norm() > 1e-6)) cam.fail("up", "must not be along the view direction");
+    }
+
+    const JsonFields out = top.object("output");
+    out.allow_only({"directory", "every", "vtu", "metrics_csv"});
+    scene.output.directory = out.string("directory", "out/" + scene.name);
+    scene.output.name = scene.name;
+    scene.output.every = out.integer("every", 10, 1);
+    scene.output.vtu = out.boolean("vtu", true);
+    scene.output.metrics_csv = out.boolean("metrics_csv", true);
+    return scene;
+}
+
+MeshData load_scene_mesh(const Scene& scene) {
+    const MeshSpec& m = scene.mesh;
+    MeshData mesh;
+    if (!m.file.empty()) {
+        mesh = read_mesh_file(m.file, m.max_volume);
+    } else {
+        mesh = m.generator == "plate" ? generate_plate(m.grid) : generate_box(m.grid);
+        validate_mesh(mesh);
+    }
+    return mesh;
+}
+
+World build_world(const Scene& scene) {
+    World world;
+    world.materials.list = {scene.material};
+    world.gravity = scene.gravity;
+    world.constraints = scene.constraints;
+    world.solver = scene.solver;
+    world.output = scene.output;
+    const MeshData mesh = load_scene_mesh(scene);
+    for (size_t i = 0; i < scene.constraints.nodes.size(); ++i)
+        if (scene.constraints.nodes[i] >= static_cast<int>(mesh.points.size()))
+            throw InputError(scene.file, fmt::format("constraints.fixed_nodes[{}]", i),
+                             fmt::format("node {} does not exist (mesh has {} nodes)", scene.constraints.nodes[i],
+                                         mesh.points.size()));
+    if (mesh.dim == 2 && world.gravity.z() != 0.0)
+        throw InputError(scene.file, "gravity", "a 2D (plate) scene lies in the xy plane: gravity[2] must be 0");
+    for (size_t i = 0; i < scene.cuts.size(); ++i) {
+        const size_t need = mesh.dim == 2 ? 2 : 3;
+        if ((mesh.dim == 2) != (scene.cuts[i].polygon.size() == 2) || scene.cuts[i].polygon.size() < need)
+            throw InputError(scene.file, fmt::format("cuts[{}].polygon", i),
+                             mesh.dim == 2 ? "a 2D scene is cut by a segment: give exactly 2 points"
+                                           : "a 3D scene is cut by a planar polygon: give at least 3 points");
+    }
+    world.cut_plan.cuts = scene.cuts;
+    world.tools = scene.tools;
+    world.cut_state.threshold = scene.cut_threshold;
+    world.cut_state.min_depth = scene.cut_min_depth;
+    world.snap.enabled = scene.cutter == "snap";
+    world.snap.threshold = scene.snap_threshold;
+    world.snap.visual_subdivisions = scene.visual_subdivisions;
+    world.snap.collision_subdivisions = scene.collision_subdivisions;
+    build_bodies(world, mesh);
+    return world;
+}
+
+}  // namespace xcut

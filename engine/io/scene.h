@@ -1,0 +1,57 @@
+#pragma once
+// Scene files: JSON, schema in docs/scene-format.md. Loading checks every field and names the file
+// and field path of any error; building turns the scene into a World ready to step.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/io/generators.h"
+#include "engine/mesh_data.h"
+#include "engine/io/render.h"
+#include "engine/world.h"
+
+namespace xcut {
+
+struct MeshSpec {
+    std::string generator;     ///< "box" | "plate"; empty when a file is given
+    GridSpec grid;
+    std::string file;          ///< resolved path of a mesh file
+    double max_volume = 0.0;   ///< surfaces tetrahedralized with TetGen: max tet volume [m^3]; 0: none
+};
+
+struct Scene {
+    std::string file;          ///< the scene file, for messages
+    std::string name;
+    MeshSpec mesh;
+    Material material;
+    Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+    Constraints constraints;
+    SolverSettings solver;
+    int steps = 100;
+    OutputSettings output;
+    std::vector<ScriptedCut> cuts;   ///< "cuts": programmatic XFEM cuts
+    ToolBodies tools;                ///< "tools"
+    double cut_threshold = 0.0;      ///< "cutter.threshold" [m]; 0: mean edge length
+    int cut_min_depth = 1;           ///< "cutter.neighbourhood_depth"
+    std::string cutter = "xfem";     ///< "cutter.type": "xfem" (enrichment) or "snap" (snapping and subdivision)
+    double snap_threshold = 0.1;     ///< "cutter.snap_threshold": fraction of the crossed edge (components/snap_mesh.h)
+    int visual_subdivisions = -1;    ///< "visual.subdivisions"; -1: no visual surface
+    int collision_subdivisions = -1; ///< "collision.subdivisions"; -1: no collision surface
+    Camera camera;                   ///< "camera"; automatic framing unless given
+};
+
+/// Reads a recorded trajectory: CSV with header time,x,y,z,qw,qx,qy,qz (SI units; quaternion
+/// tool -> world). Throws InputError naming the file and line.
+std::vector<Keyframe> read_trajectory_csv(const std::string& path);
+/// Checks keyframes: strictly increasing finite times, finite positions, non-zero quaternions
+/// (normalized here). `where` names the field for messages.
+void check_trajectory(std::vector<Keyframe>& keys, const std::string& file, const std::string& where);
+
+/// `overrides`: "field.path=json-value" pairs (from --set) applied to the JSON before it is read.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+/// Reads or generates the mesh (validated) for the scene.
+MeshData load_scene_mesh(const Scene& scene);
+/// The world for a scene: components, constraints, settings.
+World build_world(const Scene& scene);
+
+}  // namespace xcut

@@ -1,0 +1,40 @@
+#include "systems/pipeline.h"
+
+#include "systems/collision_system.h"
+#include "systems/cut_system.h"
+#include "systems/enrichment_system.h"
+#include "systems/force_system.h"
+#include "systems/mapping_system.h"
+#include "systems/scripted_cut_system.h"
+#include "systems/snap_cut_system.h"
+#include "systems/solver_system.h"
+#include "systems/tool_system.h"
+
+namespace xcut {
+
+void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
+    World& world = sim.world;
+    if (scene.visual_subdivisions >= 0) build_surface(world, world.visual, scene.visual_subdivisions);
+    if (scene.collision_subdivisions >= 0) build_surface(world, world.collision, scene.collision_subdivisions);
+    scheduler.add(tool_system([&sim](int i, double t) { return sim.devices[i]->pose(t); }));
+    auto bvh = std::make_shared<ElementBvh>();
+    const bool blades = (world.present() & kCutEvents) != 0;
+    if (blades && world.tools.count() > 0) prepare_cut_search(world, *bvh);
+    if (blades) prepare_enrichment(world);
+    scheduler.add(cut_system(bvh));
+    scheduler.add(scripted_cut_system());
+    scheduler.add(world.snap.enabled ? snap_cut_system(world) : enrichment_system());
+    scheduler.add(force_system());
+    scheduler.add(collision_system(make_collision_model()));
+    scheduler.add(solver_system());
+    scheduler.add(mapping_system());
+    scheduler.add({"OutputSystem", kNodes | kElements | kOutput, 0, [&sim](World& w) {
+                       if (sim.output) sim.output->frame_if_due(w);
+                   }});
+}
+
+std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output, const std::string& replay_directory) {
+    return build_simulation(scene, xcut_pipeline, with_output, replay_directory);
+}
+
+}  // namespace xcut

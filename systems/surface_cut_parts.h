@@ -1,0 +1,65 @@
+#pragma once
+// The parts of the surface cut (systems/surface_cut.h) shared by its files:
+//  - surface_points.cpp: the mesh around a cut element, and the surface's points bound to a side;
+//  - surface_rim.cpp: the cut's plane and trace in an element, and its rim ordered around the cut;
+//  - surface_cut_faces.cpp: the cut-face polygons that close the wound, and the seams at the front;
+//  - surface_cut.cpp: the skin subdivided along the cut, and the regeneration of an element's pieces.
+// Internal to those files; nothing else includes it.
+#include <Eigen/Core>
+#include <array>
+#include <utility>
+#include <vector>
+
+#include "components/cut_elements.h"
+#include "systems/surface_cut.h"
+
+namespace xcut::surface_cut_detail {
+
+// --- surface_points.cpp ---
+const int* local_edge(const World& w, int k);
+int edge_count(const World& w);
+bool holds(const World& w, int e, int node);
+bool is_cut(const World& w, int e);
+Vec3 rest_of(const World& w, int e, const Eigen::Vector4d& b);
+Eigen::Vector4d local_bary(const World& w, const SurfaceMesh& s, int e, int v);
+Vec3 vertex_rest(const World& w, const SurfaceMesh& s, int v);
+double surface_edge_param(int a, int b, double t);
+double edge_crossing(const World& w, int a, int b);
+int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector4d& b_in);
+void add_piece(SurfaceMesh& s, const std::array<int, 3>& t, int owner, bool cut);
+void remove_pieces(SurfaceMesh& s, const std::vector<int>& elements);
+Eigen::Vector4d on_edge(int i, int j, double t);
+int element_across(const World& w, int e, int a, int b, int c);
+bool skin_cut_along(const World& w, int a, int b);
+
+/// Calls f(element) for every mesh element holding both nodes a and b (incidence order).
+template <class F>
+void for_elements_around(const World& w, int a, int b, F&& f) {
+    for (int k = w.incidence.offset[a]; k < w.incidence.offset[a + 1]; ++k) {
+        const int e = w.incidence.entry[k] >> 2;
+        if (holds(w, e, b)) f(e);
+    }
+}
+
+// --- surface_rim.cpp ---
+double crossing_param(const World& w, const CutPlaneInfo& cp, int e, const Eigen::Vector4d& ba,
+                      const Eigen::Vector4d& bb);
+
+/// A skin crossing point of cut element e (barycentric b) and how far the skin triangle it was made
+/// on lies off each face of e: off[a] = the triangle's largest weight on node a (0 for the face
+/// opposite node a when the skin lies on it). A point on a mesh edge lies on two faces; its
+/// triangle tells which one it belongs to.
+struct RimPoint {
+    Eigen::Vector4d b, off;
+};
+
+std::vector<Eigen::Vector4d> cut_rim_loop(const World& w, int e, const CutPlaneInfo& cp,
+                                          const std::vector<Eigen::Vector4d>& edge_points,
+                                          const std::vector<RimPoint>& rim);
+
+// --- surface_cut_faces.cpp ---
+/// Closes the wound inside cut c (3D): the cut face, one polygon per side over its edge points and
+/// the skin crossings `rim`, oriented outward, and the seams toward whole neighbours.
+void cut_faces(World& w, SurfaceMesh& s, int c, const CutPlaneInfo& cp, const std::vector<RimPoint>& rim);
+
+}  // namespace xcut::surface_cut_detail

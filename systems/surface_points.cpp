@@ -1,0 +1,221 @@
+// The surface's points: the mesh around a cut element, and the vertices a cut makes, one per side
+// and place, bound to the element of their side (paper §3.4; systems/surface_cut_parts.h).
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "systems/enrichment_system.h"
+#include "systems/surface_cut_parts.h"
+
+namespace xcut {
+namespace surface_cut_detail {
+namespace {
+
+constexpr double kQuantum = 1e-11;  // [m]: points closer than this on one side are one point
+
+int mesh_node(const World& w, int node) {
+    return node >= w.mesh_nodes ? w.enriched.node_of_phantom[node - w.mesh_nodes] : node;
+}
+
+/// The first whole (uncut) mesh element holding every node of `nodes` [0, n), or -1.
+int whole_element_holding(const World& w, const std::array<int, 4>& nodes, int n) {
+    for (int k = w.incidence.offset[nodes[0]]; k < w.incidence.offset[nodes[0] + 1]; ++k) {
+        const int e = w.incidence.entry[k] >> 2;
+        if (is_cut(w, e)) continue;
+        bool all = true;
+        for (int i = 1; i < n; ++i) all = all && holds(w, e, nodes[i]);
+        if (all) return e;
+    }
+    return -1;
+}
+
+/// Barycentric coordinates b (in element `from`'s node order) re-expressed in element `to`, which
+/// holds every mesh node b is weighted on.
+Eigen::Vector4d rebased(const World& w, int from, const Eigen::Vector4d& b, int to) {
+    const int npe = w.elements.nodes_per_element();
+    Eigen::Vector4d r = Eigen::Vector4d::Zero();
+    for (int a = 0; a < npe; ++a) {
+        if (b[a] == 0.0) continue;
+        const int node = mesh_node(w, w.elements.nodes[from][a]);
+        for (int k = 0; k < npe; ++k)
+            if (w.elements.nodes[to][k] == node) r[k] += b[a];
+    }
+    return r;
+}
+
+/// Binds vertex v at barycentric b of mesh element e: to `whole` if that whole element holds it (a
+/// crack-front point), else to the virtual element of cut element e on `side`.
+void bind(World& w, SurfaceMesh& s, int v, int e, int side, const Eigen::Vector4d& b, int whole) {
+    if (whole >= 0) {
+        s.element[v] = whole;
+        s.bary[v] = rebased(w, e, b, whole);
+    } else {
+        const int c = w.cuts.cut_of_element[e];
+        s.element[v] = w.virtual_elements.element[w.cuts.virtual_element[c][side > 0 ? 0 : 1]];
+        s.bary[v] = b;
+    }
+}
+
+}  // namespace
+
+const int* local_edge(const World& w, int k) { return w.elements.dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
+
+int edge_count(const World& w) { return w.elements.dim == 3 ? 6 : 3; }
+
+bool holds(const World& w, int e, int node) {
+    const auto& n = w.elements.nodes[e];
+    return std::find(n.begin(), n.begin() + w.elements.nodes_per_element(), node) != n.begin() + w.elements.nodes_per_element();
+}
+
+bool is_cut(const World& w, int e) { return w.cuts.cut_of_element[e] >= 0; }
+
+Vec3 rest_of(const World& w, int e, const Eigen::Vector4d& b) {
+    Vec3 x = Vec3::Zero();
+    for (int a = 0; a < w.elements.nodes_per_element(); ++a) x += b[a] * w.nodes.rest[w.elements.nodes[e][a]];
+    return x;
+}
+
+/// A vertex's barycentric coordinates in mesh element e (the vertex lies on e's boundary).
+Eigen::Vector4d local_bary(const World& w, const SurfaceMesh& s, int e, int v) {
+    return rebased(w, s.element[v], s.bary[v], e);
+}
+
+Vec3 vertex_rest(const World& w, const SurfaceMesh& s, int v) { return rest_of(w, s.element[v], s.bary[v]); }
+
+/// A crossing of mesh edge a -> b at parameter t, as the surface places it. A crossing on a skin
+/// subdivision point (t = m / 2^k, k <= 8: the fallback midpoint of an edge crossed only through
+/// its nodes' H, or a blade exactly there) moves by 1e-6 of the edge toward the higher-numbered
+/// node, so no cut point sits on a skin vertex and every element sharing the edge agrees (a
+/// crossing within 1e-9 of the edge's end stays: it is the node's vertex, as the plane through it
+/// makes the skin's own crossings there). 1e-6 of
+/// a millimetre edge is a nanometre: nothing to see, far beyond the 1e-11 m point quantum.
+double surface_edge_param(int a, int b, double t) {
+    const double m = std::round(t * 256.0);  // a crossing within 1e-9 of a node is that node's
+    if (!(m >= 1.0 && m <= 255.0) || std::abs(t * 256.0 - m) > 256.0 * 1e-9) return t;
+    return a < b ? t + 1e-6 : t - 1e-6;
+}
+
+/// The crossing of the mesh edge a -> b by the crack (crack_edge_param) as the surface places it
+/// (surface_edge_param), or -1 if no cut element crosses it.
+double edge_crossing(const World& w, int a, int b) {
+    const double t = crack_edge_param(w, a, b);
+    return t < 0.0 ? t : surface_edge_param(a, b, t);
+}
+
+/// The surface vertex at barycentric b of mesh element e on `side` of the cut, made once per side
+/// and place (see SurfaceMesh::cut_point). A point on a mesh edge that a whole element still holds
+/// (the crack front) is bound, for both sides, to that element: the lips meet there. Otherwise it
+/// is bound to the virtual element of cut element e on its side.
+int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector4d& b_in) {
+    const int npe = w.elements.nodes_per_element();
+    // Weights below 1e-12 are round-off of re-expressing a point in another element: a point on an
+    // edge or at a node is keyed and bound as such, whichever element computed it.
+    Eigen::Vector4d b = b_in;
+    for (int a = 0; a < npe; ++a)
+        if (std::abs(b[a]) < 1e-12) b[a] = 0.0;
+    b /= b.sum();
+    std::array<int, 4> support{};
+    int n = 0;
+    for (int a = 0; a < npe; ++a)
+        if (b[a] != 0.0) support[n++] = w.elements.nodes[e][a];
+    // A cut through a node: on the node's own side the point is the node's base vertex.
+    if (n == 1 && w.enriched.sign[support[0]] == side && s.node_vertex[support[0]] >= 0) return s.node_vertex[support[0]];
+    // A cut through any other skin vertex (a subdivision point): that vertex, on its own side, or on
+    // both while it is bound to a whole element (the crack front, where the lips meet).
+    const std::array<int64_t, 3> place = surface_place(rest_of(w, e, b));
+    if (const auto base = s.base_vertex_at.find(place);
+        base != s.base_vertex_at.end() && (s.side[base->second] == side || s.side[base->second] == 0))
+        return base->second;
+    std::array<int64_t, 4> key;
+    if (n <= 2)
+        key = {side, std::min(support[0], support[n - 1]), std::max(support[0], support[n - 1]), 0};
+    else
+        key = {side + 4, place[0], place[1], place[2]};
+    auto [it, fresh] = s.cut_point.emplace(key, s.vertex_count());
+    if (fresh) {
+        s.position.push_back(rest_of(w, e, b));
+        s.element.push_back(-1);
+        s.bary.emplace_back();
+        s.side.push_back(static_cast<int8_t>(side));
+    }
+    bind(w, s, it->second, e, side, b, n <= 2 ? whole_element_holding(w, support, n) : -1);
+    return it->second;
+}
+
+/// Adds triangle t to `owner`'s pieces; one with a repeated vertex (a cut through a node or along
+/// an edge collapses it) is not a triangle and is dropped.
+void add_piece(SurfaceMesh& s, const std::array<int, 3>& t, int owner, bool cut) {
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) return;
+    s.pieces_of[owner].push_back(static_cast<int>(s.triangles.size()));
+    s.triangles.push_back(t);
+    s.triangle_owner.push_back(owner);
+    s.cut_face.push_back(cut ? 1 : 0);
+}
+
+/// Removes every output triangle of the given elements (swap with the last, fixing its index).
+void remove_pieces(SurfaceMesh& s, const std::vector<int>& elements) {
+    std::vector<int> doomed;
+    for (int e : elements) {
+        doomed.insert(doomed.end(), s.pieces_of[e].begin(), s.pieces_of[e].end());
+        s.pieces_of[e].clear();
+    }
+    std::sort(doomed.rbegin(), doomed.rend());
+    for (int t : doomed) {
+        const int last = static_cast<int>(s.triangles.size()) - 1;
+        if (t != last) {  // `last` is no doomed triangle: those above t are gone already
+            s.triangles[t] = s.triangles[last];
+            s.triangle_owner[t] = s.triangle_owner[last];
+            s.cut_face[t] = s.cut_face[last];
+            auto& list = s.pieces_of[s.triangle_owner[t]];
+            *std::find(list.begin(), list.end(), last) = t;
+        }
+        s.triangles.pop_back();
+        s.triangle_owner.pop_back();
+        s.cut_face.pop_back();
+    }
+}
+
+/// Point on local edge (i, j) of e at parameter t from i, as barycentric coordinates.
+Eigen::Vector4d on_edge(int i, int j, double t) {
+    Eigen::Vector4d b = Eigen::Vector4d::Zero();
+    b[i] = 1.0 - t;
+    b[j] = t;
+    return b;
+}
+
+/// The mesh element other than e holding nodes a, b, c, or -1 (a face on the body's boundary).
+int element_across(const World& w, int e, int a, int b, int c) {
+    for (int k = w.incidence.offset[a]; k < w.incidence.offset[a + 1]; ++k) {
+        const int f = w.incidence.entry[k] >> 2;
+        if (f != e && holds(w, f, b) && holds(w, f, c)) return f;
+    }
+    return -1;
+}
+
+/// Whether a cut element shows skin on a face along mesh edge a-b: the incision reaches the body's
+/// surface there. Otherwise the cut touches the edge inside the body only (the crack meets the
+/// surface in one point) and the skin on both sides of the edge keeps one copy of the point: the
+/// crack's two lips meet it through the seams (front_seams), which then close the crack by
+/// themselves, and the skin stays one sheet (a zero-length edge shared by four triangles
+/// otherwise).
+bool skin_cut_along(const World& w, int a, int b) {
+    bool cut_skin = false;
+    for_elements_around(w, a, b, [&](int f) {
+        if (cut_skin || !is_cut(w, f)) return;
+        for (int k = 0; k < w.elements.nodes_per_element(); ++k) {
+            const int third = w.elements.nodes[f][k];
+            if (third == a || third == b) continue;
+            if (w.elements.dim == 2 || element_across(w, f, a, b, third) < 0) cut_skin = true;
+        }
+    });
+    return cut_skin;
+}
+
+}  // namespace surface_cut_detail
+
+std::array<int64_t, 3> surface_place(const Vec3& x) {
+    using surface_cut_detail::kQuantum;
+    return {std::llround(x.x() / kQuantum), std::llround(x.y() / kQuantum), std::llround(x.z() / kQuantum)};
+}
+
+}  // namespace xcut

@@ -1,0 +1,87 @@
+// Inputs that once crashed a reader under libFuzzer (docs/fuzzing.md), kept in tests/fuzz/corpus/:
+// each must now be refused with an InputError naming the file and the field or line.
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <fstream>
+#include <ostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "engine/error.h"
+#include "engine/io/mesh_io.h"
+#include "engine/io/scene.h"
+
+namespace xcut {
+namespace {
+
+struct Regression {
+    const char* name;
+    const char* reader;  ///< "scene", "mesh" (read_mesh_file) or "trajectory"
+    const char* file;    ///< under tests/fuzz/corpus/
+    const char* field;   ///< what the message must name after the file
+    const char* phrase;  ///< and the reason it must give
+};
+
+const Regression kRegressions[] = {
+    // TetGen's library asserts (aborts) on a flat point set: a "closed" STL whose facets all lie in z = 0.
+    {"flat closed STL", "mesh", "surface/crash_flat_closed.stl", "faces", "encloses no volume"},
+    // TetGen 1.5 segfaults on intersecting facets when meshing: a cube with a vertex moved through a face.
+    {"self-intersecting OBJ", "mesh", "surface/crash_self_intersecting.obj", "faces", "intersects itself"},
+    // Two copies of one triangle: "closed", 3 points; TetGen's Delaunay step segfaults on it.
+    {"doubled triangle STL", "mesh", "surface/crash_three_points.stl", "faces", "encloses no volume"},
+    // A number beyond double's range: nlohmann::json throws out_of_range, not parse_error.
+    {"number overflow", "scene", "scene/crash_number_overflow.json", "JSON", "not valid JSON"},
+    // A --set override that is not JSON becomes a string; one with invalid UTF-8 made the message's
+    // json::dump() throw a type_error instead of the InputError.
+    {"override with invalid UTF-8", "scene", "scene/crash_override_invalid_utf8.json", "material.young",
+     "expected a number, got \""},
+};
+
+void PrintTo(const Regression& r, std::ostream* os) { *os << r.file; }
+
+std::string corpus(const char* file) { return std::string(XCUT_SOURCE_DIR) + "/tests/fuzz/corpus/" + file; }
+
+/// As tests/fuzz/fuzz_scene.cpp: lines "//set field.path=value" are --set overrides too.
+std::vector<std::string> overrides_in(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<std::string> out;
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("//set ", 0) == 0) out.push_back(line.substr(6));
+    return out;
+}
+
+class FuzzRegression : public ::testing::TestWithParam<Regression> {};
+
+TEST_P(FuzzRegression, RefusedWithAClearError) {
+    const Regression& r = GetParam();
+    const std::string path = corpus(r.file);
+    try {
+        const std::string reader = r.reader;
+        if (reader == "scene") {
+            load_scene(path, overrides_in(path));
+        } else if (reader == "trajectory") {
+            read_trajectory_csv(path);
+        } else {
+            read_mesh_file(path, 0.0);
+        }
+        FAIL() << "no InputError for " << path;
+    } catch (const InputError& e) {
+        const std::string msg = e.what();
+        EXPECT_EQ(e.file(), path) << msg;
+        EXPECT_EQ(msg.rfind(path + ": " + r.field, 0), 0u) << msg;
+        EXPECT_NE(msg.find(r.phrase), std::string::npos) << msg;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, FuzzRegression, ::testing::ValuesIn(kRegressions),
+                         [](const ::testing::TestParamInfo<Regression>& info) {
+                             std::string name;
+                             for (const char* c = info.param.name; *c; ++c)
+                                 name += std::isalnum(static_cast<unsigned char>(*c)) ? *c : '_';
+                             return name;
+                         });
+
+}  // namespace
+}  // namespace xcut

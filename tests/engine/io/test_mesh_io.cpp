@@ -1,0 +1,233 @@
+// Mesh readers: Gmsh 2.2 / 4.1, TetGen .node/.ele, OBJ/STL surfaces through TetGen's library, and
+// the bad inputs each must reject with a message naming the file and place.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "engine/error.h"
+#include "engine/io/mesh_io.h"
+
+namespace xcut {
+namespace {
+
+namespace fs = std::filesystem;
+
+class MeshIo : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("xcut_mesh_io_" + std::to_string(::getpid()) + "_" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string write(const std::string& name, const std::string& text) {
+        const std::string p = (dir_ / name).string();
+        std::ofstream(p, std::ios::binary) << text;
+        return p;
+    }
+    /// The message of the InputError `read` throws (fails the test if none).
+    template <class F>
+    std::string error_of(F&& read) {
+        try {
+            read();
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        ADD_FAILURE() << "no InputError";
+        return "";
+    }
+    fs::path dir_;
+};
+
+const char* kGmsh22 = R"($MeshFormat
+2.2 0 8
+$EndMeshFormat
+$Nodes
+5
+1 0 0 0
+2 1 0 0
+3 0 1 0
+4 0 0 1
+5 1 1 1
+$EndNodes
+$Elements
+3
+1 2 2 0 1 1 2 3
+2 4 2 0 1 1 2 3 4
+3 4 2 0 1 2 5 3 4
+$EndElements
+)";
+
+const char* kGmsh41 = R"($MeshFormat
+4.1 0 8
+$EndMeshFormat
+$Nodes
+2 5 1 5
+3 1 0 3
+1
+2
+3
+0 0 0
+1 0 0
+0 1 0
+3 2 0 2
+4
+5
+0 0 1
+1 1 1
+$EndNodes
+$Elements
+1 2 1 2
+3 1 4 2
+1 1 2 3 4
+2 2 5 3 4
+$EndElements
+)";
+
+const char* kCubeObj = R"(v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 0 0 1
+v 1 0 1
+v 1 1 1
+v 0 1 1
+f 1 4 3 2
+f 5 6 7 8
+f 1 2 6 5
+f 2 3 7 6
+f 3 4 8 7
+f 4 1 5 8
+)";
+
+double total_volume(const MeshData& m) {
+    double v = 0.0;
+    for (const auto& c : m.cells) {
+        Eigen::Matrix3d D;
+        for (int k = 0; k < 3; ++k) D.col(k) = m.points[c[k + 1]] - m.points[c[0]];
+        EXPECT_GT(D.determinant(), 0.0);
+        v += D.determinant() / 6.0;
+    }
+    return v;
+}
+
+TEST_F(MeshIo, GmshV2AndV4GiveTheSameMesh) {
+    const MeshData a = read_mesh_file(write("a.msh", kGmsh22), 0.0);
+    const MeshData b = read_mesh_file(write("b.msh", kGmsh41), 0.0);
+    EXPECT_EQ(a.dim, 3);
+    ASSERT_EQ(a.cells.size(), 2u);  // the surface triangle is dropped when tets exist
+    EXPECT_EQ(a.points, b.points);
+    EXPECT_EQ(a.cells, b.cells);
+}
+
+TEST_F(MeshIo, GmshTrianglesGiveA2DMesh) {
+    const MeshData m = read_mesh_file(write("t.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n"
+                                                     "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n$Elements\n2\n"
+                                                     "1 2 0 1 2 3\n2 2 0 1 3 4\n$EndElements\n"),
+                                      0.0);
+    EXPECT_EQ(m.dim, 2);
+    EXPECT_EQ(m.cells.size(), 2u);
+}
+
+TEST_F(MeshIo, TetgenOneAndZeroBased) {
+    write("one.node", "# comment\n5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n");
+    const std::string one = write("one.ele", "2 4 0\n1 1 2 3 4\n2 2 5 3 4\n");
+    write("zero.node", "5 3 1 1\n0 0 0 0 7 1\n1 1 0 0 7 1\n2 0 1 0 7 1\n3 0 0 1 7 1\n4 1 1 1 7 1\n");
+    const std::string zero = write("zero.ele", "2 4 1\n0 0 1 2 3 5\n1 1 4 2 3 5\n");
+    const MeshData a = read_mesh_file(one, 0.0), b = read_mesh_file(zero, 0.0);
+    EXPECT_EQ(a.cells, b.cells);
+    EXPECT_EQ(a.points, b.points);
+    EXPECT_NEAR(total_volume(a), 1.0 / 6.0 + 1.0 / 3.0, 1e-15);  // unit corner tet + (1,0,0)(1,1,1)(0,1,0)(0,0,1)
+}
+
+TEST_F(MeshIo, ObjCubeTetrahedralizedByTetgen) {
+    const MeshData m = read_mesh_file(write("cube.obj", kCubeObj), 0.01);
+    EXPECT_EQ(m.dim, 3);
+    EXPECT_GT(m.cells.size(), 50u) << "the volume bound 0.01 m^3 forces refinement";
+    EXPECT_NEAR(total_volume(m), 1.0, 1e-9);
+}
+
+TEST_F(MeshIo, AsciiStlCubeTetrahedralizedByTetgen) {
+    std::string stl = "solid cube\n";
+    const double v[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    const int tris[12][3] = {{0, 3, 2}, {0, 2, 1}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                             {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+    for (const auto& t : tris) {
+        stl += "facet normal 0 0 0\nouter loop\n";
+        for (int k : t) stl += "vertex " + std::to_string(v[k][0]) + " " + std::to_string(v[k][1]) + " " + std::to_string(v[k][2]) + "\n";
+        stl += "endloop\nendfacet\n";
+    }
+    stl += "endsolid cube\n";
+    const MeshData m = read_mesh_file(write("cube.stl", stl), 0.0);
+    EXPECT_NEAR(total_volume(m), 1.0, 1e-9);
+}
+
+struct BadCase {
+    const char* name;
+    const char* file;
+    const char* text;
+    const char* expect;  ///< phrase the message must contain
+};
+
+const BadCase kBad[] = {
+    {"unknown extension", "m.vtk", "x", "unknown mesh format"},
+    {"empty gmsh", "e.msh", "", "no $MeshFormat"},
+    {"gmsh binary", "b.msh", "$MeshFormat\n2.2 1 8\n$EndMeshFormat\n", "binary"},
+    {"gmsh version 3", "v3.msh", "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n$Nodes\n", "version 3"},
+    {"gmsh missing EndNodes", "n.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n$Elements\n", "expected $EndNodes"},
+    {"gmsh node count too large", "c.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1000000000000\n1 0 0 0\n", "does not fit"},
+    {"gmsh non-numeric coordinate", "x.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 abc 0\n$EndNodes\n", "\"abc\" is not a number"},
+    {"gmsh NaN coordinate", "nan.msh",
+     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 nan\n$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n",
+     "NaN or infinite"},
+    {"gmsh undefined node", "u.msh",
+     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n$Elements\n1\n1 4 0 1 2 3 9\n$EndElements\n",
+     "node 9, which $Nodes does not define"},
+    {"gmsh repeated node", "r.msh",
+     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n$Elements\n1\n1 4 0 1 2 3 3\n$EndElements\n",
+     "appears twice"},
+    {"gmsh inverted tet", "i.msh",
+     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n$Elements\n1\n1 4 0 1 3 2 4\n$EndElements\n",
+     "is inverted"},
+    {"gmsh flat tet", "f.msh",
+     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 1 1 0\n$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n",
+     "degenerate"},
+    {"gmsh no volume elements", "l.msh",
+     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 1 0 0\n$EndNodes\n$Elements\n1\n1 1 0 1 2\n$EndElements\n",
+     "no tetrahedra"},
+    {"tetgen 10-node", "q.ele", "1 10 0\n1 1 2 3 4 5 6 7 8 9 10\n", "10-node tetrahedra"},
+    {"tetgen index out of range", "o.ele", "1 4 0\n1 1 2 3 7\n", "out of range"},
+    {"obj open surface", "open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n", "not closed"},
+    {"obj index out of range", "oor.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 5\n", "out of range"},
+    {"stl truncated binary", "t.stl", "", "binary STL"},
+};
+
+TEST_F(MeshIo, BadInputsAreRejectedWithTheirReason) {
+    // The TetGen cases need a valid .node beside the .ele.
+    write("q.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+    write("o.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+    for (const BadCase& c : kBad) {
+        std::string text = c.text;
+        if (std::string(c.file) == "t.stl") {
+            text = std::string(80, ' ');
+            const uint32_t n = 12;
+            text.append(reinterpret_cast<const char*>(&n), 4);
+            text += std::string(100, '\0');  // 2 of the 12 announced triangles
+        }
+        const std::string path = write(c.file, text);
+        const std::string msg = error_of([&] { read_mesh_file(path, 0.0); });
+        EXPECT_NE(msg.find(c.expect), std::string::npos) << c.name << ": " << msg;
+        EXPECT_NE(msg.find(c.file), std::string::npos) << c.name << " names the file: " << msg;
+    }
+}
+
+TEST_F(MeshIo, MissingFileIsAnError) {
+    const std::string msg = error_of([&] { read_mesh_file((dir_ / "none.msh").string(), 0.0); });
+    EXPECT_NE(msg.find("cannot open"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace xcut

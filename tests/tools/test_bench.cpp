@@ -1,0 +1,69 @@
+// The benchmarks run in a tiny configuration: their figures are finite and positive and their
+// CSVs have the documented columns (run time itself is never asserted). The perf suite's tests are
+// in test_bench_perf.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <fstream>
+
+#include "tools/bench/bench_cut.h"
+#include "tools/bench/bench_mapping.h"
+
+namespace xcut {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> csv_lines(const std::string& path) {
+    std::ifstream in(path);
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    return lines;
+}
+
+void expect_finite_positive_row(const std::string& row) {
+    std::stringstream ss(row);
+    for (std::string cell; std::getline(ss, cell, ',');) {
+        const double v = std::stod(cell);
+        EXPECT_TRUE(std::isfinite(v)) << row;
+        EXPECT_GE(v, 0.0) << row;
+    }
+}
+
+TEST(Bench, CutSuiteTinyRun) {
+    CutBenchOptions o;
+    o.sizes = {1500};
+    o.speed = 0.2;
+    o.csv = (fs::temp_directory_path() / ("xcut_bench_cut_" + std::to_string(::getpid()) + ".csv")).string();
+    ASSERT_EQ(cut_bench_command(o), 0);
+    const auto lines = csv_lines(o.csv);
+    ASSERT_EQ(lines.size(), 3u);  // header, neighbourhood search, BVH search
+    EXPECT_EQ(lines[0], "search,tets,quads,splits,quad_p50_ms,quad_p99_ms,update_p50_ms,update_p99_ms,delay_p50_s,delay_p99_s");
+    EXPECT_EQ(lines[1].rfind("neighbourhood,", 0), 0u);
+    EXPECT_EQ(lines[2].rfind("bvh,", 0), 0u);
+    for (size_t i = 1; i < lines.size(); ++i) expect_finite_positive_row(lines[i].substr(lines[i].find(',') + 1));
+    const auto rows = run_cut_bench(o);
+    EXPECT_GT(rows[0].splits, 0) << "the blade cuts the block";
+    EXPECT_GT(rows[0].quads, 1);
+    o.bvh_every_quad = true;
+    EXPECT_EQ(run_cut_bench(o)[0].splits, rows[0].splits) << "both searches find the same elements";
+    fs::remove(o.csv);
+}
+
+TEST(Bench, MappingSuiteTinyRun) {
+    MappingBenchOptions o;
+    o.subdivisions = {0};
+    o.repeats = 2;
+    o.csv = (fs::temp_directory_path() / ("xcut_bench_map_" + std::to_string(::getpid()) + ".csv")).string();
+    ASSERT_EQ(mapping_bench_command(o), 0);
+    const auto lines = csv_lines(o.csv);
+    ASSERT_EQ(lines.size(), 3u);  // header, 1 and 2 threads
+    EXPECT_EQ(lines[0], "subdivisions,vertices,triangles,threads,update_ms,ns_per_vertex,rebind_us_per_split");
+    for (size_t i = 1; i < lines.size(); ++i) expect_finite_positive_row(lines[i]);
+    fs::remove(o.csv);
+}
+
+}  // namespace
+}  // namespace xcut

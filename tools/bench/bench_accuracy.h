@@ -1,0 +1,66 @@
+#pragma once
+// `xcut bench --suite accuracy`: run time against error (docs/verification.md problems 3, 5 and 6) at
+// several resolutions, the XFEM cutter beside the snapping-and-subdivision baseline:
+//  3. cantilever under its own weight (no cut, one series "uncut": both cutters would solve the same
+//     uncut mesh), error = |delta - delta_beam| / delta_beam;
+//  5. block with a partial planar cut, pulled apart, error = relative L2 norm of the displacement at
+//     fixed sample points against the conforming fine-mesh reference (tools/studies/crack_reference.h,
+//     cached under the build directory);
+//  6. single edge notched tension plate, error = |CMOD - CMOD_handbook| / CMOD_handbook.
+// Each run: build the mesh, cut it (scripted planar cut), solve the static equilibrium; run time =
+// wall time of cut + solve. Writes one CSV row per run and, with python3-matplotlib, one PNG per
+// problem (error against run time, log-log; tools/report/plot_accuracy.py). The CSV is complete without it.
+#include <string>
+#include <vector>
+
+namespace xcut {
+
+struct AccuracyBenchOptions {
+    std::vector<int> problems{3, 5, 6};
+    std::vector<int> cantilever_levels{1, 2, 3, 4, 5};  ///< n: 20n x n x n cells
+    std::vector<int> block_levels{8, 12, 16, 24, 32};    ///< cells along the block's length (multiples of 4)
+    int block_reference = 80;                            ///< cells along L of the conforming reference
+    std::vector<int> plate_levels{10, 20, 40, 80, 160};  ///< cells across the plate's width (even)
+    std::string csv = "results/bench_accuracy.csv";      ///< PNGs beside it: accuracy_problem<k>.png
+    std::string cache_dir;                               ///< default: <executable's directory>/accuracy_cache
+    /// One thread by default: the suite compares methods, not parallel scaling, and single-thread
+    /// timings stay meaningful on a shared machine (an oversubscribed OpenMP team can be 20x slower).
+    int threads = 1;
+    bool plots = true;
+    bool progress = true;
+
+    /// The CI configuration: every problem at 3-4 small resolutions, a coarse reference (seconds).
+    static AccuracyBenchOptions tiny();
+};
+
+struct AccuracyRow {
+    int problem = 0;
+    std::string cutter;           ///< xfem, snap; "uncut" for problem 3
+    int resolution = 0;           ///< the level: cells across (3), along L (5), across W (6)
+    double element_size = 0.0;    ///< cell edge along the resolution's axis [m]
+    int dofs = 0;                 ///< dim x DOF nodes after the cut
+    int split = 0;                ///< mesh elements the cut split
+    double run_s = 0.0;           ///< wall time of cut + static solve [s]
+    int newton = 0, cg = 0;       ///< Newton iterations, CG iterations summed
+    double value = 0.0;           ///< tip deflection (3), RMS sample displacement (5), CMOD (6) [m]
+    double reference = 0.0;       ///< its reference [m]
+    double error = 0.0;           ///< relative error [-]
+};
+
+/// Runs every problem at every level; throws std::invalid_argument on a bad option.
+std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& options);
+/// Columns: problem,cutter,resolution,element_size_m,dofs,split,run_time_s,newton,cg_iterations,
+/// value_m,reference_m,error; then the summary lines, each as a comment ("# ...").
+void write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>& rows,
+                        const std::vector<std::string>& summary = {});
+/// XFEM's error over snapping's at equal run time on `problem`: the geometric mean, over the XFEM
+/// runs inside snapping's run-time range, of XFEM's error / snapping's error interpolated
+/// (log-log) at that run time; 0 when the ranges do not overlap. Below 1: XFEM's front is lower.
+double front_ratio(const std::vector<AccuracyRow>& rows, int problem);
+/// The verdicts, one line each: problem 3's finest and Richardson-extrapolated deflection, problem
+/// 5's front ratio against its target (below 1), problem 6's finest CMOD against the 5 % tolerance.
+std::vector<std::string> accuracy_summary(const std::vector<AccuracyRow>& rows);
+/// Prints the table and the targets, writes the CSV (and plots); returns 0.
+int accuracy_bench_command(const AccuracyBenchOptions& options);
+
+}  // namespace xcut

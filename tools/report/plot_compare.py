@@ -1,0 +1,117 @@
+#!/usr/bin/env python3
+"""Plots of `xcut compare` (docs/compare.md) from the CSVs in DIR: XFEM against snapping and
+subdivision. Writes dofs_vs_cuts.png (paper Fig. 9 / 10), crossing_delay.png (Fig. 12),
+steps.png (CG iterations and step time per step) and profile.png (wall time per system).
+
+Usage: python3 tools/report/plot_compare.py DIR
+"""
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+COLOURS = {"xfem": "tab:blue", "snap": "tab:red"}
+
+
+def rows(directory, name):
+    with open(os.path.join(directory, name), newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def column(table, key, cast=float):
+    return [cast(r[key]) for r in table]
+
+
+def dofs_vs_cuts(d):
+    t = rows(d, "dofs_vs_cuts.csv")
+    fig, ax = plt.subplots(figsize=(6, 4))
+    cuts = column(t, "cuts", int)
+    for c in ("xfem", "snap"):
+        ax.plot(cuts, column(t, c + "_added", int), "o-", color=COLOURS[c], label=c)
+    ax.set_xlabel("cuts")
+    ax.set_ylabel("DOFs added")
+    ax.set_title("Generation of DOFs: XFEM vs snapping and subdivision")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "dofs_vs_cuts.png"), dpi=120)
+
+
+def crossing_delay(d):
+    t = rows(d, "crossing_delay.csv")
+    if not t:
+        return
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    sizes = sorted({float(r["element_size_m"]) for r in t if r["cutter"] == "xfem"})
+    for c in ("xfem", "snap"):
+        for i, h in enumerate(sizes):
+            sel = [r for r in t if r["cutter"] == c and abs(float(r["element_size_m"]) - h) < 1e-12]
+            sel.sort(key=lambda r: float(r["speed_m_s"]))
+            style = ["o-", "s--", "^:"][i % 3]
+            label = "{} h = {:.2f} mm".format(c, h * 1e3)
+            axes[0].plot(column(sel, "speed_m_s"), column(sel, "delay_mean_s"), style, color=COLOURS[c], label=label)
+            axes[1].plot(column(sel, "speed_m_s"), column(sel, "delay_wall_mean_ms"), style, color=COLOURS[c], label=label)
+    axes[0].set_ylabel("mean crossing delay, simulated [s]")
+    axes[1].set_ylabel("mean crossing delay, wall [ms]")
+    for ax in axes:
+        ax.set_xlabel("blade speed [m/s]")
+        ax.set_xscale("log")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7)
+    fig.suptitle("Crossing delay against blade speed and mesh size")
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "crossing_delay.png"), dpi=120)
+
+
+def steps(d):
+    t = rows(d, "steps.csv")
+    fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    time = column(t, "time_s")
+    for c in ("xfem", "snap"):
+        axes[0].plot(time, column(t, c + "_dofs", int), color=COLOURS[c], label=c)
+        axes[1].plot(time, column(t, c + "_cg_iterations", int), color=COLOURS[c], lw=0.7, label=c)
+        axes[2].plot(time, column(t, c + "_step_ms"), color=COLOURS[c], lw=0.7, label=c)
+    axes[0].set_ylabel("DOFs")
+    axes[1].set_ylabel("CG iterations")
+    axes[2].set_ylabel("step time [ms]")
+    axes[2].set_xlabel("simulated time [s]")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    axes[0].legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "steps.png"), dpi=120)
+
+
+def profile(d):
+    t = rows(d, "profile.csv")
+    fig, ax = plt.subplots(figsize=(8, 4))
+    names = column(t, "system", str)
+    y = range(len(names))
+    ax.barh([i - 0.2 for i in y], column(t, "xfem_ms_per_step"), height=0.4, color=COLOURS["xfem"], label="xfem")
+    ax.barh([i + 0.2 for i in y], column(t, "snap_ms_per_step"), height=0.4, color=COLOURS["snap"], label="snap")
+    ax.set_yticks(list(y))
+    ax.set_yticklabels(names)
+    ax.invert_yaxis()
+    ax.set_xlabel("wall time per step [ms]")
+    ax.set_title("Time per system")
+    ax.grid(alpha=0.3, axis="x")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "profile.png"), dpi=120)
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    d = sys.argv[1]
+    for plot in (dofs_vs_cuts, crossing_delay, steps, profile):
+        plot(d)
+    print("plots: {}/{{dofs_vs_cuts,crossing_delay,steps,profile}}.png".format(d))
+
+
+if __name__ == "__main__":
+    main()

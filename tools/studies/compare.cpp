@@ -1,0 +1,334 @@
+#include "tools/studies/compare.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fmt/os.h>
+#include <map>
+
+#include "tools/bench/bench_cut.h"
+#include "systems/kernels/element_bvh.h"
+#include "engine/error.h"
+#include "tools/studies/mesh_quality.h"
+#include "engine/io/output.h"
+#include "tools/studies/plot_script.h"
+#include "engine/parallel.h"
+#include "systems/pipeline.h"
+#include "systems/cut_system.h"
+#include "systems/enrichment_system.h"
+#include "systems/mapping_system.h"
+#include "systems/snap_cut_system.h"
+#include "systems/tool_system.h"
+
+namespace xcut {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kCutters[2] = {"xfem", "snap"};
+
+int first_blade(const Scene& scene) {
+    for (int i = 0; i < scene.tools.count(); ++i)
+        if (scene.tools.has_blade[i]) return i;
+    throw InputError(scene.file, "tools", "xcut compare needs a tool with a blade: the incision it repeats");
+}
+
+/// Tool b of `tb`, `n` times (each per-tool array repeated).
+ToolBodies replicate_tool(const ToolBodies& tb, int b, int n) {
+    ToolBodies out;
+    auto rep = [&](auto& dst, const auto& src) {
+        if (static_cast<int>(src.size()) > b) dst.assign(n, src[b]);
+    };
+    rep(out.name, tb.name), rep(out.trajectory, tb.trajectory), rep(out.position, tb.position);
+    rep(out.orientation, tb.orientation), rep(out.has_blade, tb.has_blade), rep(out.blade_tip, tb.blade_tip);
+    rep(out.blade_heel, tb.blade_heel), rep(out.shape, tb.shape), rep(out.contact_stiffness, tb.contact_stiffness);
+    rep(out.contact_damping, tb.contact_damping), rep(out.velocity, tb.velocity);
+    rep(out.reaction_force, tb.reaction_force), rep(out.reaction_torque, tb.reaction_torque);
+    return out;
+}
+
+int dofs_of(const World& w) { return w.elements.dim * w.nodes.count(); }
+int splits_of(const World& w) { return w.cuts.count() + w.snap.elements_split; }
+
+double mean(const std::vector<double>& v) {
+    double s = 0.0;
+    for (double x : v) s += x;
+    return v.empty() ? 0.0 : s / v.size();
+}
+
+/// One cutter over the repeated incisions, with the full pipeline (physics included).
+struct Run {
+    int dim = 3;
+    int dofs0 = 0;
+    std::vector<int> dofs_after, split_after;  ///< per incision
+    std::vector<double> time, step_ms, cg;
+    std::vector<int> dofs;
+    std::vector<std::string> systems;
+    std::vector<double> system_ms;             ///< summed over the run
+    MeshQuality quality;
+    double wall_s = 0.0;
+};
+
+Run run_incisions(const Incisions& inc, const char* cutter, double threshold_deg, bool progress) {
+    Scene scene = inc.scene;
+    scene.cutter = cutter;
+    auto sim = make_simulation(scene, /*with_output=*/false);
+    World& w = sim->world;
+    Run r;
+    r.dofs0 = dofs_of(w);
+    r.dim = w.elements.dim;
+    r.systems = w.metrics.system_names;
+    r.system_ms.assign(r.systems.size(), 0.0);
+    ProgressBar bar(fmt::format("compare {}", cutter), progress ? scene.steps : 0);
+    size_t next = 0;
+    for (int i = 0; i < scene.steps; ++i) {
+        step_simulation(*sim);
+        const StepMetrics& m = w.metrics.current;
+        r.time.push_back(w.time), r.step_ms.push_back(m.step_ms), r.cg.push_back(m.cg_iterations);
+        r.dofs.push_back(dofs_of(w));
+        r.wall_s += m.step_ms * 1e-3;
+        for (size_t k = 0; k < r.systems.size(); ++k) r.system_ms[k] += m.system_ms[k];
+        for (; next < inc.end_time.size() && w.time >= inc.end_time[next] - 1e-9; ++next)
+            r.dofs_after.push_back(dofs_of(w)), r.split_after.push_back(splits_of(w));
+        bar.update(i + 1);
+    }
+    bar.finish();
+    for (; next < inc.end_time.size(); ++next) r.dofs_after.push_back(dofs_of(w)), r.split_after.push_back(splits_of(w));
+    r.quality = mesh_quality(w, threshold_deg);
+    return r;
+}
+
+/// One point of the crossing-delay sweep: the cutter alone (tool, CutSystem, the cutter's split and
+/// surface update; no dynamics) along the scene's incision.
+struct DelayRow {
+    std::string cutter;
+    double mesh_scale = 1, speed_factor = 1, element_size = 0, speed = 0;
+    int elements = 0, splits = 0;
+    double mean_s = 0, p99_s = 0, wall_mean_ms = 0, wall_p99_ms = 0;
+};
+
+DelayRow delay_run(const Scene& base, int blade, const char* cutter, double mesh_scale, double speed_factor) {
+    Scene s = base;
+    s.cutter = cutter;
+    s.tools = replicate_tool(base.tools, blade, 1);
+    for (Keyframe& k : s.tools.trajectory[0]) k.time /= speed_factor;
+    if (!s.mesh.generator.empty()) {
+        const int axes = s.mesh.generator == "plate" ? 2 : 3;
+        for (int a = 0; a < axes; ++a)
+            s.mesh.grid.cells[a] = std::max(1, static_cast<int>(std::lround(s.mesh.grid.cells[a] / mesh_scale)));
+    }
+    World w = build_world(s);
+    if (s.visual_subdivisions >= 0) build_surface(w, w.visual, s.visual_subdivisions);
+    ElementBvh bvh;
+    prepare_cut_search(w, bvh);
+    prepare_enrichment(w);
+    if (w.snap.enabled) prepare_snap_cut(w);
+    const auto& keys = s.tools.trajectory[0];
+    const double dt = s.solver.dt;
+    const int steps = static_cast<int>(std::ceil(keys.back().time / dt)) + 3;
+    for (int i = 0; i <= steps; ++i) {
+        w.time = i * dt;
+        advance_tools(w, w.time);
+        run_cut_system(w, bvh);
+        if (w.snap.enabled) {
+            apply_snap_events(w);
+        } else {
+            apply_cut_events(w);
+            rebind_cut_vertices(w);
+        }
+    }
+    DelayRow row;
+    row.cutter = cutter;
+    row.mesh_scale = mesh_scale;
+    row.speed_factor = speed_factor;
+    row.element_size = w.cut_state.mean_edge;
+    row.elements = w.mesh_elements;
+    const Keyframe &a = keys[keys.size() - 2], &b = keys.back();
+    row.speed = (b.position - a.position).norm() / (b.time - a.time);
+    const CutState& cs = w.cut_state;
+    row.splits = static_cast<int>(cs.delay_sim.size());
+    row.mean_s = mean(cs.delay_sim);
+    row.p99_s = percentile(cs.delay_sim, 0.99);
+    std::vector<double> wall_ms;
+    for (double d : cs.delay_wall) wall_ms.push_back(d * 1e3);
+    row.wall_mean_ms = mean(wall_ms);
+    row.wall_p99_ms = percentile(wall_ms, 0.99);
+    return row;
+}
+
+void write_csvs(const std::string& dir, const Incisions& inc, const Run run[2], const std::vector<DelayRow>& delays) {
+    auto dofs = fmt::output_file(dir + "/dofs_vs_cuts.csv");
+    dofs.print("cuts,time_s,xfem_dofs,snap_dofs,xfem_added,snap_added,xfem_split,snap_split\n");
+    dofs.print("0,0,{},{},0,0,0,0\n", run[0].dofs0, run[1].dofs0);
+    for (size_t k = 0; k < inc.end_time.size(); ++k)
+        dofs.print("{},{:.6g},{},{},{},{},{},{}\n", k + 1, inc.end_time[k], run[0].dofs_after[k], run[1].dofs_after[k],
+                   run[0].dofs_after[k] - run[0].dofs0, run[1].dofs_after[k] - run[1].dofs0, run[0].split_after[k],
+                   run[1].split_after[k]);
+    auto steps = fmt::output_file(dir + "/steps.csv");
+    steps.print("step,time_s,xfem_dofs,snap_dofs,xfem_cg_iterations,snap_cg_iterations,xfem_step_ms,snap_step_ms\n");
+    for (size_t i = 0; i < run[0].time.size(); ++i)
+        steps.print("{},{:.6g},{},{},{},{},{:.4f},{:.4f}\n", i + 1, run[0].time[i], run[0].dofs[i], run[1].dofs[i],
+                    run[0].cg[i], run[1].cg[i], run[0].step_ms[i], run[1].step_ms[i]);
+    auto profile = fmt::output_file(dir + "/profile.csv");
+    profile.print("system,xfem_ms,snap_ms,xfem_ms_per_step,snap_ms_per_step\n");
+    std::vector<std::string> names = run[0].systems;
+    for (const auto& n : run[1].systems)
+        if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+    for (const auto& n : names) {
+        double ms[2] = {0.0, 0.0};
+        for (int c = 0; c < 2; ++c) {
+            const auto it = std::find(run[c].systems.begin(), run[c].systems.end(), n);
+            if (it != run[c].systems.end()) ms[c] = run[c].system_ms[it - run[c].systems.begin()];
+        }
+        const double steps_run = std::max<size_t>(1, run[0].time.size());
+        profile.print("{},{:.3f},{:.3f},{:.5f},{:.5f}\n", n, ms[0], ms[1], ms[0] / steps_run, ms[1] / steps_run);
+    }
+    auto quality = fmt::output_file(dir + "/quality.csv");
+    quality.print("cutter,elements,min_angle_deg,min_volume_m3,min_effective_volume_m3,below_threshold\n");
+    for (int c = 0; c < 2; ++c) {
+        const MeshQuality& q = run[c].quality;
+        quality.print("{},{},{:.6g},{:.6g},{:.6g},{}\n", kCutters[c], q.elements, q.min_angle_deg, q.min_volume,
+                      q.min_effective_volume, q.below_threshold);
+    }
+    auto delay = fmt::output_file(dir + "/crossing_delay.csv");
+    delay.print("cutter,mesh_scale,elements,element_size_m,speed_m_s,splits,delay_mean_s,delay_p99_s,delay_wall_mean_ms,"
+                "delay_wall_p99_ms\n");
+    for (const DelayRow& d : delays)
+        delay.print("{},{},{},{:.6g},{:.6g},{},{:.6g},{:.6g},{:.6g},{:.6g}\n", d.cutter, d.mesh_scale, d.elements,
+                    d.element_size, d.speed, d.splits, d.mean_s, d.p99_s, d.wall_mean_ms, d.wall_p99_ms);
+}
+
+}  // namespace
+
+Incisions repeated_incisions(const Scene& scene, int cuts, double spacing) {
+    const int b = first_blade(scene);
+    const auto& keys = scene.tools.trajectory[b];
+    const Vec3 path = keys.back().position - keys.front().position;
+    const Vec3 edge = keys.front().orientation * (scene.tools.blade_heel[b] - scene.tools.blade_tip[b]);
+    const Vec3 across = path.cross(edge);
+    if (!(across.norm() > 0.0))
+        throw InputError(scene.file, "tools", "the blade's path must not be along its edge: no sideways direction");
+    const Vec3 side = across.normalized(), up = edge.normalized();
+    const World body = build_world(scene);
+    Incisions out;
+    out.spacing = spacing;
+    if (!(spacing > 0.0)) {
+        double lo = 1e300, hi = -1e300;
+        for (const Vec3& X : body.nodes.rest) lo = std::min(lo, X.dot(side)), hi = std::max(hi, X.dot(side));
+        out.spacing = std::min(1.25 * mean_edge_length(body), 0.9 * (hi - lo) / cuts);
+    }
+    // Depth of the body's top (along the blade edge) under an incision offset by o: the highest node
+    // within half a spacing of the offset path, between the path's ends.
+    const double c0 = keys.front().position.dot(side), a0 = keys.front().position.dot(path.normalized()),
+                 a1 = keys.back().position.dot(path.normalized());
+    auto top = [&](double o) {
+        double t = -1e300;
+        for (const Vec3& X : body.nodes.rest) {
+            const double along = X.dot(path.normalized());
+            if (std::abs(X.dot(side) - c0 - o) <= 0.5 * out.spacing && along >= std::min(a0, a1) && along <= std::max(a0, a1))
+                t = std::max(t, X.dot(up));
+        }
+        return t;
+    };
+    const double top0 = top(0.0);
+    const double slot = keys.back().time - keys.front().time;
+    out.scene = scene;
+    out.scene.tools = replicate_tool(scene.tools, b, cuts);
+    for (int k = 0; k < cuts; ++k) {
+        const double o = out.spacing * ((k + 1) / 2) * (k % 2 == 1 ? 1.0 : -1.0);
+        const double t = top(o), lift = t > -1e299 && top0 > -1e299 ? t - top0 : 0.0;
+        out.scene.tools.name[k] = fmt::format("{}_{}", scene.tools.name[b], k);
+        for (Keyframe& key : out.scene.tools.trajectory[k]) {
+            key.time += k * slot;
+            key.position += o * side + lift * up;
+        }
+        out.scene.tools.position[k] = out.scene.tools.trajectory[k].front().position;
+        out.end_time.push_back(keys.back().time + k * slot + 2.0 * scene.solver.dt);
+    }
+    const double tail = std::max(scene.steps * scene.solver.dt - keys.back().time, 3.0 * scene.solver.dt);
+    out.scene.steps = static_cast<int>(std::ceil((keys.back().time + (cuts - 1) * slot + tail) / scene.solver.dt - 1e-9));
+    return out;
+}
+
+int compare_command(const CompareOptions& o) {
+    set_thread_count(o.threads);
+    const Scene scene = load_scene(o.scene, o.overrides);
+    const int blade = first_blade(scene);
+    const Incisions inc = repeated_incisions(scene, o.cuts, o.spacing);
+    const std::string dir = o.output.empty() ? "out/" + scene.name + "/compare" : o.output;
+    fs::create_directories(dir);
+    fmt::print("compare {}: {} incisions {:.3g} mm apart, {} steps of {} s, {} threads; xfem then snap (threshold {})\n",
+               scene.name, o.cuts, inc.spacing * 1e3, inc.scene.steps, scene.solver.dt, thread_count(), scene.snap_threshold);
+    Run run[2];
+    for (int c = 0; c < 2; ++c) run[c] = run_incisions(inc, kCutters[c], o.quality_threshold_deg, !o.quiet);
+
+    std::vector<DelayRow> delays;
+    if (o.delay_sweep) {
+        const std::vector<double> scales = scene.mesh.generator.empty() ? std::vector<double>{1.0}
+                                                                        : std::vector<double>{1.5, 1.0, 0.75};
+        ProgressBar bar("crossing delay", o.quiet ? 0 : static_cast<int>(scales.size() * 4 * 2));
+        for (double m : scales)
+            for (double v : {0.5, 1.0, 2.0, 4.0})
+                for (const char* c : kCutters) {
+                    delays.push_back(delay_run(scene, blade, c, m, v));
+                    bar.update(static_cast<int>(delays.size()));
+                }
+        bar.finish();
+    }
+    write_csvs(dir, inc, run, delays);
+
+    // The one-screen table.
+    const int n = o.cuts;
+    const double added[2] = {double(run[0].dofs_after.back() - run[0].dofs0), double(run[1].dofs_after.back() - run[1].dofs0)};
+    auto row = [](const std::string& label, const std::string& x, const std::string& s, const std::string& ratio = "") {
+        fmt::print("  {:<34}{:>14}{:>14}{:>12}\n", label, x, s, ratio);
+    };
+    auto num = [](double v) { return fmt::format("{:.4g}", v); };
+    auto ratio = [](double a, double b) { return b != 0.0 ? fmt::format("{:.3f}", a / b) : std::string("-"); };
+    fmt::print("\n{} ({}D): XFEM against snapping and subdivision, {} incisions\n", scene.name, run[0].dim, n);
+    row("", "xfem", "snap", "xfem/snap");
+    row("DOFs before cutting", num(run[0].dofs0), num(run[1].dofs0));
+    row(fmt::format("DOFs after {} cuts", n), num(run[0].dofs_after.back()), num(run[1].dofs_after.back()),
+        ratio(run[0].dofs_after.back(), run[1].dofs_after.back()));
+    row(fmt::format("DOFs added by {} cuts", n), num(added[0]), num(added[1]), ratio(added[0], added[1]));
+    row("elements split", num(run[0].split_after.back()), num(run[1].split_after.back()));
+    row(fmt::format("min {} angle [deg]", run[0].dim == 2 ? "triangle" : "dihedral"),
+        fmt::format("{:.2f}", run[0].quality.min_angle_deg), fmt::format("{:.2f}", run[1].quality.min_angle_deg));
+    row(fmt::format("elements below {:g} deg", o.quality_threshold_deg), num(run[0].quality.below_threshold),
+        num(run[1].quality.below_threshold));
+    row("min element volume [m^3]", fmt::format("{:.3e}", run[0].quality.min_volume), fmt::format("{:.3e}", run[1].quality.min_volume));
+    row("min effective volume V*w [m^3]", fmt::format("{:.3e}", run[0].quality.min_effective_volume),
+        fmt::format("{:.3e}", run[1].quality.min_effective_volume));
+    row("step time mean [ms]", fmt::format("{:.2f}", mean(run[0].step_ms)), fmt::format("{:.2f}", mean(run[1].step_ms)),
+        ratio(mean(run[0].step_ms), mean(run[1].step_ms)));
+    row("step time p99 [ms]", fmt::format("{:.2f}", percentile(run[0].step_ms, 0.99)),
+        fmt::format("{:.2f}", percentile(run[1].step_ms, 0.99)),
+        ratio(percentile(run[0].step_ms, 0.99), percentile(run[1].step_ms, 0.99)));
+    row("CG iterations per step, mean", fmt::format("{:.1f}", mean(run[0].cg)), fmt::format("{:.1f}", mean(run[1].cg)));
+    const DelayRow* at_scene[2] = {nullptr, nullptr};
+    for (const DelayRow& d : delays)
+        if (d.mesh_scale == 1.0 && d.speed_factor == 1.0) at_scene[d.cutter == "snap" ? 1 : 0] = &d;
+    if (at_scene[0] && at_scene[1])
+        row("crossing delay mean [s] (wall [ms])", fmt::format("{:.3f} ({:.1f})", at_scene[0]->mean_s, at_scene[0]->wall_mean_ms),
+            fmt::format("{:.3f} ({:.1f})", at_scene[1]->mean_s, at_scene[1]->wall_mean_ms));
+    fmt::print("  target: xfem/snap DOFs added <= 0.5 after 20 cuts\n");
+    auto summary = fmt::output_file(dir + "/summary.csv");
+    summary.print("cutter,cuts,dofs_before,dofs_after,dofs_added,elements_split,min_angle_deg,below_threshold,min_volume_m3,"
+                  "min_effective_volume_m3,step_ms_mean,step_ms_p99,cg_mean,wall_s\n");
+    for (int c = 0; c < 2; ++c)
+        summary.print("{},{},{},{},{},{},{:.6g},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", kCutters[c], n, run[c].dofs0,
+                      run[c].dofs_after.back(), added[c], run[c].split_after.back(), run[c].quality.min_angle_deg,
+                      run[c].quality.below_threshold, run[c].quality.min_volume, run[c].quality.min_effective_volume,
+                      mean(run[c].step_ms), percentile(run[c].step_ms, 0.99), mean(run[c].cg), run[c].wall_s);
+    summary.close();
+    fmt::print("csv: {}/{{dofs_vs_cuts,steps,profile,quality,crossing_delay,summary}}.csv\n", dir);
+
+    if (o.plots) run_plot_script("plot_compare.py", fmt::format("'{}'", dir));
+    return 0;
+}
+
+}  // namespace xcut

@@ -1,0 +1,289 @@
+#include "tools/studies/stress.h"
+
+#include <Eigen/Geometry>
+#include <chrono>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fmt/os.h>
+#include <map>
+#include <random>
+
+#include "engine/io/output.h"
+#include "systems/pipeline.h"
+#include "systems/force_system.h"
+
+namespace xcut {
+namespace {
+
+struct CaseResult {
+    std::string problem, name;
+    int steps = 0, max_cg = 0, nan = 0, lost = 0, open_edges = 0, pinched_edges = 0, cuts = 0;
+    double energy_ratio = 0.0;  ///< max (kinetic + elastic) / work put in
+};
+
+/// Vertices of `s` not bound to a live element or with barycentric coordinates out of range.
+int lost_vertices(const World& w, const SurfaceMesh& s) {
+    int lost = 0;
+    for (int v = 0; v < s.vertex_count(); ++v) {
+        const int e = s.element[v];
+        const bool ok = e >= 0 && e < w.elements.count() && w.elements.weight[e] > 0.0 &&
+                        s.bary[v].minCoeff() >= -1e-9 && s.bary[v].maxCoeff() <= 1.0 + 1e-9 && s.bary[v].allFinite();
+        lost += !ok;
+    }
+    return lost;
+}
+
+/// Surface edges of `s` (3D closed surfaces: each edge used once in each direction) that break
+/// closure: `open` edges are used a different number of times in the two directions (a gap);
+/// `pinched` ones are used equally often, more than once each way (closed, but not 2-manifold:
+/// two crack sheets, or a crack and the skin, meeting at one point).
+struct EdgeDefects {
+    int open = 0, pinched = 0;
+};
+EdgeDefects edge_defects(const SurfaceMesh& s) {
+    std::map<std::pair<int, int>, int> directed;
+    for (const auto& t : s.triangles)
+        for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+    EdgeDefects d;
+    for (const auto& [e, n] : directed) {
+        const auto back = directed.find({e.second, e.first});
+        const int m = back == directed.end() ? 0 : back->second;
+        if (m == 0 || e.first < e.second) {  // each undirected edge once
+            d.open += n != m;
+            d.pinched += n == m && n > 1;
+        }
+    }
+    return d;
+}
+
+/// Steps `sim` `steps` times, recording CG iterations, NaNs and the energy ratio against `work`
+/// (a function of the world: the work put in so far [J]).
+template <class Work>
+void run_steps(Simulation& sim, int steps, Work work, CaseResult& r) {
+    World& w = sim.world;
+    for (int n = 0; n < steps; ++n) {
+        step_simulation(sim);
+        ++r.steps;
+        const StepMetrics& m = w.metrics.current;
+        r.max_cg = std::max(r.max_cg, (m.cg_iterations + m.newton_iterations - 1) / m.newton_iterations);  // per solve
+        bool finite = true;
+        for (const Vec3& x : w.nodes.position) finite = finite && x.allFinite();
+        if (!finite) {
+            ++r.nan;
+            return;
+        }
+        const double put_in = work(w);
+        // Kinetic and elastic energy of the same instant, the step's end (the step's metrics hold the
+        // elastic energy of its start, where the forces were evaluated).
+        if (put_in > 1e-15) r.energy_ratio = std::max(r.energy_ratio, (m.kinetic_energy + elastic_energy_now(w)) / put_in);
+    }
+    r.cuts = w.cuts.count();
+    if (w.elements.dim == 3) {
+        r.lost = lost_vertices(w, w.visual) + lost_vertices(w, w.collision);
+        for (const SurfaceMesh* surface : {&w.visual, &w.collision}) {
+            const EdgeDefects d = edge_defects(*surface);
+            r.open_edges += d.open;
+            r.pinched_edges += d.pinched;
+        }
+    }
+}
+
+Scene block_scene(const Vec3& size, const Eigen::Vector3i& cells) {
+    Scene s;
+    s.name = "stress";
+    s.mesh.generator = "box";
+    s.mesh.grid.size = size;
+    s.mesh.grid.cells = cells;
+    s.solver.cg_tolerance = 1e-8;
+    s.solver.cg_max_iterations = 2 * kStressCgBound;  // past the bound, so that a miss is seen
+    s.output.directory.clear();
+    return s;
+}
+
+}  // namespace
+
+Scene random_cut_scene(std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    Scene s = block_scene(Vec3(0.04, 0.04, 0.004), Eigen::Vector3i(10, 10, 2));
+    s.gravity = Vec3(0, 0, -9.81);
+    s.solver.dt = 0.02;
+    s.solver.damping_mass = 1.0;
+    s.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7, Vec3::Zero()});
+    s.constraints.boxes.push_back({Vec3(0.04 - 1e-9, -1, -1), Vec3(1, 1, 1), 7, Vec3::Zero()});
+    s.visual_subdivisions = 1;
+    s.collision_subdivisions = 0;
+    ToolBodies& tb = s.tools;
+    tb.name = {"scalpel"};
+    tb.has_blade = {1};
+    const double depth = 0.001 + 0.005 * u(rng);            // blade tip below the top [m]
+    const double tilt = (u(rng) - 0.5) * 0.8;               // [rad] about x
+    tb.blade_tip = {Vec3(0, std::sin(tilt) * 0.006, -std::cos(tilt) * depth)};
+    tb.blade_heel = {Vec3(0, -std::sin(tilt) * 0.003, 0.003)};
+    std::vector<Keyframe> keys;
+    for (int k = 0; k < 3; ++k) {
+        Keyframe key;
+        key.time = 0.2 * k;
+        key.position = Vec3(0.04 * u(rng), 0.04 * u(rng), 0.004);
+        key.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(2 * M_PI * u(rng), Vec3::UnitZ()));
+        keys.push_back(key);
+    }
+    tb.trajectory = {keys};
+    tb.position = {keys.front().position};
+    tb.orientation = {keys.front().orientation};
+    return s;
+}
+
+namespace {
+
+std::vector<Vec3> square(const Vec3& centre, const Vec3& normal) {
+    const Vec3 n = normal.normalized(), u = n.unitOrthogonal(), v = n.cross(u);
+    return {centre - u - v, centre + u - v, centre + u + v, centre - u + v};
+}
+
+/// Problem 7: a 20 x 10 x 10 mm block clamped at x = 0 (h = 5 mm), cut through, 50 steps.
+std::vector<CaseResult> slivers() {
+    std::vector<std::pair<std::string, std::pair<Vec3, Vec3>>> cases;
+    for (int k = 1; k <= 9; ++k) {
+        const double delta = std::pow(10.0, -k);
+        cases.push_back({fmt::format("delta=1e-{}", k), {Vec3(0.01 + delta * 0.005, 0.005, 0.005), Vec3(1, 0, 0)}});
+    }
+    cases.push_back({"face", {Vec3(0.01, 0.005, 0.005), Vec3(1, 0, 0)}});
+    cases.push_back({"edge", {Vec3(0.01, 0.0, 0.0), Vec3(1, 0, 0.3)}});
+    cases.push_back({"node", {Vec3(0.01, 0.005, 0.005), Vec3(1, 0.3, 0.2)}});
+    std::vector<CaseResult> out;
+    for (const auto& [name, plane] : cases) {
+        Scene s = block_scene(Vec3(0.02, 0.01, 0.01), Eigen::Vector3i(4, 2, 2));
+        s.gravity = Vec3(0, 0, -9.81);
+        s.solver.dt = 0.01;
+        s.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7, Vec3::Zero()});
+        s.cuts.push_back({0.0, square(plane.first, plane.second), false});
+        s.visual_subdivisions = 0;
+        auto sim = make_simulation(s, false);
+        CaseResult r{"7 slivers", name};
+        run_steps(*sim, 50, [](const World& w) { return w.metrics.current.gravity_work; }, r);
+        out.push_back(r);
+    }
+    return out;
+}
+
+/// Problem 8: one random trajectory's run.
+CaseResult random_cut(std::mt19937_64& rng, int index) {
+    auto sim = make_simulation(random_cut_scene(rng), false);
+    CaseResult r{"8 many cuts", fmt::format("trajectory {}", index)};
+    run_steps(*sim, kRandomCutSteps, [](const World& w) { return w.metrics.current.gravity_work; }, r);
+    return r;
+}
+
+/// Problem 9: large steps on a twisted slab and on a compressed cut block, released, no damping.
+std::vector<CaseResult> large_steps() {
+    std::vector<CaseResult> out;
+    for (double dt : {1e-4, 1e-3, 1e-2, 1e-1}) {
+      for (int newton : {1, kStressNewtonIterations}) {
+        for (const char* kind : {"twist 180", "cut, compressed 50%"}) {
+            const bool twist = kind[0] == 't';
+            Scene s = twist ? block_scene(Vec3(0.04, 0.01, 0.004), Eigen::Vector3i(8, 2, 2))
+                            : block_scene(Vec3(0.02, 0.02, 0.02), Eigen::Vector3i(4, 4, 4));
+            s.solver.dt = dt;
+            s.solver.newton_iterations = newton;
+            s.solver.newton_tolerance = 1e-9;
+            if (!twist) s.cuts.push_back({0.0, square(Vec3(0.0103, 0.01, 0.01), Vec3(1, 0.1, 0.05)), false});
+            s.visual_subdivisions = 0;
+            auto sim = make_simulation(s, false);
+            World& w = sim->world;
+            for (int i = 0; i < w.nodes.count(); ++i) {  // the deformation put in, then released
+                Vec3& x = w.nodes.position[i];
+                if (twist) {
+                    const double angle = M_PI * x.x() / 0.04;
+                    const Vec3 c(x.x(), 0.005, 0.002);
+                    x = c + Eigen::AngleAxisd(angle, Vec3::UnitX()) * (x - c);
+                } else {
+                    x.z() *= 0.5;
+                }
+            }
+            double put_in = 0.0;
+            if (twist) {
+                update_rotations(w);
+                compute_forces(w);
+                put_in = w.forces.elastic_energy;
+            } else {  // the cut is made in the first step, on the compressed block: count from there
+                step_simulation(*sim);
+                put_in = w.metrics.current.kinetic_energy + elastic_energy_now(w);
+            }
+            CaseResult r{newton > 1 ? "9 large steps, Newton" : "9 large steps", fmt::format("{} dt={:g}", kind, dt)};
+            const int steps = std::min(200, static_cast<int>(std::ceil(0.5 / dt)));
+            run_steps(*sim, steps, [put_in](const World&) { return put_in; }, r);
+            out.push_back(r);
+        }
+      }
+    }
+    return out;
+}
+
+void tally(StressSummary& s, const CaseResult& r) {
+    ++s.cases;
+    s.nan += r.nan > 0;
+    s.cg_over += r.max_cg > kStressCgBound;
+    s.energy_over += r.energy_ratio > 1.01;
+    s.lost_vertices += r.lost;
+    s.open_edges += r.open_edges;
+    s.pinched_edges += r.pinched_edges;
+    s.runs_with_open += r.open_edges > 0;
+    s.runs_with_pinched += r.pinched_edges > 0;
+    s.max_cg = std::max(s.max_cg, r.max_cg);
+    s.max_energy_ratio = std::max(s.max_energy_ratio, r.energy_ratio);
+}
+
+}  // namespace
+
+std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
+    const std::filesystem::path path(o.csv);
+    if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+    auto csv = fmt::output_file(o.csv);
+    csv.print("problem,case,steps,cuts,max_cg,nan,energy_ratio,lost_vertices,open_edges,pinched_edges\n");
+    std::map<std::string, StressSummary> by_problem;
+    auto record = [&](const CaseResult& r) {
+        tally(by_problem[r.problem], r);
+        // Problem and case names hold commas: quoted.
+        csv.print("\"{}\",\"{}\",{},{},{},{},{:.6g},{},{},{}\n", r.problem, r.name, r.steps, r.cuts, r.max_cg, r.nan,
+                  r.energy_ratio, r.lost, r.open_edges, r.pinched_edges);
+    };
+    for (const CaseResult& r : slivers()) record(r);
+    for (const CaseResult& r : large_steps()) record(r);
+    std::mt19937_64 rng(o.seed);
+    ProgressBar bar("stress", o.progress ? o.count : 0);
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < o.count; ++i) {
+        record(random_cut(rng, i));
+        bar.update(i + 1);
+        if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > o.budget_s) break;
+    }
+    bar.finish();
+    StressSummary all;
+    fmt::print("{:<22} {:>6} {:>5} {:>7} {:>8} {:>13} {:>6} {:>16} {:>16}\n", "problem", "cases", "NaN", "max CG",
+               "CG>bound", "max E/work", "lost", "open edges (runs)", "pinched (runs)");
+    for (const auto& [name, s] : by_problem) {
+        fmt::print("{:<22} {:>6} {:>5} {:>7} {:>8} {:>13.6f} {:>6} {:>16} {:>16}\n", name, s.cases, s.nan, s.max_cg,
+                   s.cg_over, s.max_energy_ratio, s.lost_vertices, fmt::format("{} ({})", s.open_edges, s.runs_with_open),
+                   fmt::format("{} ({})", s.pinched_edges, s.runs_with_pinched));
+        all.cases += s.cases, all.nan += s.nan, all.cg_over += s.cg_over, all.energy_over += s.energy_over;
+        all.lost_vertices += s.lost_vertices, all.open_edges += s.open_edges, all.pinched_edges += s.pinched_edges;
+        all.runs_with_open += s.runs_with_open, all.runs_with_pinched += s.runs_with_pinched;
+        all.max_cg = std::max(all.max_cg, s.max_cg), all.max_energy_ratio = std::max(all.max_energy_ratio, s.max_energy_ratio);
+    }
+    fmt::print("CG bound {} iterations per solve (tolerance 1e-8); energy may not exceed the work put in by more than 1 %\n",
+               kStressCgBound);
+    by_problem["all"] = all;
+    return by_problem;
+}
+
+int stress_command(const StressOptions& o) {
+    const StressSummary s = run_stress(o).at("all");
+    if (s.violations() > 0) {
+        fmt::print("stress: {} invariant violations in {} cases (see {})\n", s.violations(), s.cases, o.csv);
+        return 1;
+    }
+    fmt::print("stress: {} cases, every invariant held\n", s.cases);
+    return 0;
+}
+
+}  // namespace xcut

@@ -1,0 +1,55 @@
+#pragma once
+// `xcut stress` (docs/verification.md problems 7, 8, 9): numerical stability under slivers, many random
+// cuts and large steps / large deformation. Seeded and reproducible; every invariant that breaks is
+// counted, and the command exits non-zero if any did.
+//  7  slivers: a clamped block cut through at delta * h from a node layer (delta = 1e-1 ... 1e-9)
+//     and exactly through a face, an edge and a node, 50 steps under gravity;
+//  8  many cuts: random scalpel trajectories (three random waypoints, random depth and tilt) over a
+//     slab with visual and collision surfaces, `count` of them within the time budget;
+//  9  large steps: dt = 1e-4 ... 0.1 s on a slab twisted 180 degrees and released, and on a block cut
+//     through and compressed to 50 % and released; once with the paper's once-linearized implicit
+//     Euler ("9 large steps"), once with Newton iterations to convergence ("9 large steps, Newton").
+// Invariants: no NaN or infinity; CG within kStressCgBound iterations; kinetic + elastic energy
+// never above the work put in (gravity's, or the initial elastic energy) by more than 1 %; every
+// surface vertex bound to a live element with barycentric coordinates in [-1e-9, 1 + 1e-9]; every
+// surface edge shared by exactly two triangles, consistently oriented.
+#include <map>
+#include <random>
+#include <string>
+
+#include "engine/io/scene.h"
+
+namespace xcut {
+
+constexpr int kStressCgBound = 400;        ///< CG iterations per solve (the mean over a step's Newton solves)
+constexpr int kStressNewtonIterations = 50; ///< problem 9 runs again with Newton to 1e-9 (at most this many)
+constexpr int kRandomCutSteps = 25;  ///< steps of a problem-8 run (dt 0.02 s: the blade's 0.4 s and 0.1 s after)
+
+/// Problem 8's scene for the next trajectory of `rng`: a 40 x 40 x 4 mm slab held at its x borders,
+/// visual (1 subdivision) and collision surfaces, a scalpel through three random waypoints at a
+/// random depth (1-6 mm below the top) and tilt (±0.4 rad about its path).
+Scene random_cut_scene(std::mt19937_64& rng);
+
+struct StressOptions {
+    int count = 200;          ///< random trajectories of problem 8
+    double budget_s = 120.0;  ///< wall-time budget for problem 8 [s]; it stops early when spent
+    unsigned seed = 1;
+    std::string csv = "results/bench_stress.csv";
+    bool progress = true;
+};
+
+struct StressSummary {
+    int cases = 0, nan = 0, cg_over = 0, energy_over = 0, lost_vertices = 0;
+    int open_edges = 0, pinched_edges = 0;       ///< surface edges with a gap / closed but not 2-manifold
+    int runs_with_open = 0, runs_with_pinched = 0;  ///< cases with at least one such edge
+    int max_cg = 0;
+    double max_energy_ratio = 0.0;  ///< max over steps of (kinetic + elastic) / work put in
+    int violations() const { return nan + cg_over + energy_over + lost_vertices + open_edges + pinched_edges; }
+};
+
+/// Runs the three problems; prints a summary table; writes one CSV row per case. Returns the
+/// summary per problem ("7 slivers", "8 many cuts", "9 large steps") and over all ("all").
+std::map<std::string, StressSummary> run_stress(const StressOptions& options);
+int stress_command(const StressOptions& options);
+
+}  // namespace xcut

@@ -1,0 +1,83 @@
+// xcut bench --suite perf|cut|mapping|collision|accuracy: benchmarks that print figures and write
+// CSV (never pass/fail); docs/BENCHMARKS.md is generated from their CSVs by tools/report/.
+#include "tools/bench/bench.h"
+#include "tools/bench/bench_accuracy.h"
+#include "tools/bench/bench_collision.h"
+#include "tools/bench/bench_cut.h"
+#include "tools/bench/bench_mapping.h"
+#include "tools/xcut_commands.h"
+
+namespace xcut {
+namespace {
+
+struct BenchOptions {
+    std::string suite = "perf";
+    PerfBenchOptions perf;
+    CutBenchOptions cut;
+    AccuracyBenchOptions accuracy;
+    bool accuracy_tiny = false, accuracy_no_plots = false;
+};
+
+void add_bench_options(CLI::App& cmd, BenchOptions& o) {
+    cmd.add_option("--suite", o.suite,
+                   "perf: steps/s, CG, bytes per tet; cut: cut update per quad, crossing delay; mapping: surface "
+                   "update and re-binding; collision: contact time per step, haptic rate; accuracy: error against "
+                   "run time, XFEM and snapping (docs/verification.md problems 3, 5, 6)")
+        ->check(CLI::IsMember({"perf", "cut", "mapping", "collision", "accuracy"}));
+    cmd.add_option("--sizes", o.perf.sizes, "Target tetrahedron counts")->delimiter(',');
+    cmd.add_option("--threads", o.perf.threads, "Thread counts (perf)")->delimiter(',');
+    cmd.add_option("--steps", o.perf.steps, "Timed steps per run (perf)")->check(CLI::PositiveNumber);
+    cmd.add_option("--scene", o.perf.scene, "Scene whose mesh.grid is resized (perf)");
+    cmd.add_option("--csv", o.perf.csv, "CSV to write (default results/bench_<suite>.csv)");
+    cmd.add_option("--speed", o.cut.speed, "Blade speed [m/s] (cut)")->check(CLI::PositiveNumber);
+    cmd.add_option("--problems", o.accuracy.problems, "docs/verification.md problems (accuracy): 3, 5, 6")
+        ->delimiter(',');
+    cmd.add_flag("--tiny", o.accuracy_tiny, "The small CI configuration (accuracy)");
+    cmd.add_option("--cache-dir", o.accuracy.cache_dir,
+                   "Where the conforming reference of problem 5 is cached (accuracy; default <build>/accuracy_cache)");
+    cmd.add_flag("--no-plots", o.accuracy_no_plots, "CSV only (accuracy)");
+}
+
+int run_bench(const CLI::App& cmd, const BenchOptions& o) {
+    const PerfBenchOptions& perf = o.perf;
+    if (o.suite == "mapping") {
+        MappingBenchOptions m;
+        m.threads = perf.threads;
+        if (cmd.count("--csv")) m.csv = perf.csv;
+        return mapping_bench_command(m);
+    }
+    if (o.suite == "collision") {
+        CollisionBenchOptions c;
+        if (cmd.count("--csv")) c.csv = perf.csv;
+        if (cmd.count("--steps")) c.steps = perf.steps;
+        return collision_bench_command(c);
+    }
+    if (o.suite == "accuracy") {
+        AccuracyBenchOptions a = o.accuracy_tiny ? AccuracyBenchOptions::tiny() : AccuracyBenchOptions{};
+        a.problems = o.accuracy.problems;
+        a.cache_dir = o.accuracy.cache_dir;
+        a.plots = !o.accuracy_no_plots;
+        a.progress = true;
+        if (cmd.count("--threads")) a.threads = perf.threads.front();
+        if (cmd.count("--csv")) a.csv = perf.csv;
+        return accuracy_bench_command(a);
+    }
+    if (o.suite == "cut") {
+        CutBenchOptions cut = o.cut;
+        cut.sizes = perf.sizes;
+        cut.csv = cmd.count("--csv") ? perf.csv : "results/bench_cut.csv";
+        return cut_bench_command(cut);
+    }
+    return perf_bench_command(perf);
+}
+
+}  // namespace
+
+Command add_bench_command(CLI::App& app) {
+    auto o = std::make_shared<BenchOptions>();
+    CLI::App* cmd = app.add_subcommand("bench", "Benchmarks: print figures and write CSV (never pass/fail)");
+    add_bench_options(*cmd, *o);
+    return {cmd, [o, cmd] { return run_bench(*cmd, *o); }};
+}
+
+}  // namespace xcut

@@ -1,0 +1,18 @@
+// xcut stress: the stability suite (docs/verification.md problems 7-9); exit 1 if an invariant broke.
+#include "tools/studies/stress.h"
+#include "tools/xcut_commands.h"
+
+namespace xcut {
+
+Command add_stress_command(CLI::App& app) {
+    auto o = std::make_shared<StressOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "stress", "Stability stress suite (docs/verification.md problems 7-9); exit 1 if an invariant broke");
+    cmd->add_option("--count", o->count, "Random blade trajectories (problem 8)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--budget", o->budget_s, "Wall-time budget for problem 8 [s]")->check(CLI::PositiveNumber);
+    cmd->add_option("--seed", o->seed, "Random seed (reproducible)");
+    cmd->add_option("--csv", o->csv, "CSV of every case");
+    return {cmd, [o] { return stress_command(*o); }};
+}
+
+}  // namespace xcut
