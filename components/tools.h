@@ -47,6 +47,12 @@ struct ToolBodies {
     std::vector<Vec3> velocity;                     ///< of the tool origin over the last step [m/s]
     std::vector<Vec3> reaction_force;               ///< the tissue's force on the tool, last step [N]
     std::vector<Vec3> reaction_torque;              ///< about the tool origin [N m]
+    std::vector<double> pose_time;                  ///< simulated time of the current pose [s]
+    /// Per tool: the poses over the last step, its start first and its end last. For a bladed tool
+    /// the device is sampled in between, as densely as the blade needs so that it moves at most the
+    /// cut threshold from one sample to the next (the CutSystem sweeps them all, so a long step or
+    /// the first one cuts what the blade passed through).
+    std::vector<std::vector<Keyframe>> sweep;
 
     int count() const { return static_cast<int>(name.size()); }
 };

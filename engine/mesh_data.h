@@ -12,8 +12,14 @@ struct MeshData {
     std::vector<Eigen::Vector3d> points;         ///< [m]
     std::vector<std::array<int, 4>> cells;       ///< node indices; triangles use the first three, [3] = -1
     std::string source;                          ///< file name or generator name, for messages
+    /// The ids the file gives its nodes and cells (Gmsh tags, TetGen indices), for messages; empty:
+    /// the mesh numbers them itself, and messages name points[i] and cells[i].
+    std::vector<long long> point_id, cell_id;
 
     int nodes_per_cell() const { return dim == 3 ? 4 : 3; }
+    /// How a message names point i and cell e: as the file numbers them.
+    std::string point_name(size_t i) const;
+    std::string cell_name(size_t e) const;
 };
 
 /// Rejects meshes the physics cannot run on: no cells, NaN/inf coordinates, out-of-range or repeated

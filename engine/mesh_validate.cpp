@@ -6,6 +6,14 @@
 
 namespace xcut {
 
+std::string MeshData::point_name(size_t i) const {
+    return i < point_id.size() ? fmt::format("node {}", point_id[i]) : fmt::format("points[{}]", i);
+}
+
+std::string MeshData::cell_name(size_t e) const {
+    return e < cell_id.size() ? fmt::format("element {}", cell_id[e]) : fmt::format("cells[{}]", e);
+}
+
 void validate_mesh(const MeshData& mesh, double rel_tol) {
     const std::string& src = mesh.source;
     if (mesh.dim != 2 && mesh.dim != 3) throw InputError(src, "dimension", fmt::format("must be 2 or 3, not {}", mesh.dim));
@@ -13,17 +21,17 @@ void validate_mesh(const MeshData& mesh, double rel_tol) {
     if (mesh.cells.empty()) throw InputError(src, "cells", "the mesh has no elements");
     for (size_t i = 0; i < mesh.points.size(); ++i)
         if (!mesh.points[i].allFinite())
-            throw InputError(src, fmt::format("points[{}]", i), "coordinate is NaN or infinite");
+            throw InputError(src, mesh.point_name(i), "coordinate is NaN or infinite");
     const int npe = mesh.nodes_per_cell();
     const int n = static_cast<int>(mesh.points.size());
     for (size_t e = 0; e < mesh.cells.size(); ++e) {
         const auto& c = mesh.cells[e];
-        const std::string field = fmt::format("cells[{}]", e);
+        const std::string field = mesh.cell_name(e);
         for (int a = 0; a < npe; ++a) {
             if (c[a] < 0 || c[a] >= n)
                 throw InputError(src, field, fmt::format("node index {} is out of range (the mesh has {} nodes)", c[a], n));
             for (int b = 0; b < a; ++b)
-                if (c[a] == c[b]) throw InputError(src, field, fmt::format("node {} appears twice", c[a]));
+                if (c[a] == c[b]) throw InputError(src, field, fmt::format("{} appears twice", mesh.point_name(c[a])));
         }
         double longest = 0.0;
         for (int a = 0; a < npe; ++a)

@@ -1,6 +1,10 @@
 #include "engine/simulation.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+
+#include "engine/error.h"
 
 namespace xcut {
 
@@ -9,6 +13,8 @@ std::unique_ptr<Simulation> build_simulation(const Scene& scene, const Pipeline&
     auto sim = std::make_unique<Simulation>();
     sim->world = build_world(scene);
     sim->devices = make_devices(sim->world, replay_directory);
+    sim->replay_directory = replay_directory;
+    if (!replay_directory.empty()) sim->replay_dt = read_session_steps(replay_directory);
     ToolBodies& tb = sim->world.tools;
     for (int i = 0; i < tb.count(); ++i) {  // start where the device is
         const Keyframe k = sim->devices[i]->pose(sim->world.time);
@@ -25,12 +31,22 @@ std::unique_ptr<Simulation> build_simulation(const Scene& scene, const Pipeline&
 }
 
 void step_simulation(Simulation& sim) {
+    SolverSettings& s = sim.world.solver;
+    if (!sim.replay_dt.empty()) {  // a recorded session: each step's dt as it was taken
+        if (sim.steps_done >= static_cast<int>(sim.replay_dt.size()))
+            throw InputError(sim.replay_directory + "/steps.csv", fmt::format("step {}", sim.steps_done + 1),
+                             fmt::format("the recorded session has {} steps; replay at most that many (--steps)",
+                                         sim.replay_dt.size()));
+        s.dt = sim.replay_dt[sim.steps_done];
+    }
     sim.scheduler.step(sim.world);
+    ++sim.steps_done;
     if (sim.output) sim.output->metrics_row(sim.world);
     if (sim.recorder) sim.recorder->record(sim.world);
     if (sim.haptics) sim.haptics->publish(sim.world);
-    SolverSettings& s = sim.world.solver;
-    if (s.realtime) s.dt = std::clamp(sim.world.metrics.current.step_ms * 1e-3, s.dt_min, s.dt_max);
+    // Real time (paper §4.3): the next dt follows the measured step time; a replay takes the recorded one.
+    if (s.realtime && sim.replay_dt.empty())
+        s.dt = std::clamp(sim.world.metrics.current.step_ms * 1e-3, s.dt_min, s.dt_max);
 }
 
 void run_simulation(Simulation& sim, int steps, bool progress) {

@@ -21,6 +21,9 @@ struct Simulation {
     std::vector<std::unique_ptr<ToolDevice>> devices;  ///< one per tool: where its pose comes from
     std::unique_ptr<SessionRecorder> recorder;        ///< records the tools' poses when set
     HapticLoop* haptics = nullptr;                     ///< published to after each step when set
+    std::string replay_directory;                      ///< the session being replayed, if any
+    std::vector<double> replay_dt;                     ///< its recorded dt per step [s]; empty: none
+    int steps_done = 0;
 };
 
 /// Prepares what the systems need beyond the world (surfaces, search structures) and adds the

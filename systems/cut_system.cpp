@@ -252,6 +252,35 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q) {
     cs.quad_ms.push_back(ms);
 }
 
+namespace {
+
+/// Cuts along one blade's path over the step: a quad from the anchor to each point of the path the
+/// blade has moved `threshold` away from it; then, if the blade has stopped (it ends the step where
+/// it ended the last), the stretch left shorter than the threshold, so an incision ends where the
+/// blade ends.
+void sweep_blade(World& w, ElementBvh& bvh, int i, const std::vector<std::pair<Vec3, Vec3>>& path, double threshold) {
+    CutState& cs = w.cut_state;
+    const auto moved = [&](const Vec3& tip, const Vec3& heel) {
+        return std::max((tip - cs.anchor_tip[i]).norm(), (heel - cs.anchor_heel[i]).norm());
+    };
+    for (size_t k = path.size() > 1 ? 1 : 0; k < path.size(); ++k) {
+        const auto& [tip, heel] = path[k];
+        if (moved(tip, heel) < threshold) continue;
+        process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], heel, tip}});
+        cs.anchor_tip[i] = tip, cs.anchor_heel[i] = heel;
+    }
+    const auto& [tip, heel] = path.back();
+    const bool stopped = tip == cs.last_tip[i] && heel == cs.last_heel[i];
+    cs.last_tip[i] = tip, cs.last_heel[i] = heel;
+    const double left = moved(tip, heel);
+    if (stopped && left > 1e-6 * threshold && left < threshold) {
+        process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], heel, tip}});
+        cs.anchor_tip[i] = tip, cs.anchor_heel[i] = heel;
+    }
+}
+
+}  // namespace
+
 void run_cut_system(World& w, ElementBvh& bvh) {
     CutState& cs = w.cut_state;
     cs.quads.clear();
@@ -267,21 +296,24 @@ void run_cut_system(World& w, ElementBvh& bvh) {
     cs.last_heel.resize(tb.count());
     for (int i = 0; i < tb.count(); ++i) {
         if (!tb.has_blade[i]) continue;
-        Vec3 tip, heel;
-        blade_in_world(w, i, tip, heel);
-        if (!cs.anchored[i]) {
-            cs.anchored[i] = 1, cs.anchor_tip[i] = tip, cs.anchor_heel[i] = heel;
-            cs.last_tip[i] = tip, cs.last_heel[i] = heel;
-            continue;
+        // The blade's path over the step (ToolBodies::sweep), or only where it is now.
+        std::vector<std::pair<Vec3, Vec3>> path;
+        if (i < static_cast<int>(tb.sweep.size()) && !tb.sweep[i].empty()) {
+            for (const Keyframe& k : tb.sweep[i]) {
+                Vec3 tip, heel;
+                blade_at(tb, i, k, tip, heel);
+                path.emplace_back(tip, heel);
+            }
+        } else {
+            Vec3 tip, heel;
+            blade_in_world(w, i, tip, heel);
+            path.emplace_back(tip, heel);
         }
-        const double moved = std::max((tip - cs.anchor_tip[i]).norm(), (heel - cs.anchor_heel[i]).norm());
-        // A blade that has stopped finishes its sweep: the last stretch shorter than the threshold
-        // is cut too, so an incision ends where the blade ends.
-        const bool stopped = tip == cs.last_tip[i] && heel == cs.last_heel[i];
-        cs.last_tip[i] = tip, cs.last_heel[i] = heel;
-        if (moved < threshold && !(stopped && moved > 1e-6 * threshold)) continue;
-        process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], heel, tip}});
-        cs.anchor_tip[i] = tip, cs.anchor_heel[i] = heel;
+        if (!cs.anchored[i]) {
+            cs.anchored[i] = 1, cs.anchor_tip[i] = path.front().first, cs.anchor_heel[i] = path.front().second;
+            cs.last_tip[i] = path.front().first, cs.last_heel[i] = path.front().second;
+        }
+        sweep_blade(w, bvh, i, path, threshold);
     }
 }
 

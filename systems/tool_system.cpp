@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "systems/cut_system.h"
+
 namespace xcut {
 
 Keyframe sample_trajectory(const std::vector<Keyframe>& keys, double t) {
@@ -26,6 +28,47 @@ void blade_in_world(const World& world, int i, Vec3& tip, Vec3& heel) {
     heel = tb.position[i] + tb.orientation[i] * tb.blade_heel[i];
 }
 
+void blade_at(const ToolBodies& tb, int i, const Keyframe& k, Vec3& tip, Vec3& heel) {
+    tip = k.position + k.orientation * tb.blade_tip[i];
+    heel = k.position + k.orientation * tb.blade_heel[i];
+}
+
+namespace {
+
+/// How far the blade of tool i moves from pose a to pose b [m]: the larger of its ends' moves.
+double blade_move(const ToolBodies& tb, int i, const Keyframe& a, const Keyframe& b) {
+    Vec3 ta, ha, tb_, hb;
+    blade_at(tb, i, a, ta, ha);
+    blade_at(tb, i, b, tb_, hb);
+    return std::max((tb_ - ta).norm(), (hb - ha).norm());
+}
+
+/// Appends to `out` the samples strictly after a up to and including b, bisecting while the blade
+/// moves more than `spacing` between neighbours (and while the sample budget lasts).
+void sample_between(const ToolBodies& tb, int i, const Keyframe& a, const Keyframe& b, double spacing,
+                    const ToolPoseSource& source, std::vector<Keyframe>& out) {
+    const double mid_time = 0.5 * (a.time + b.time);
+    if (blade_move(tb, i, a, b) > spacing && mid_time > a.time && mid_time < b.time &&
+        static_cast<int>(out.size()) + 2 <= kMaxSweepSamples) {
+        Keyframe mid = source(i, mid_time);
+        mid.time = mid_time;
+        sample_between(tb, i, a, mid, spacing, source, out);
+        sample_between(tb, i, mid, b, spacing, source, out);
+        return;
+    }
+    out.push_back(b);
+}
+
+/// The sampling distance of blade sweeps: the cut threshold, or the mean edge length [m].
+double sweep_spacing(World& world) {
+    CutState& cs = world.cut_state;
+    if (cs.threshold > 0.0) return cs.threshold;
+    if (cs.mean_edge == 0.0 && world.elements.count() > 0) cs.mean_edge = mean_edge_length(world);
+    return cs.mean_edge;
+}
+
+}  // namespace
+
 void advance_tools(World& world, double t) {
     advance_tools(world, t, [&world](int i, double s) { return sample_trajectory(world.tools.trajectory[i], s); });
 }
@@ -34,11 +77,23 @@ void advance_tools(World& world, double t, const ToolPoseSource& source) {
     ToolBodies& tb = world.tools;
     const double dt = t - world.time;
     tb.velocity.resize(tb.count(), Vec3::Zero());
+    tb.pose_time.resize(tb.count(), world.time);
+    tb.sweep.resize(tb.count());
+    const bool blades = std::any_of(tb.has_blade.begin(), tb.has_blade.end(), [](uint8_t b) { return b != 0; });
+    const double spacing = blades ? sweep_spacing(world) : 0.0;
     for (int i = 0; i < tb.count(); ++i) {
-        const Keyframe k = source(i, t);
+        Keyframe start;
+        start.time = tb.pose_time[i], start.position = tb.position[i], start.orientation = tb.orientation[i];
+        Keyframe k = source(i, t);
+        k.time = t;
+        std::vector<Keyframe>& sweep = tb.sweep[i];
+        sweep.assign(1, start);
+        if (i < static_cast<int>(tb.has_blade.size()) && tb.has_blade[i] && spacing > 0.0 && t > start.time) sample_between(tb, i, start, k, spacing, source, sweep);
+        else sweep.push_back(k);
         tb.velocity[i] = dt > 0.0 ? Vec3((k.position - tb.position[i]) / dt) : Vec3::Zero();
         tb.position[i] = k.position;
         tb.orientation[i] = k.orientation;
+        tb.pose_time[i] = t;
     }
 }
 

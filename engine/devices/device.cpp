@@ -1,5 +1,7 @@
 #include "engine/devices/device.h"
 
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fmt/format.h>
 
@@ -45,18 +47,59 @@ SessionRecorder::SessionRecorder(const World& world, const std::string& director
         if (!files_.back()) throw InputError(path, "--record", "cannot write the session file");
         files_.back() << "time,x,y,z,qw,qx,qy,qz\n";
     }
-    record(world);
+    steps_.open(directory + "/steps.csv");
+    if (!steps_) throw InputError(directory + "/steps.csv", "--record", "cannot write the session file");
+    steps_ << "step,dt_s\n";
+    const ToolBodies& tb = world.tools;
+    for (int i = 0; i < tb.count(); ++i) {
+        Keyframe k;
+        k.time = world.time, k.position = tb.position[i], k.orientation = tb.orientation[i];
+        write_pose(i, k);
+    }
+    for (auto& f : files_) f.flush();
+}
+
+void SessionRecorder::write_pose(int i, const Keyframe& k) {
+    const Vec3& p = k.position;
+    const Eigen::Quaterniond& q = k.orientation;
+    files_[i] << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", k.time, p.x(), p.y(),
+                             p.z(), q.w(), q.x(), q.y(), q.z());
 }
 
 void SessionRecorder::record(const World& world) {
     const ToolBodies& tb = world.tools;
     for (int i = 0; i < tb.count(); ++i) {
-        const Vec3& p = tb.position[i];
-        const Eigen::Quaterniond& q = tb.orientation[i];
-        files_[i] << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", world.time, p.x(),
-                                 p.y(), p.z(), q.w(), q.x(), q.y(), q.z());
+        if (i < static_cast<int>(tb.sweep.size()) && tb.sweep[i].size() > 1) {
+            // Every pose the device gave over the step; the first is the last step's end.
+            for (size_t k = 1; k < tb.sweep[i].size(); ++k) write_pose(i, tb.sweep[i][k]);
+        } else {
+            Keyframe k;
+            k.time = world.time, k.position = tb.position[i], k.orientation = tb.orientation[i];
+            write_pose(i, k);
+        }
     }
+    steps_ << fmt::format("{},{:.17g}\n", ++step_, world.solver.dt);
     for (auto& f : files_) f.flush();
+    steps_.flush();
+}
+
+std::vector<double> read_session_steps(const std::string& directory) {
+    const std::string path = directory + "/steps.csv";
+    std::ifstream in(path);
+    std::vector<double> dts;
+    if (!in) return dts;
+    std::string line;
+    for (int line_no = 1; std::getline(in, line); ++line_no) {
+        if (line_no == 1 && line.rfind("step", 0) == 0) continue;
+        if (line.empty()) continue;
+        const size_t comma = line.find(',');
+        char* end = nullptr;
+        const double dt = comma == std::string::npos ? 0.0 : std::strtod(line.c_str() + comma + 1, &end);
+        if (comma == std::string::npos || end == line.c_str() + comma + 1 || !(dt > 0.0) || !std::isfinite(dt))
+            throw InputError(path, fmt::format("line {}", line_no), "expected step,dt_s with a positive, finite dt");
+        dts.push_back(dt);
+    }
+    return dts;
 }
 
 }  // namespace xcut

@@ -52,16 +52,26 @@ std::unique_ptr<ToolDevice> make_replay_device(const std::string& directory, con
 /// is given, replayed from `<replay_directory>/<tool name>.csv`.
 std::vector<std::unique_ptr<ToolDevice>> make_devices(const World& world, const std::string& replay_directory);
 
-/// Writes every tool's pose each step to `<directory>/<tool name>.csv` (the trajectory_csv format,
-/// 17 significant digits: the doubles read back exactly).
+/// Writes every pose each tool's device gave to `<directory>/<tool name>.csv` (the trajectory_csv
+/// format, 17 significant digits: the doubles read back exactly), the sub-step samples of a blade's
+/// sweep (ToolBodies::sweep) included, and each step's dt to `<directory>/steps.csv`, so a session
+/// in real-time mode, whose dt follows the wall clock, replays on the same time axis.
 class SessionRecorder {
 public:
     /// Opens the files and records the tools' initial poses.
     SessionRecorder(const World& world, const std::string& directory);
+    /// After a step: the poses of the step and the dt it took.
     void record(const World& world);
 
 private:
+    void write_pose(int tool, const Keyframe& k);
     std::vector<std::ofstream> files_;
+    std::ofstream steps_;
+    int step_ = 0;
 };
+
+/// The dt of every step of a recorded session (`<directory>/steps.csv`) [s]; empty when the session
+/// has no such file (recorded before it existed: it replays at the scene's own dt).
+std::vector<double> read_session_steps(const std::string& directory);
 
 }  // namespace xcut

@@ -16,19 +16,14 @@
 
 #include "components/nodes.h"
 #include "engine/error.h"
+#include "engine/io/input_file.h"
 
 namespace xcut {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, "file", "cannot open the mesh file");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+std::string read_file(const std::string& path) { return read_input_file(path, "file", "mesh"); }
 
 /// Whitespace-separated tokens with their line numbers; '#' comments skipped when asked.
 class Tokens {
@@ -150,6 +145,7 @@ void read_gmsh2(Tokens& t, MeshData& mesh, GmshElements& els) {
         for (int k = 0; k < 3; ++k) p[k] = t.real("coordinate");
         tags.index[tag] = static_cast<int>(mesh.points.size());
         mesh.points.push_back(p);
+        mesh.point_id.push_back(tag);
     }
     t.expect("$EndNodes");
     if (!t.seek("$Elements")) t.fail("no $Elements section");
@@ -189,6 +185,7 @@ void read_gmsh4(Tokens& t, MeshData& mesh, GmshElements& els) {
             for (int k = 0; k < 3; ++k) p[k] = t.real("coordinate");
             tags.index[block_tags[i]] = static_cast<int>(mesh.points.size());
             mesh.points.push_back(p);
+            mesh.point_id.push_back(block_tags[i]);
         }
     }
     if (static_cast<long long>(mesh.points.size()) != total)
@@ -229,13 +226,15 @@ MeshData finish_gmsh(const std::string& path, MeshData mesh, GmshElements& els) 
     // Only the nodes the kept cells use: a surface mesh's extra nodes would be massless.
     std::vector<int> remap(mesh.points.size(), -1);
     std::vector<Vec3> used;
+    std::vector<long long> used_id;
     for (auto& c : mesh.cells)
         for (int a = 0; a < mesh.nodes_per_cell(); ++a) {
             int& r = remap[c[a]];
-            if (r < 0) r = static_cast<int>(used.size()), used.push_back(mesh.points[c[a]]);
+            if (r < 0) r = static_cast<int>(used.size()), used.push_back(mesh.points[c[a]]), used_id.push_back(mesh.point_id[c[a]]);
             c[a] = r;
         }
     mesh.points = std::move(used);
+    mesh.point_id = std::move(used_id);
     return mesh;
 }
 
@@ -425,6 +424,7 @@ MeshData read_tetgen(const std::string& node_path, const std::string& ele_path) 
         for (int k = 0; k < 3; ++k) p[k] = tn.real("coordinate");
         for (long long a = 0; a < attrs + marker; ++a) tn.real("attribute");
         mesh.points.push_back(p);
+        mesh.point_id.push_back(idx);
     }
     Tokens te(ele_path, read_file(ele_path), true);
     const long long m = te.count("element count", 5);
@@ -435,6 +435,7 @@ MeshData read_tetgen(const std::string& node_path, const std::string& ele_path) 
     for (long long e = 0; e < m; ++e) {
         const long long idx = te.integer("element index");
         if (e == 0 && idx != 0 && idx != 1) te.fail("element indices must start at 0 or 1", -1);
+        mesh.cell_id.push_back(idx);
         std::array<int, 4> c;
         for (int a = 0; a < 4; ++a) {
             const long long v = te.integer("node index") - base;

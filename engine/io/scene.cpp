@@ -5,10 +5,13 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 
 #include "engine/error.h"
+#include "engine/io/input_file.h"
 #include "engine/io/json_fields.h"
 #include "engine/io/mesh_io.h"
 #include "engine/setup.h"
@@ -67,6 +70,16 @@ MeshSpec read_mesh(const JsonFields& m, const fs::path& scene_dir) {
         g.cells = cells_for_size(g.size, h);
     }
     if (dims == 2) g.cells.z() = 1;
+    // Doubles near the origin must resolve a cell: their spacing there, 2.2e-16 (|origin| + size),
+    // is held below 1e-9 of the cell size (an origin of 1e300 would collapse every cell).
+    for (int k = 0; k < dims; ++k) {
+        const double h = g.size[k] / g.cells[k], far = std::abs(g.origin[k]) + g.size[k];
+        if (!(far * std::numeric_limits<double>::epsilon() <= 1e-9 * h))
+            m.fail(fmt::format("origin[{}]", k), fmt::format("{:.6g} m is too far from 0 for cells of {:.3g} m: doubles "
+                                                          "there are {:.3g} m apart (keep |origin| below {:.3g} m)",
+                                                          g.origin[k], h, far * std::numeric_limits<double>::epsilon(),
+                                                          1e-9 * h / std::numeric_limits<double>::epsilon()));
+    }
     const double count = double(g.cells.x()) * g.cells.y() * g.cells.z();
     if (count * (dims == 3 ? 6 : 2) > 2e7) m.fail("element_size", fmt::format("gives {:.3g} elements (max 2e7)", count * 6));
     g.jitter = m.number("jitter", 0.0, 0.0, 0.3);
@@ -232,8 +245,7 @@ void check_trajectory(std::vector<Keyframe>& keys, const std::string& file, cons
 }
 
 std::vector<Keyframe> read_trajectory_csv(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw InputError(path, "file", "cannot open the trajectory file");
+    std::istringstream in(read_input_file(path, "file", "trajectory"));
     std::string line;
     std::vector<Keyframe> keys;
     int line_no = 0;
@@ -267,17 +279,58 @@ std::vector<Keyframe> read_trajectory_csv(const std::string& path) {
     return keys;
 }
 
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-    std::ifstream in(path);
-    if (!in) throw InputError(path, "file", "cannot open the scene file");
-    nlohmann::json root;
+namespace {
+
+/// The scene's JSON. A key given twice in one object is an error naming its field path (JSON
+/// leaves duplicates undefined; nlohmann's parser would silently keep the later one).
+nlohmann::json parse_scene_json(const std::string& path) {
+    const std::string text = read_input_file(path, "file", "scene");
+    struct Container {
+        bool object;
+        std::string name;               ///< its field path
+        std::vector<std::string> keys;  ///< objects: the keys seen so far
+        int next_index = 0;             ///< arrays: the index of the next element
+        std::string key;                ///< objects: the key of the value being read
+    };
+    std::vector<Container> stack;
+    const auto child_name = [&stack]() -> std::string {
+        if (stack.empty()) return "";
+        Container& c = stack.back();
+        const std::string sep = c.name.empty() ? "" : ".";
+        return c.object ? c.name + sep + c.key : fmt::format("{}[{}]", c.name, c.next_index++);
+    };
+    using Event = nlohmann::json::parse_event_t;
+    const nlohmann::json::parser_callback_t check = [&](int, Event event, nlohmann::json& value) {
+        if (event == Event::object_start || event == Event::array_start) {
+            stack.push_back({event == Event::object_start, child_name(), {}, 0, ""});
+        } else if (event == Event::object_end || event == Event::array_end) {
+            stack.pop_back();
+        } else if (event == Event::key) {
+            Container& c = stack.back();
+            const std::string key = value.get<std::string>();
+            if (std::find(c.keys.begin(), c.keys.end(), key) != c.keys.end())
+                throw InputError(path, c.name.empty() ? key : c.name + "." + key,
+                                 "the key is given twice in one object (JSON keeps only one: remove the other)");
+            c.keys.push_back(key);
+            c.key = key;
+        } else if (event == Event::value && !stack.empty() && !stack.back().object) {
+            ++stack.back().next_index;
+        }
+        return true;
+    };
     try {
-        root = nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
+        return nlohmann::json::parse(text, check, true, /*ignore_comments=*/true);
     } catch (const nlohmann::json::parse_error& e) {
         throw InputError(path, "JSON", fmt::format("not valid JSON (byte {}): {}", e.byte, e.what()));
     } catch (const nlohmann::json::exception& e) {  // out_of_range: a number too large for a double
         throw InputError(path, "JSON", fmt::format("not valid JSON: {}", e.what()));
     }
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+    nlohmann::json root = parse_scene_json(path);
     for (const auto& o : overrides) apply_override(root, path, o);
 
     Scene scene;
@@ -386,7 +439,13 @@ MeshData load_scene_mesh(const Scene& scene) {
         mesh = read_mesh_file(m.file, m.max_volume);
     } else {
         mesh = m.generator == "plate" ? generate_plate(m.grid) : generate_box(m.grid);
-        validate_mesh(mesh);
+        try {
+            validate_mesh(mesh);
+        } catch (const InputError& e) {  // the scene's fields made it: name them, not the generator
+            throw InputError(scene.file, "mesh", fmt::format("the \"{}\" generator made an invalid mesh ({}: {}); check "
+                                                             "mesh.origin, size, cells and bend_radius",
+                                                             m.generator, e.field(), e.message()));
+        }
     }
     return mesh;
 }

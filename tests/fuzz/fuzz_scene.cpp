@@ -1,5 +1,7 @@
 // Scene JSON loader (load_scene). Lines "//set field.path=value" in the input (JSON comments, which
-// the loader ignores) are also passed as --set overrides, so the override path is fuzzed too.
+// the loader ignores) are also passed as --set overrides, so the override path is fuzzed too. A
+// mesh file named inside the fuzzer's own folder (e.g. "." — a directory) is opened too
+// (load_scene_mesh); one anywhere else is not, so an input cannot make the fuzzer read the disk.
 #include <sstream>
 #include <vector>
 
@@ -13,6 +15,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (std::string line; std::getline(lines, line);)
         if (line.rfind("//set ", 0) == 0) overrides.push_back(line.substr(6));
     const std::string path = xcut::fuzz::write_file("scene.json", text);
-    xcut::fuzz::expect_clean([&] { xcut::load_scene(path, overrides); });
+    xcut::fuzz::expect_clean([&] {
+        const xcut::Scene scene = xcut::load_scene(path, overrides);
+        const std::filesystem::path mesh = scene.mesh.file;
+        if (!mesh.empty() && (mesh == xcut::fuzz::temp_dir() || mesh.parent_path() == xcut::fuzz::temp_dir()))
+            xcut::load_scene_mesh(scene);
+    });
     return 0;
 }

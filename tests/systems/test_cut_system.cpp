@@ -73,6 +73,47 @@ TEST(CutSystem, StraightIncisionSplitsExactlyTheCrossedElements) {
     EXPECT_EQ(w.cuts.count(), static_cast<int>(expected.size()));
 }
 
+// The sweep of a step is cut whole: the same incision (1 s along y at x = kX) stepped at dt from
+// 0.1 ms to 10 s splits the same elements. "Same" is exact here: with the body at rest the cut
+// depends only on the surface the blade swept, and every dt splits exactly the elements that
+// surface crosses completely (expected_split). At dt = 10 s the whole motion lies within the first
+// step that moves the tool: before the ToolSystem sampled the blade within a step, it cut nothing.
+TEST(CutSystem, SweepOfAStepIsCutWholeAtAnyDt) {
+    for (double dt : {1e-4, 0.01, 0.1, 10.0}) {
+        SCOPED_TRACE(dt);
+        World w = slab_with_scalpel({key(0.0, kX, 0.003), key(1.0, kX, 0.017)});
+        ElementBvh bvh;
+        std::set<int> split;
+        for (int n = 1;; ++n) {  // as the pipeline steps: the first moves the tool to dt; until two steps
+                                 // past the end (the blade stops, its last stretch is cut)
+            const double t = n * dt;
+            if (t > 1.0 + 2.0 * dt) break;
+            advance_tools(w, t);
+            w.time = t;
+            run_cut_system(w, bvh);
+            for (const CutEvent& ev : w.pending_cuts) split.insert(ev.element);
+            apply_cut_events(w);
+        }
+        EXPECT_EQ(split, expected_split(w, 0.003, 0.017));
+    }
+}
+
+// The first step: a blade whose whole motion lies within it (here the first 0.05 s of a 0.1 s step)
+// cuts what it passed through.
+TEST(CutSystem, MotionWithinTheFirstStepIsCut) {
+    World w = slab_with_scalpel({key(0.0, kX, 0.003), key(0.05, kX, 0.017)});
+    ElementBvh bvh;
+    std::set<int> split;
+    for (int n = 1; n <= 3; ++n) {  // the pipeline's first step takes the tool from t = 0 to dt
+        advance_tools(w, 0.1 * n);
+        w.time = 0.1 * n;
+        run_cut_system(w, bvh);
+        for (const CutEvent& ev : w.pending_cuts) split.insert(ev.element);
+        apply_cut_events(w);
+    }
+    EXPECT_EQ(split, expected_split(w, 0.003, 0.017));
+}
+
 TEST(CutSystem, TremblingBladeSplitsTheSameSet) {
     // The same path, the blade shaking back and forth along it (up to 0.6 mm back) and by 10 um
     // across it: each edge still counts once.

@@ -29,14 +29,20 @@ uint64_t state_hash(const World& w) {
     return h;
 }
 
-// The default scene's scalpel incision, recorded and replayed: every bit of the state agrees.
-TEST(Devices, RecordedCutSessionReplaysBitForBit) {
+/// The default scene at dt 0.03 s on 4 mm elements and the coarsest skin: a replay is about the
+/// tool, not the resolution.
+Scene coarse_skin_scene() {
     Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json");
     scene.solver.dt = 0.03;
     scene.solver.cg_tolerance = 1e-4;
-    // 4 mm elements and the coarsest skin: the replay is about the tool, not the resolution.
     scene.mesh.grid.cells = Eigen::Vector3i(15, 10, 1);
     scene.visual_subdivisions = 0;
+    return scene;
+}
+
+// The default scene's scalpel incision, recorded and replayed: every bit of the state agrees.
+TEST(Devices, RecordedCutSessionReplaysBitForBit) {
+    const Scene scene = coarse_skin_scene();
     const fs::path dir = fs::temp_directory_path() / ("xcut_session_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     uint64_t recorded = 0;
@@ -54,6 +60,46 @@ TEST(Devices, RecordedCutSessionReplaysBitForBit) {
     EXPECT_EQ(state_hash(replay->world), recorded);
     // A session for another scene is refused with the file named.
     EXPECT_THROW(make_simulation(scene, false, (dir / "missing").string()), InputError);
+}
+
+// In real-time mode dt follows the wall clock, so no two runs take the same steps. A recorded
+// real-time session replays on its recorded time axis (steps.csv) with the device's sub-step poses:
+// the time, every DOF and its state, and the wound (the cut elements) agree bit for bit.
+TEST(Devices, RealTimeSessionReplaysBitForBit) {
+    Scene scene = coarse_skin_scene();
+    scene.solver.realtime = true;
+    scene.solver.dt_min = 0.001;
+    scene.solver.dt_max = 0.05;
+    const fs::path dir = fs::temp_directory_path() / ("xcut_rt_session_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    const int steps = 150;
+    uint64_t recorded = 0;
+    double recorded_time = 0.0;
+    std::vector<int> recorded_cuts;
+    {
+        auto sim = make_simulation(scene, false);
+        sim->recorder = std::make_unique<SessionRecorder>(sim->world, dir.string());
+        for (int i = 0; i < steps; ++i) step_simulation(*sim);
+        ASSERT_GT(sim->world.cuts.count(), 20) << "the session cuts";
+        recorded = state_hash(sim->world);
+        recorded_time = sim->world.time;
+        recorded_cuts = sim->world.cuts.element;
+    }
+    ASSERT_TRUE(fs::exists(dir / "steps.csv"));
+    auto replay = make_simulation(scene, false, dir.string());
+    ASSERT_EQ(replay->replay_dt.size(), static_cast<size_t>(steps));
+    for (int i = 0; i < steps; ++i) step_simulation(*replay);
+    EXPECT_EQ(replay->world.time, recorded_time);
+    EXPECT_EQ(replay->world.cuts.element, recorded_cuts);
+    EXPECT_EQ(state_hash(replay->world), recorded);
+    // One step more than the session holds is an error naming the session's file.
+    try {
+        step_simulation(*replay);
+        ADD_FAILURE() << "stepped past the recorded session";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("steps.csv: step 151"), std::string::npos) << e.what();
+    }
+    fs::remove_all(dir);
 }
 
 TEST(Devices, CoupledForceFollowsTheContactStiffnessUpToTheCoupling) {

@@ -226,7 +226,40 @@ TEST_F(MeshIo, BadInputsAreRejectedWithTheirReason) {
 
 TEST_F(MeshIo, MissingFileIsAnError) {
     const std::string msg = error_of([&] { read_mesh_file((dir_ / "none.msh").string(), 0.0); });
-    EXPECT_NE(msg.find("cannot open"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("none.msh: file: no such mesh file"), std::string::npos) << msg;
+}
+
+// A path that is a directory is said to be one (it read as an empty Gmsh file: "no $MeshFormat").
+TEST_F(MeshIo, DirectoryIsSaidToBeOne) {
+    fs::create_directories(dir_ / "organ.msh");
+    const std::string msg = error_of([&] { read_mesh_file((dir_ / "organ.msh").string(), 0.0); });
+    EXPECT_NE(msg.find("organ.msh: file: is a directory, not a mesh file"), std::string::npos) << msg;
+    // A device would be read forever.
+    const std::string dev = error_of([&] { read_mesh_file("/dev/zero.msh", 0.0); });
+    EXPECT_NE(dev.find("no such mesh file"), std::string::npos) << dev;
+    fs::create_symlink("/dev/zero", dir_ / "zero.msh");
+    const std::string zero = error_of([&] { read_mesh_file((dir_ / "zero.msh").string(), 0.0); });
+    EXPECT_NE(zero.find("zero.msh: file: is not a regular file"), std::string::npos) << zero;
+}
+
+// Nodes are named by the ids the file gives them (Gmsh tags here 5, 7, 9, 11), not by their index.
+TEST_F(MeshIo, NodesAreNamedAsTheFileNumbersThem) {
+    const std::string nan = write("nan.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n5 0 0 nan\n7 1 0 0\n"
+                                             "9 0 1 0\n11 0 0 1\n$EndNodes\n$Elements\n1\n1 4 0 5 7 9 11\n$EndElements\n");
+    std::string msg = error_of([&] { read_mesh_file(nan, 0.0); });
+    EXPECT_NE(msg.find("nan.msh: node 5: coordinate is NaN or infinite"), std::string::npos) << msg;
+    const std::string twice = write("twice.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n5 0 0 0\n7 1 0 0\n"
+                                                 "9 0 1 0\n11 0 0 1\n$EndNodes\n$Elements\n1\n1 4 0 5 7 9 9\n$EndElements\n");
+    msg = error_of([&] { read_mesh_file(twice, 0.0); });
+    EXPECT_NE(msg.find("node 9 appears twice"), std::string::npos) << msg;
+    write("z.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 inf\n");
+    const std::string ele = write("z.ele", "1 4 0\n1 1 2 3 4\n");
+    msg = error_of([&] { read_mesh_file(ele, 0.0); });
+    EXPECT_NE(msg.find("node 4: coordinate is NaN or infinite"), std::string::npos) << msg;
+    write("inv.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+    const std::string inverted = write("inv.ele", "2 4 0\n1 1 2 3 4\n2 1 3 2 4\n");
+    msg = error_of([&] { read_mesh_file(inverted, 0.0); });
+    EXPECT_NE(msg.find("inv.ele: element 2: is inverted"), std::string::npos) << msg;
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // the reason (the command line's handling of them: tests/tools/test_cli.cpp).
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -75,7 +77,7 @@ std::vector<BadScene> bad_scenes() {
         {"fixed node beyond the mesh", "constraints.fixed_nodes=[9999]", "constraints.fixed_nodes[0]", "does not exist"},
         {"steps and duration", "duration=1.0", "duration", "not both"},
         {"2D scene with z gravity", "mesh.generator=\"plate\"", "gravity", "xy plane"},
-        {"missing mesh file", "!{ \"mesh\": { \"file\": \"missing.msh\" } }", "file", "cannot open"},
+        {"missing mesh file", "!{ \"mesh\": { \"file\": \"missing.msh\" } }", "file", "no such mesh file"},
         {"non-planar cut polygon", "cuts=[{\"polygon\":[[0,0,0],[1,0,0],[1,1,0],[0,1,0.5]]}]", "cuts[0].polygon[", "planar"},
         {"cut polygon on a line", "cuts=[{\"polygon\":[[0,0,0],[1,0,0],[2,0,0]]}]", "cuts[0].polygon", "zero area"},
         {"zero-length blade",
@@ -91,6 +93,15 @@ std::vector<BadScene> bad_scenes() {
         {"unknown cutter type", "cutter.type=\"laser\"", "cutter.type", "is not one of \"xfem\", \"snap\""},
         {"snap threshold of half an edge", "cutter.snap_threshold=0.5", "cutter.snap_threshold", "out of range (0, 0.5)"},
         {"zero snap threshold", "cutter.snap_threshold=0", "cutter.snap_threshold", "out of range (0, 0.5)"},
+        {"key given twice", "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
+                            "\"solver\": { \"dt\": 0.01, \"dt\": 0.02 } }",
+         "solver.dt", "given twice"},
+        {"key given twice in an array's object",
+         "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
+         "\"constraints\": { \"fixed_boxes\": [ { \"min\": [0, 0, 0], \"max\": [1, 1, 1] }, "
+         "{ \"min\": [0, 0, 0], \"max\": [1, 1, 1], \"min\": [0, 0, 0] } ] } }",
+         "constraints.fixed_boxes[1].min", "given twice"},
+        {"origin too far for the cells", "mesh.origin=[1e300,0,0]", "mesh.origin[0]", "too far from 0"},
     };
 }
 
@@ -118,6 +129,63 @@ TEST(SceneLoader, MalformedScenesNameFileFieldAndReason) {
             EXPECT_NE(msg.find(named), std::string::npos) << "names the file: " << msg;
         }
     }
+    fs::remove_all(dir);
+}
+
+// A scene or mesh path that is a directory is said to be one.
+TEST(SceneLoader, DirectoryIsSaidToBeOne) {
+    const fs::path dir = temp_dir("dirs");
+    fs::create_directories(dir / "scene.json");
+    fs::create_directories(dir / "liver.msh");
+    std::ofstream(dir / "ok.json") << R"({ "mesh": { "file": "liver.msh" } })";
+    for (const auto& [scene, expect] : {std::pair{dir / "scene.json", "scene.json: file: is a directory, not a scene file"},
+                                        std::pair{dir / "ok.json", "liver.msh: file: is a directory, not a mesh file"}}) {
+        try {
+            build_world(load_scene(scene.string()));
+            ADD_FAILURE() << "accepted " << scene;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(expect), std::string::npos) << e.what();
+        }
+    }
+    fs::remove_all(dir);
+}
+
+/// The documented range of a material field: the fourth column of its row in docs/scene-format.md,
+/// "[lo, hi]" (closed), with the Unicode minus read as '-'.
+std::pair<double, double> documented_range(const std::string& key) {
+    std::ifstream in(std::string(XCUT_SOURCE_DIR) + "/docs/scene-format.md");
+    const std::string row = "| `" + key + "` |";
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind(row, 0) != 0) continue;
+        for (size_t at; (at = line.find("\u2212")) != std::string::npos;) line.replace(at, 3, "-");
+        const size_t open = line.find('['), comma = line.find(',', open), close = line.find(']', comma);
+        if (open == std::string::npos || comma == std::string::npos || close == std::string::npos) break;
+        return {std::stod(line.substr(open + 1, comma - open - 1)), std::stod(line.substr(comma + 1, close - comma - 1))};
+    }
+    ADD_FAILURE() << "docs/scene-format.md has no closed range for " << key;
+    return {0.0, 0.0};
+}
+
+// The Poisson range the docs state is the one the loader enforces: both ends load, just past them not.
+TEST(SceneLoader, DocumentedPoissonRangeIsEnforced) {
+    const auto [lo, hi] = documented_range("poisson");
+    EXPECT_LT(lo, 0.0);
+    EXPECT_LT(hi, 0.5);
+    const fs::path dir = temp_dir("poisson");
+    std::ofstream(dir / "s.json") << kValid;
+    const auto loads = [&](double nu) {
+        try {
+            load_scene((dir / "s.json").string(), {fmt::format("material.poisson={:.17g}", nu)});
+            return true;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("material.poisson"), std::string::npos) << e.what();
+            return false;
+        }
+    };
+    EXPECT_TRUE(loads(lo));
+    EXPECT_TRUE(loads(hi));
+    EXPECT_FALSE(loads(lo - 1e-6));
+    EXPECT_FALSE(loads(hi + 1e-6));
     fs::remove_all(dir);
 }
 
