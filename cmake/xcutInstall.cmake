@@ -18,7 +18,7 @@ configure_package_config_file(${CMAKE_SOURCE_DIR}/cmake/xcutConfig.cmake.in
 write_basic_package_version_file(${CMAKE_BINARY_DIR}/xcutConfigVersion.cmake
   VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_BINARY_DIR}/xcutConfig.cmake ${CMAKE_BINARY_DIR}/xcutConfigVersion.cmake
-  ${CMAKE_SOURCE_DIR}/cmake/xcutTetgen.cmake DESTINATION ${XCUT_CMAKE_DIR})
+  ${CMAKE_SOURCE_DIR}/cmake/xcutTetgen.cmake ${CMAKE_SOURCE_DIR}/cmake/xcutCholmod.cmake DESTINATION ${XCUT_CMAKE_DIR})
 
 # What the binary and a user need beside it: the shipped scenes, and the report and plot scripts
 # `xcut compare` and `xcut bench` call (looked for in <prefix>/share/xcut/report).

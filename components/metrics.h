@@ -13,6 +13,9 @@ struct StepMetrics {
     int cg_iterations = 0;                 ///< summed over the step's Newton iterations
     int newton_iterations = 1;
     double cg_residual = 0.0;     ///< relative residual reached
+    /// How the step's solve was accepted: 0 at once, 1 after renewing the factor, 2 in substeps.
+    int solve_flag = 0;
+    int substeps = 1;             ///< substeps the step took (a power of 2)
     double kinetic_energy = 0.0;  ///< [J]
     double elastic_energy = 0.0;  ///< [J]
     double gravity_work = 0.0;    ///< work done by gravity since rest, sum m g.(x - X) [J]
@@ -23,6 +26,10 @@ struct StepMetrics {
 struct Metrics {
     std::vector<std::string> system_names;
     StepMetrics current;
+    int refactored_steps = 0;     ///< steps whose solve needed a renewed factor
+    int substepped_steps = 0;     ///< steps split into substeps to converge
+    int max_substeps = 1;         ///< the most substeps one step took
+    double work_in = 0.0;         ///< energy put in so far: first energy, gravity, tools [J] (watchdog)
 };
 
 }  // namespace xcut

@@ -21,4 +21,12 @@ private:
     std::string message_;
 };
 
+/// A numerical failure the run cannot recover from: a linear solve that stays above its tolerance
+/// in the finest substeps, a NaN or an infinity in the state, energy growing past the work put in.
+/// The run stops with this message (naming the step and what to change), never with garbage.
+class NumericalError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
 }  // namespace xcut

@@ -33,8 +33,8 @@ std::string Scheduler::describe(const World& world) const {
     std::string out = fmt::format("schedule ({} of {} systems run):\n", scheduled_.size(), all_.size());
     int k = 1;
     for (const SystemDesc& s : scheduled_)
-        out += fmt::format("  {}. {:<16} reads {:<40} writes {}\n", k++, s.name, component_list(s.reads),
-                           component_list(s.writes));
+        out += fmt::format("  {}. {:<16} reads {:<40} writes {}{}\n", k++, s.name, component_list(s.reads),
+                           component_list(s.writes), s.note.empty() ? "" : "; " + s.note);
     for (const SystemDesc& s : all_)
         if ((s.reads & have) != s.reads)
             out += fmt::format("  -  {:<16} skipped: scene has no {}\n", s.name,

@@ -19,6 +19,7 @@ struct SystemDesc {
     uint32_t reads = 0;     ///< every one must be present for the system to run
     uint32_t writes = 0;
     std::function<void(World&)> run;
+    std::string note;       ///< printed after the system in the schedule (a choice it made)
 };
 
 class Scheduler {

@@ -12,6 +12,7 @@
 #include "components/cut_plan.h"
 #include "components/cut_state.h"
 #include "components/elements.h"
+#include "components/linear_system.h"
 #include "components/material.h"
 #include "components/metrics.h"
 #include "components/nodes.h"
@@ -55,6 +56,16 @@ struct SolverSettings {
     double damping_stiffness = 0.0;  ///< Rayleigh beta [s]
     int newton_iterations = 1;       ///< "newton.iterations": 1 = the once-linearized step (paper)
     double newton_tolerance = 1e-6;  ///< "newton.tolerance": residual relative to the first [-]
+    /// "linear": how the step's system is solved (systems/linear_solver.h): "auto", "jacobi"
+    /// (matrix-free Jacobi CG), "block_jacobi" (assembled, 3x3 block Jacobi CG), "cholesky" (CG
+    /// preconditioned by a kept Cholesky factor), "direct" (factor and solve every step).
+    std::string linear = "auto";
+    int refactor_iterations = 8;     ///< "refactor_iterations": cholesky refactors when CG needs more [-]
+    int refactor_every = 200;        ///< "refactor_every": ... or when the factor is this many steps old
+    int max_substeps = 16;           ///< a step whose solve fails is retried in up to this many substeps
+    /// The watchdog stops a run whose kinetic + elastic energy exceeds this factor times the work
+    /// put in (gravity, prescribed displacements, tools) plus the energy at the first step [-].
+    double energy_factor = 100.0;
 };
 
 /// Per-step buffers: the solver's right-hand side pieces and the Jacobi preconditioner.
@@ -79,6 +90,7 @@ struct World {
     Elements elements;
     Incidence incidence;          ///< mesh node -> mesh element (fixed topology)
     Incidence virtual_incidence;  ///< DOF node -> virtual element; rebuilt from the virtual elements only
+    LinearSystem linear;          ///< the step's assembled system and the solver's kept factor
     int mesh_nodes = 0;         ///< nodes [0, mesh_nodes) are the mesh's; after them, enriched DOFs
     int mesh_elements = 0;      ///< elements [0, mesh_elements) are the mesh's; after them, virtual
     Materials materials;

@@ -6,11 +6,12 @@
 #include "systems/kernels/polar_decomposition.h"
 
 namespace xcut {
-namespace {
 
 LameParameters lame_of(const Material& m, int dim) {
     return {dim == 3 ? m.lambda() : m.lambda_plane_stress(), m.mu()};
 }
+
+namespace {
 
 std::array<Vec3, 4> gather_vectors(const std::array<int, 4>& ids, int npe, const Vec3* v) {
     std::array<Vec3, 4> out;

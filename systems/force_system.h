@@ -7,9 +7,12 @@
 
 #include "engine/scheduler.h"
 #include "engine/world.h"
+#include "systems/kernels/corotational_kernel.h"
 
 namespace xcut {
 
+/// Lame parameters of a material for the mesh's dimension (2D: plane stress) [Pa].
+LameParameters lame_of(const Material& material, int dim);
 /// R of every element from the current positions (warm-started from the previous R).
 void update_rotations(World& world);
 /// world.forces.{force, stiffness_diagonal, elastic_energy} from positions, rotations and gravity.

@@ -9,6 +9,7 @@
 #include "systems/snap_cut_system.h"
 #include "systems/solver_system.h"
 #include "systems/tool_system.h"
+#include "systems/watchdog_system.h"
 
 namespace xcut {
 
@@ -26,7 +27,8 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
     scheduler.add(world.snap.enabled ? snap_cut_system(world) : enrichment_system());
     scheduler.add(force_system());
     scheduler.add(collision_system(make_collision_model()));
-    scheduler.add(solver_system());
+    scheduler.add(solver_system(world));
+    scheduler.add(watchdog_system());
     scheduler.add(mapping_system());
     scheduler.add({"OutputSystem", kNodes | kElements | kOutput, 0, [&sim](World& w) {
                        if (sim.output) sim.output->frame_if_due(w);

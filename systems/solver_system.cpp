@@ -1,8 +1,14 @@
 #include "systems/solver_system.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
+#include "engine/error.h"
 #include "engine/parallel.h"
+#include "systems/linear_solver.h"
 #include "systems/collision_system.h"
 #include "systems/force_system.h"
 
@@ -28,10 +34,9 @@ namespace {
 /// rhs = h f(x_n + h v_k) - h beta K_k v_k - h alpha M v_k - M (v_k - v_n): minus the implicit Euler
 /// residual at velocity v_k, with forces, rotations and K_k at x_k = x_n + h v_k (already computed).
 /// Contacts are held at their start-of-step linearization: f_c0 - K_c (x_k - x_n).
-Eigen::VectorXd newton_rhs(World& w, const Eigen::VectorXd& m3, const Eigen::VectorXd& vn, const Eigen::VectorXd& vk,
-                           const Eigen::VectorXd& contact_force) {
+Eigen::VectorXd newton_rhs(World& w, double h, const Eigen::VectorXd& m3, const Eigen::VectorXd& vn,
+                           const Eigen::VectorXd& vk, const Eigen::VectorXd& contact_force) {
     const SolverSettings& s = w.solver;
-    const double h = s.dt;
     Eigen::VectorXd kv;
     stiffness_product(w, vk, kv);  // K_el + K_c
     Eigen::VectorXd rhs = h * (w.forces.force + contact_force) - h * s.damping_stiffness * kv -
@@ -44,20 +49,26 @@ Eigen::VectorXd newton_rhs(World& w, const Eigen::VectorXd& m3, const Eigen::Vec
     return rhs;
 }
 
-}  // namespace
+/// The contact part of the forces at the step's start: forces as the CollisionSystem left them,
+/// less the elastic and gravity forces recomputed at the same state (which this leaves in place).
+Eigen::VectorXd contact_part(World& w) {
+    Eigen::VectorXd contact = w.forces.force;
+    compute_forces(w);
+    contact -= w.forces.force;
+    return contact;
+}
 
-void implicit_euler_step(World& world) {
+/// One backward Euler step of length h from the current state, forces and rotations (paper §4.3):
+/// the linearized solve, then Newton iterations when asked. Commits v and x only if every solve
+/// converged; returns the solves' sum.
+LinearSolve euler_substep(World& world, double h, const Eigen::VectorXd& m3, const Eigen::VectorXd& mask) {
     Nodes& nodes = world.nodes;
     const SolverSettings& s = world.solver;
     const int n3 = 3 * nodes.count();
-    const double h = s.dt;
     const double mass_scale = 1.0 + h * s.damping_mass;
     const double stiff_scale = h * h + h * s.damping_stiffness;
-
     Eigen::Map<Eigen::VectorXd> v(nodes.velocity[0].data(), n3);
     Eigen::Map<Eigen::VectorXd> x(nodes.position[0].data(), n3);
-    Eigen::VectorXd m3(n3);
-    for (int i = 0; i < nodes.count(); ++i) m3.segment<3>(3 * i).setConstant(nodes.mass[i]);
 
     Eigen::VectorXd kv;
     stiffness_product(world, v, kv);
@@ -65,61 +76,153 @@ void implicit_euler_step(World& world) {
     auto inverse_diagonal = [&] {
         return (mass_scale * m3 + stiff_scale * world.forces.stiffness_diagonal).cwiseInverse().eval();
     };
-    Eigen::VectorXd inv_diag = inverse_diagonal();
-
-    Eigen::VectorXd& dv = world.forces.last_dv;
-    if (dv.size() != n3) dv.setZero(n3);
     auto apply = [&](const Eigen::VectorXd& p, Eigen::VectorXd& out) {
         stiffness_product(world, p, out);
         parallel_for(n3, [&](int i) { out[i] = mass_scale * m3[i] * p[i] + stiff_scale * out[i]; });
     };
-    const Eigen::VectorXd mask = free_mask(world);
-    CgResult cg = conjugate_gradient(apply, b, inv_diag, mask, s.cg_tolerance, s.cg_max_iterations, dv);
-    const double start_energy = world.forces.elastic_energy;
+    Eigen::VectorXd dv = world.forces.last_dv.size() == n3 ? world.forces.last_dv : Eigen::VectorXd::Zero(n3);
+    LinearSolve total = solve_linear(world, apply, inverse_diagonal(), mass_scale, stiff_scale, b, mask, dv);
     int newton = 1;
-    if (s.newton_iterations > 1) {
+    if (total.converged && s.newton_iterations > 1) {
         // Newton on the nonlinear step (rotations, forces and K re-evaluated at x_n + h v_k) until
         // |residual| <= newton_tolerance |residual at v_n|: the converged step is backward Euler
         // itself, which the once-linearized step only approximates (it gains energy on large
         // rotations at large dt: docs/verification.md problem 9).
         const Eigen::VectorXd xn = x, vn = v;
-        Eigen::VectorXd contact_force = world.forces.force;  // f at x_n, contacts included ...
-        compute_forces(world);
-        contact_force -= world.forces.force;  // ... less elastic + gravity: the contact part
+        const Eigen::VectorXd contact_force = contact_part(world);
         const double r0 = std::sqrt(deterministic_dot(b.cwiseProduct(mask), b.cwiseProduct(mask)));
         Eigen::VectorXd vk = vn + dv;
-        for (; newton < s.newton_iterations; ++newton) {
+        for (; newton < s.newton_iterations && total.converged; ++newton) {
             project_constraints(world, vk);
             x = xn + h * vk;
             update_rotations(world);
             compute_forces(world);
-            b = newton_rhs(world, m3, vn, vk, contact_force);
+            b = newton_rhs(world, h, m3, vn, vk, contact_force);
             const double r = std::sqrt(deterministic_dot(b.cwiseProduct(mask), b.cwiseProduct(mask)));
             if (!(r > s.newton_tolerance * r0)) break;
-            inv_diag = inverse_diagonal();
             Eigen::VectorXd delta = Eigen::VectorXd::Zero(n3);
-            const CgResult step = conjugate_gradient(apply, b, inv_diag, mask, s.cg_tolerance, s.cg_max_iterations, delta);
-            cg.iterations += step.iterations;
+            const LinearSolve step = solve_linear(world, apply, inverse_diagonal(), mass_scale, stiff_scale, b, mask, delta);
+            total.cg.iterations += step.cg.iterations;
+            total.cg.relative_residual = step.cg.relative_residual;
+            total.converged = step.converged;
+            total.refactored = total.refactored || step.refactored;
             vk += delta;
         }
         x = xn;
         dv = vk - vn;
     }
+    world.metrics.current.newton_iterations = newton;
+    if (!total.converged) return total;
+    world.forces.last_dv = dv;
     v += dv;
     project_constraints(world, v);
     x += h * v;
+    return total;
+}
 
-    world.time += h;
+/// What a step changes, to start it again in substeps.
+struct StepStart {
+    std::vector<Vec3> position, velocity;
+    std::vector<Mat3> rotation;
+    Eigen::VectorXd force, stiffness_diagonal, last_dv;
+    double elastic_energy = 0.0;
+};
+
+StepStart save_step(const World& w) {
+    return {w.nodes.position, w.nodes.velocity, w.elements.rotation, w.forces.force, w.forces.stiffness_diagonal,
+            w.forces.last_dv, w.forces.elastic_energy};
+}
+
+void restore_step(World& w, const StepStart& s) {
+    w.nodes.position = s.position, w.nodes.velocity = s.velocity, w.elements.rotation = s.rotation;
+    w.forces.force = s.force, w.forces.stiffness_diagonal = s.stiffness_diagonal, w.forces.last_dv = s.last_dv;
+    w.forces.elastic_energy = s.elastic_energy;
+}
+
+/// The step in `substeps` equal parts; false as soon as one part's solve fails.
+bool run_substeps(World& world, int substeps, const Eigen::VectorXd& m3, const Eigen::VectorXd& mask,
+                  const Eigen::VectorXd& contact_force, LinearSolve& total) {
+    const double h = world.solver.dt / substeps;
+    total = LinearSolve{};
+    for (int k = 0; k < substeps; ++k) {
+        if (k > 0) {  // forces and rotations at the substep's start; contacts as linearized at the step's
+            update_rotations(world);
+            compute_forces(world);
+            world.forces.force += contact_force;
+        }
+        const LinearSolve part = euler_substep(world, h, m3, mask);
+        total.cg.iterations += part.cg.iterations;
+        total.cg.relative_residual = std::isnan(part.cg.relative_residual)
+                                         ? part.cg.relative_residual
+                                         : std::max(total.cg.relative_residual, part.cg.relative_residual);
+        total.refactored = total.refactored || part.refactored;
+        total.converged = part.converged;
+        if (!part.converged) return false;
+    }
+    return true;
+}
+
+[[noreturn]] void fail_step(const World& w, const LinearSolve& last, int substeps) {
+    const SolverSettings& s = w.solver;
+    const std::string where = fmt::format("step {} (from t = {:.6g} s, dt {:.3g} s)", w.step + 1, w.time, s.dt);
+    if (!std::isfinite(last.cg.relative_residual))
+        throw NumericalError(fmt::format(
+            "{}: the linear system holds NaN or infinite values (forces, stiffness or the state), even in {} "
+            "substeps. Change: Young's modulus, density or gravity to physical values (SI units: Pa, kg/m^3, m/s^2)",
+            where, substeps));
+    throw NumericalError(fmt::format(
+        "{}: the linear solve ({}) stopped at relative residual {:.3g} after {} CG iterations, above the tolerance "
+        "{:.3g}, even with a fresh factor and in {} substeps of {:.3g} s. Change: a smaller solver.dt, a larger "
+        "solver.cg_max_iterations (now {}), solver.linear \"cholesky\", or the material (a Poisson ratio near 0.5 "
+        "locks linear tetrahedra)",
+        where, w.linear.method, last.cg.relative_residual, last.cg.iterations, s.cg_tolerance, substeps,
+        s.dt / substeps, s.cg_max_iterations));
+}
+
+}  // namespace
+
+void implicit_euler_step(World& world) {
+    Nodes& nodes = world.nodes;
+    const SolverSettings& s = world.solver;
+    const int n3 = 3 * nodes.count();
+    Eigen::VectorXd m3(n3);
+    for (int i = 0; i < nodes.count(); ++i) m3.segment<3>(3 * i).setConstant(nodes.mass[i]);
+    const Eigen::VectorXd mask = free_mask(world);
+    const double start_energy = world.forces.elastic_energy;
+
+    // A solve above its tolerance is not accepted: solve_linear renews a stale factor first; then
+    // the step is split in 2, 4, ... up to solver.max_substeps parts; then the run stops (fail_step).
+    const StepStart start = save_step(world);
+    Eigen::VectorXd contact_force;
+    LinearSolve total;
+    int substeps = 1;
+    while (!run_substeps(world, substeps, m3, mask, contact_force, total)) {
+        if (2 * substeps > s.max_substeps) fail_step(world, total, substeps);
+        restore_step(world, start);
+        if (contact_force.size() == 0) {
+            contact_force = world.contacts.count() > 0 ? contact_part(world) : Eigen::VectorXd::Zero(n3);
+            restore_step(world, start);
+        }
+        substeps *= 2;
+    }
+
+    world.time += s.dt;
     ++world.step;
-    StepMetrics& m = world.metrics.current;
+    Metrics& metrics = world.metrics;
+    StepMetrics& m = metrics.current;
     m.step = world.step;
     m.time = world.time;
-    m.dt = h;
-    m.cg_iterations = cg.iterations;
-    m.cg_residual = cg.relative_residual;
-    m.newton_iterations = newton;
+    m.dt = s.dt;
+    m.cg_iterations = total.cg.iterations;
+    m.cg_residual = total.cg.relative_residual;
+    m.solve_flag = substeps > 1 ? 2 : total.refactored ? 1 : 0;
+    m.substeps = substeps;
+    metrics.refactored_steps += m.solve_flag == 1;
+    metrics.substepped_steps += substeps > 1;
+    metrics.max_substeps = std::max(metrics.max_substeps, substeps);
     m.dofs = static_cast<int>(mask.sum());
     m.elastic_energy = start_energy;
+    Eigen::Map<Eigen::VectorXd> v(nodes.velocity[0].data(), n3);
     m.kinetic_energy = 0.5 * deterministic_sum(n3, [&](int i) { return m3[i] * v[i] * v[i]; });
     m.gravity_work = deterministic_sum(nodes.count(), [&](int i) {
         return nodes.mass[i] * world.gravity.dot(nodes.position[i] - nodes.rest[i]);
@@ -157,8 +260,11 @@ StaticResult static_solve(World& world, double tolerance, int max_newton, double
     return result;
 }
 
-SystemDesc solver_system() {
-    return {"SolverSystem", kNodes | kElements | kForces, kNodes, implicit_euler_step};
+SystemDesc solver_system(const World& world) {
+    std::string why;
+    const std::string method = resolve_linear_method(world, &why);
+    return {"SolverSystem", kNodes | kElements | kForces, kNodes, implicit_euler_step,
+            "linear: " + method + " (" + why + ")"};
 }
 
 }  // namespace xcut

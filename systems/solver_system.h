@@ -5,11 +5,17 @@
 //   [(1 + h alpha) M + (h^2 + h beta) K] dv = h f - (h^2 + h beta) K v - h alpha M v,
 //   v <- v + dv,  x <- x + h v.
 //
-// K is never assembled: CG calls the ForceSystem's matrix-free product. Jacobi preconditioner
-// (diagonal of the system matrix). Held axes are removed by projecting residual and search direction
-// (the filter of Baraff & Witkin), so constraints add no stiffness and the system stays SPD.
-// CG starts from the previous step's dv; its dot products are summed in a fixed order, so a step is
-// bit-identical for any thread count.
+// The system is solved by the linear-solver stage (systems/linear_solver.h: matrix-free Jacobi CG,
+// or the assembled matrix with a block-Jacobi or Cholesky-preconditioned CG, per solver.linear).
+// Held axes are removed by projecting residual and search direction (the filter of Baraff &
+// Witkin), so constraints add no stiffness and the system stays SPD. CG starts from the previous
+// step's dv; its dot products are summed in a fixed order, so a step is bit-identical for any
+// thread count.
+//
+// No silent failure: a solve above its tolerance (or NaN) is not accepted. The stage renews a
+// stale factor first; then the step is redone in 2, 4, ... solver.max_substeps substeps; then the
+// run stops with a NumericalError naming the step, the residual and what to change. The metrics
+// carry each step's residual, solve_flag (0, 1 renewed factor, 2 substeps) and substep count.
 #include <Eigen/Core>
 
 #include "engine/scheduler.h"
@@ -48,7 +54,8 @@ struct StaticResult {
 /// nodal forces [N], 3 per DOF node (a traction spread on boundary nodes), or empty.
 StaticResult static_solve(World& world, double tolerance, int max_newton, double cg_tolerance,
                           int cg_max_iterations, const Eigen::VectorXd& load = Eigen::VectorXd());
-SystemDesc solver_system();
+/// The SolverSystem; its schedule line says which linear method runs and why.
+SystemDesc solver_system(const World& world);
 
 }  // namespace xcut
 

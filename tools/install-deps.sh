@@ -12,4 +12,4 @@ $SUDO apt-get install -y -q --no-install-recommends \
   nlohmann-json3-dev libcli11-dev libfmt-dev libspdlog-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libtet1.5-dev \
   zlib1g-dev libpng-dev libstb-dev python3 python3-matplotlib \
-  clang-14 libclang-rt-14-dev libomp-14-dev
+  libsuitesparse-dev clang-14 libclang-rt-14-dev libomp-14-dev

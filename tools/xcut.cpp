@@ -42,6 +42,9 @@ int main(int argc, char** argv) {
     } catch (const xcut::InputError& e) {
         fmt::print(stderr, "error: {}\n", e.what());
         return 2;
+    } catch (const xcut::NumericalError& e) {
+        fmt::print(stderr, "error: the simulation failed: {}\n", e.what());
+        return 3;
     } catch (const std::exception& e) {
         fmt::print(stderr, "error: {}\n", e.what());
         return 1;

@@ -114,7 +114,8 @@ OutputWriter::OutputWriter(const World& world) : dir_(world.output.directory), s
     if (world.output.metrics_csv) {
         csv_.open(dir_ + "/" + stem_ + "_metrics.csv");
         if (!csv_) throw InputError(dir_, "output.directory", "cannot write the metrics CSV");
-        csv_ << "step,time_s,dt_s,dofs,cg_iterations,cg_residual,kinetic_J,elastic_J,gravity_work_J,step_ms";
+        csv_ << "step,time_s,dt_s,dofs,cg_iterations,cg_residual,kinetic_J,elastic_J,gravity_work_J,step_ms,solve_flag,"
+                "substeps";
         for (const std::string& s : world.metrics.system_names) csv_ << "," << s << "_ms";
         cut_columns_ = world.tools.count() > 0;
         if (cut_columns_)
@@ -152,9 +153,9 @@ void OutputWriter::frame_if_due(const World& world) {
 void OutputWriter::metrics_row(const World& world) {
     const StepMetrics& m = world.metrics.current;
     if (csv_.is_open()) {
-        csv_ << fmt::format("{},{:.9g},{:.9g},{},{},{:.3e},{:.9e},{:.9e},{:.9e},{:.4f}", m.step, m.time, m.dt,
+        csv_ << fmt::format("{},{:.9g},{:.9g},{},{},{:.3e},{:.9e},{:.9e},{:.9e},{:.4f},{},{}", m.step, m.time, m.dt,
                             m.dofs, m.cg_iterations, m.cg_residual, m.kinetic_energy, m.elastic_energy,
-                            m.gravity_work, m.step_ms);
+                            m.gravity_work, m.step_ms, m.solve_flag, m.substeps);
         for (double ms : m.system_ms) csv_ << fmt::format(",{:.4f}", ms);
         if (cut_columns_) {
             // Delays of the elements split in this step (the tail of the run-long list).

@@ -364,7 +364,8 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     scene.constraints.nodes = con.int_list("fixed_nodes");
 
     const JsonFields sol = top.object("solver");
-    sol.allow_only({"dt", "mode", "cg_tolerance", "cg_max_iterations", "dt_min", "dt_max", "damping", "newton"});
+    sol.allow_only({"dt", "mode", "cg_tolerance", "cg_max_iterations", "dt_min", "dt_max", "damping", "newton",
+                    "linear", "refactor_iterations", "refactor_every", "max_substeps", "energy_factor"});
     SolverSettings& s = scene.solver;
     s.dt = sol.number("dt", 1e-2, 1e-9, 10.0);
     s.realtime = sol.choice("mode", "fixed", {"fixed", "realtime"}) == "realtime";
@@ -380,6 +381,11 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     newton.allow_only({"iterations", "tolerance"});
     s.newton_iterations = newton.integer("iterations", 1, 1, 1000);
     s.newton_tolerance = newton.number("tolerance", 1e-6, 1e-16, 1.0);
+    s.linear = sol.choice("linear", "auto", {"auto", "jacobi", "block_jacobi", "cholesky", "direct"});
+    s.refactor_iterations = sol.integer("refactor_iterations", 8, 1, 1000000);
+    s.refactor_every = sol.integer("refactor_every", 200, 1, 1000000);
+    s.max_substeps = sol.integer("max_substeps", 16, 1, 1024);
+    s.energy_factor = sol.number("energy_factor", 100.0, 1.0);
 
     if (top.has("steps") && top.has("duration")) top.fail("duration", "give \"steps\" or \"duration\", not both");
     scene.steps = top.integer("steps", 100, 0, 100000000);

@@ -82,6 +82,25 @@ XCUT_INLINE void corotational_stiffness_product(const std::array<Vec3, 4>& p, co
     scatter_stress<D>(R, linear_stress<D>(H, lame), dm_inv, volume, out);
 }
 
+/// Rest shape gradient g_j of node j (rows of Dm^-1; g_0 = -sum of the others).
+template <int D>
+XCUT_INLINE VecD<D> shape_gradient(const MatD<D>& dm_inv, int j) {
+    return j == 0 ? VecD<D>(-dm_inv.transpose() * VecD<D>::Ones()) : VecD<D>(dm_inv.row(j - 1).transpose());
+}
+
+/// Block (j, k) of the element stiffness, the matrix whose action corotational_stiffness_product
+/// computes: K_jk = V R (lambda g_j g_k^T + mu g_k g_j^T + mu (g_j . g_k) I) R^T [N/m]. From
+/// sigma(H) g_j with H = R^T p_k g_k^T: tr(eps) = g_k . R^T p_k, eps g_j = (R^T p_k (g_k . g_j) +
+/// g_k (R^T p_k . g_j)) / 2. R is a rotation (R I R^T = I), so with the rotated gradients r = R g:
+/// K_jk = V (lambda r_j r_k^T + mu r_k r_j^T + mu (g_j . g_k) I), 25 flops a block. In 2D the
+/// gradients have z = 0 and the z row and column of the block are left 0.
+XCUT_INLINE Eigen::Matrix3d corotational_stiffness_block(const Vec3& rj, const Vec3& rk, double gjk, double volume,
+                                                         const LameParameters& lame, int dim) {
+    Eigen::Matrix3d out = lame.lambda * rj * rk.transpose() + lame.mu * rk * rj.transpose();
+    out.diagonal().head(dim).array() += lame.mu * gjk;
+    return volume * out;
+}
+
 /// Diagonal of the element stiffness: node j, axis k: V (mu |g_j|^2 + (lambda + mu) (R g_j)_k^2).
 template <int D>
 inline void corotational_stiffness_diagonal(const MatD<D>& dm_inv, const MatD<D>& R, double volume,

@@ -50,6 +50,21 @@ TEST(Cli, BadSceneExitsWithTwoAndNamesTheField) {
     fs::remove_all(dir);
 }
 
+// A run that cannot go on stops with exit code 3 and says why: infinite forces (g = 1e300), a solve
+// that cannot converge (one CG iteration); it never aborts in a library nor exits 0 with garbage.
+TEST(Cli, NumericalFailureExitsWithThreeAndSaysWhy) {
+    const fs::path dir = temp_dir("cli_numerical");
+    std::ofstream(dir / "tiny.json") << kTiny;
+    const std::string scene = (dir / "tiny.json").string() + " -q -o " + (dir / "out").string();
+    std::string err;
+    EXPECT_EQ(run_xcut("run " + scene + " --set gravity=[0,0,-1e300]", err), 3) << err;
+    EXPECT_NE(err.find("NaN or infinite"), std::string::npos) << err;
+    EXPECT_EQ(run_xcut("run " + scene + " --set solver.cg_max_iterations=1 --set solver.linear=\\\"jacobi\\\" "
+                       "--set gravity=[0,0,-9.81]", err), 3) << err;
+    EXPECT_NE(err.find("relative residual"), std::string::npos) << err;
+    fs::remove_all(dir);
+}
+
 TEST(Cli, HelpExitsWithZero) {
     std::string err;
     EXPECT_EQ(run_xcut("run --help", err), 0);

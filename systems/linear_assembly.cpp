@@ -1,0 +1,164 @@
+#include "systems/linear_assembly.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <stdexcept>
+
+#include "engine/parallel.h"
+#include "systems/force_system.h"
+#include "systems/kernels/corotational_kernel.h"
+
+namespace xcut {
+namespace {
+
+/// FNV-1a over the element node ids: the pattern is rebuilt when it changes.
+uint64_t topology_hash(const World& w) {
+    uint64_t h = 1469598103934665603ull ^ static_cast<uint64_t>(w.nodes.count());
+    for (const auto& n : w.elements.nodes)
+        for (int id : n) h = (h ^ static_cast<uint64_t>(static_cast<uint32_t>(id))) * 1099511628211ull;
+    return h;
+}
+
+/// Calls f(k, entry) for every incidence entry of node i: the mesh incidence (k indexes mesh_slot),
+/// then the virtual one (k + offset into virtual_slot, flagged by `virt`).
+template <class F>
+void for_incident(const World& w, int i, F&& f) {
+    if (i < w.mesh_nodes)
+        for (int k = w.incidence.offset[i]; k < w.incidence.offset[i + 1]; ++k) f(false, k, w.incidence.entry[k]);
+    for (int k = w.virtual_incidence.offset[i]; k < w.virtual_incidence.offset[i + 1]; ++k)
+        f(true, k, w.virtual_incidence.entry[k]);
+}
+
+/// The block (i, j) of the pattern, or -1.
+int find_block(const LinearSystem& A, int i, int j) {
+    const auto begin = A.column.begin() + A.row_offset[i], end = A.column.begin() + A.row_offset[i + 1];
+    const auto it = std::lower_bound(begin, end, j);
+    return it != end && *it == j ? static_cast<int>(it - A.column.begin()) : -1;
+}
+
+Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> block_at(LinearSystem& A, int b) {
+    return Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(A.value.data() + 9 * b);
+}
+
+/// Adds stiff_scale times row a of element e's stiffness to the blocks `slot` of row node a.
+template <int D>
+void add_element_row(const World& w, int e, int a, const std::array<int, 4>& slot, double scale, LinearSystem& A) {
+    const Elements& el = w.elements;
+    const double volume = scale * el.rest_volume[e] * el.weight[e];
+    if (volume == 0.0) return;
+    const MatD<D> dm_inv = el.dm_inv[e].template topLeftCorner<D, D>();
+    const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
+    const LameParameters lame = lame_of(w.materials.list[el.material[e]], D);
+    const VecD<D> ga = shape_gradient<D>(dm_inv, a);
+    Vec3 ra = Vec3::Zero();
+    ra.template head<D>() = R * ga;
+    for (int b = 0; b <= D; ++b) {
+        const VecD<D> gb = shape_gradient<D>(dm_inv, b);
+        Vec3 rb = Vec3::Zero();
+        rb.template head<D>() = R * gb;
+        block_at(A, slot[b]) += corotational_stiffness_block(ra, rb, ga.dot(gb), volume, lame, D);
+    }
+}
+
+void add_contacts(const World& w, double scale, LinearSystem& A) {
+    const Contacts& c = w.contacts;
+    const int npe = w.elements.nodes_per_element();
+    for (int k = 0; k < c.count(); ++k) {  // K_c = k (w_a w_b) n n^T between the element's nodes
+        const auto& nodes = w.elements.nodes[c.element[k]];
+        const Eigen::Matrix3d nn = c.stiffness[k] * c.normal[k] * c.normal[k].transpose();
+        for (int a = 0; a < npe; ++a)
+            for (int b = 0; b < npe; ++b) {
+                const int blk = find_block(A, nodes[a], nodes[b]);
+                if (blk < 0) throw std::logic_error("contact on an element outside the linear system's pattern");
+                block_at(A, blk) += scale * c.bary[k][a] * c.bary[k][b] * nn;
+            }
+    }
+}
+
+/// Held axes: their rows and columns are dropped and their diagonal set to 1.
+void filter_held_axes(const World& w, LinearSystem& A) {
+    const auto& fixed = w.nodes.fixed;
+    parallel_for(A.rows(), [&](int i) {
+        for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b) {
+            const int j = A.column[b];
+            if (!fixed[i] && !fixed[j]) continue;
+            auto blk = block_at(A, b);
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c)
+                    if (((fixed[i] >> r) & 1) || ((fixed[j] >> c) & 1)) blk(r, c) = (i == j && r == c) ? 1.0 : 0.0;
+        }
+    });
+}
+
+}  // namespace
+
+bool ensure_linear_pattern(World& w) {
+    LinearSystem& A = w.linear;
+    const uint64_t topology = topology_hash(w);
+    if (topology == A.topology && A.rows() == w.nodes.count()) return false;
+    const int n = w.nodes.count(), npe = w.elements.nodes_per_element();
+    std::vector<std::vector<int>> columns(n);
+    parallel_for(n, [&](int i) {
+        std::vector<int>& cols = columns[i];
+        for_incident(w, i, [&](bool, int, int entry) {
+            for (int b = 0; b < npe; ++b) cols.push_back(w.elements.nodes[entry >> 2][b]);
+        });
+        cols.push_back(i);
+        std::sort(cols.begin(), cols.end());
+        cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+    }, 1024);
+    A.row_offset.assign(n + 1, 0);
+    for (int i = 0; i < n; ++i) A.row_offset[i + 1] = A.row_offset[i] + static_cast<int>(columns[i].size());
+    A.column.resize(A.row_offset[n]);
+    A.diagonal.resize(n);
+    for (int i = 0; i < n; ++i) std::copy(columns[i].begin(), columns[i].end(), A.column.begin() + A.row_offset[i]);
+    A.mesh_slot.assign(w.incidence.entry.size(), {-1, -1, -1, -1});
+    A.virtual_slot.assign(w.virtual_incidence.entry.size(), {-1, -1, -1, -1});
+    parallel_for(n, [&](int i) {
+        A.diagonal[i] = find_block(A, i, i);
+        for_incident(w, i, [&](bool virt, int k, int entry) {
+            auto& slot = virt ? A.virtual_slot[k] : A.mesh_slot[k];
+            for (int b = 0; b < npe; ++b) slot[b] = find_block(A, i, w.elements.nodes[entry >> 2][b]);
+        });
+    }, 1024);
+    A.value.assign(9 * A.column.size(), 0.0);
+    A.topology = topology;
+    return true;
+}
+
+void assemble_step_matrix(World& w, double mass_scale, double stiff_scale) {
+    LinearSystem& A = w.linear;
+    const int dim = w.elements.dim;
+    parallel_for(A.rows(), [&](int i) {
+        std::fill(A.value.begin() + 9 * A.row_offset[i], A.value.begin() + 9 * A.row_offset[i + 1], 0.0);
+        for_incident(w, i, [&](bool virt, int k, int entry) {
+            const auto& slot = virt ? A.virtual_slot[k] : A.mesh_slot[k];
+            if (dim == 3) add_element_row<3>(w, entry >> 2, entry & 3, slot, stiff_scale, A);
+            else add_element_row<2>(w, entry >> 2, entry & 3, slot, stiff_scale, A);
+        });
+        block_at(A, A.diagonal[i]).diagonal().array() += mass_scale * w.nodes.mass[i];
+    }, 512);
+    if (w.contacts.count() > 0) add_contacts(w, stiff_scale, A);
+    filter_held_axes(w, A);
+}
+
+void linear_multiply(const LinearSystem& A, const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+    y.resize(3 * A.rows());
+    parallel_for(A.rows(), [&](int i) {
+        Eigen::Vector3d s = Eigen::Vector3d::Zero();
+        for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b)
+            s += Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(A.value.data() + 9 * b) *
+                 x.segment<3>(3 * A.column[b]);
+        y.segment<3>(3 * i) = s;
+    }, 2048);
+}
+
+void block_diagonal_inverse(const LinearSystem& A, std::vector<double>& inverse) {
+    inverse.resize(9 * A.rows());
+    parallel_for(A.rows(), [&](int i) {
+        const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> d(A.value.data() + 9 * A.diagonal[i]);
+        Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(inverse.data() + 9 * i) = d.inverse();
+    }, 2048);
+}
+
+}  // namespace xcut

@@ -1,0 +1,31 @@
+#pragma once
+// Assembly of the implicit Euler step's matrix into world.linear (components/linear_system.h):
+//   A = mass_scale M + stiff_scale (K + K_c),  mass_scale = 1 + h alpha,  stiff_scale = h^2 + h beta,
+// K the rotated corotational stiffness (paper App. B; blocks from systems/kernels/corotational_kernel.h)
+// of every element, mesh and virtual (XFEM: the enriched DOFs are the phantom nodes of the virtual
+// elements, paper eq. 4-6), K_c the contact penalty stiffness (systems/collision_system.h), held axes
+// filtered (row and column dropped, diagonal 1).
+//
+// Each block row is summed by one thread in the incidence's element order, the same order the
+// matrix-free gather uses: the values are bit-identical for any thread count, with no atomics.
+// The matrix-free product (systems/force_system.h) stays the reference this one is tested against.
+#include <Eigen/Core>
+
+#include "engine/world.h"
+
+namespace xcut {
+
+/// Rebuilds the block pattern when the elements' node ids changed since it was built (a split, a
+/// remesh); returns whether it did.
+bool ensure_linear_pattern(World& world);
+
+/// Fills the values for this step's rotations, masses and contacts (the pattern must be current).
+void assemble_step_matrix(World& world, double mass_scale, double stiff_scale);
+
+/// y = A x for the assembled A (3 entries per DOF node).
+void linear_multiply(const LinearSystem& A, const Eigen::VectorXd& x, Eigen::VectorXd& y);
+
+/// The inverses of A's 3x3 diagonal blocks, 9 per node (row-major): the block Jacobi preconditioner.
+void block_diagonal_inverse(const LinearSystem& A, std::vector<double>& inverse);
+
+}  // namespace xcut

@@ -1,0 +1,42 @@
+#pragma once
+// The linear-solver stage of the implicit step: one interface, several methods, chosen in the scene
+// by `solver.linear` (SOFA's split of a linear system from its solver, without its machinery):
+//  - "jacobi": matrix-free CG with the diagonal of A (the paper's setting; no assembly, least memory);
+//  - "block_jacobi": CG on the assembled A (systems/linear_assembly.h) with its 3x3 diagonal blocks
+//    inverted: cheap per iteration, scales to any size;
+//  - "cholesky": CG preconditioned by a CHOLMOD supernodal Cholesky factor of an earlier step's A
+//    (Chen, Davis, Hager & Rajamanickam, ACM TOMS 35(3), 2008). Rotations change slowly, so an old
+//    factor stays a near-exact inverse: 1-5 iterations. Refactored numerically when CG needs more
+//    than `solver.refactor_iterations` or the factor is `solver.refactor_every` steps old, and
+//    symbolically and numerically when the topology changes (a cut). The step at which a new factor
+//    is taken depends only on the iteration counts, never on timing: replays stay bit-identical;
+//  - "direct": the same factor computed every step (CG then converges in one or two iterations);
+//  - "auto": cholesky while its factor's estimated memory fits in a quarter of the machine's,
+//    block_jacobi beyond.
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+
+#include "engine/world.h"
+#include "systems/solver_system.h"
+
+namespace xcut {
+
+/// The method "auto" (or a named method) stands for on this world, and why (for the schedule line).
+std::string resolve_linear_method(const World& world, std::string* why = nullptr);
+
+struct LinearSolve {
+    CgResult cg;
+    bool converged = false;  ///< the relative residual reached the tolerance (false on NaN)
+    bool refactored = false; ///< a stale factor was renewed to reach it
+};
+
+/// A x = b for the step: the jacobi method multiplies matrix-free through `apply` with the diagonal
+/// inverse `inv_diag`; the others assemble A (mass_scale, stiff_scale) into world.linear first.
+/// `x` holds the first guess. A solve above tolerance with a factor older than this step is retried
+/// once with a fresh factor.
+LinearSolve solve_linear(World& world, const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& apply,
+                         const Eigen::VectorXd& inv_diag, double mass_scale, double stiff_scale,
+                         const Eigen::VectorXd& b, const Eigen::VectorXd& mask, Eigen::VectorXd& x);
+
+}  // namespace xcut
