@@ -41,6 +41,7 @@ struct LinearSystem {
     int factor_age = 0;                    ///< steps since the factor was computed
     int factorizations = 0;                ///< numeric factorizations so far (for metrics)
     int symbolic_factorizations = 0;       ///< symbolic (pattern) analyses so far
+    double factor_nonzeros = 0.0;          ///< non-zeros of the Cholesky factor L (8 bytes each, plus indices)
     std::string method;                    ///< the method in use: jacobi, block_jacobi, cholesky, direct
 };
 

@@ -15,6 +15,11 @@
 namespace xcut {
 
 struct SystemDesc {
+    SystemDesc() = default;
+    SystemDesc(std::string name_, uint32_t reads_, uint32_t writes_, std::function<void(World&)> run_,
+               std::string note_ = "")
+        : name(std::move(name_)), reads(reads_), writes(writes_), run(std::move(run_)), note(std::move(note_)) {}
+
     std::string name;
     uint32_t reads = 0;     ///< every one must be present for the system to run
     uint32_t writes = 0;

@@ -40,24 +40,38 @@ Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> block_at(LinearSystem& 
     return Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(A.value.data() + 9 * b);
 }
 
-/// Adds stiff_scale times row a of element e's stiffness to the blocks `slot` of row node a.
+/// Per element, what its stiffness blocks are made of: the rotated shape gradients r_j = R g_j [1/m]
+/// and stiff_scale V lambda, stiff_scale V mu. Since R is a rotation, g_j . g_k = r_j . r_k, so a
+/// block needs nothing else (corotational_stiffness_block).
+struct ElementTerms {
+    std::array<Vec3, 4> r;
+    double lambda_v = 0.0, mu_v = 0.0;
+};
+
 template <int D>
-void add_element_row(const World& w, int e, int a, const std::array<int, 4>& slot, double scale, LinearSystem& A) {
+void element_terms(const World& w, double scale, std::vector<ElementTerms>& terms) {
     const Elements& el = w.elements;
-    const double volume = scale * el.rest_volume[e] * el.weight[e];
-    if (volume == 0.0) return;
-    const MatD<D> dm_inv = el.dm_inv[e].template topLeftCorner<D, D>();
-    const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
-    const LameParameters lame = lame_of(w.materials.list[el.material[e]], D);
-    const VecD<D> ga = shape_gradient<D>(dm_inv, a);
-    Vec3 ra = Vec3::Zero();
-    ra.template head<D>() = R * ga;
-    for (int b = 0; b <= D; ++b) {
-        const VecD<D> gb = shape_gradient<D>(dm_inv, b);
-        Vec3 rb = Vec3::Zero();
-        rb.template head<D>() = R * gb;
-        block_at(A, slot[b]) += corotational_stiffness_block(ra, rb, ga.dot(gb), volume, lame, D);
-    }
+    terms.resize(el.count());
+    parallel_for(el.count(), [&](int e) {
+        ElementTerms& t = terms[e];
+        const double volume = scale * el.rest_volume[e] * el.weight[e];
+        const LameParameters lame = lame_of(w.materials.list[el.material[e]], D);
+        t.lambda_v = volume * lame.lambda, t.mu_v = volume * lame.mu;
+        const MatD<D> dm_inv = el.dm_inv[e].template topLeftCorner<D, D>();
+        const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
+        for (int j = 0; j < 4; ++j) {
+            t.r[j].setZero();
+            if (j <= D) t.r[j].template head<D>() = R * shape_gradient<D>(dm_inv, j);
+        }
+    }, 2048);
+}
+
+/// Adds row a of element e's stiffness (its terms `t`) to the blocks `slot` of row node a.
+void add_element_row(const ElementTerms& t, int a, int npe, int dim, const std::array<int, 4>& slot, LinearSystem& A) {
+    if (t.lambda_v == 0.0 && t.mu_v == 0.0) return;
+    const LameParameters lame{t.lambda_v, t.mu_v};
+    for (int b = 0; b < npe; ++b)
+        block_at(A, slot[b]) += corotational_stiffness_block(t.r[a], t.r[b], t.r[a].dot(t.r[b]), 1.0, lame, dim);
 }
 
 void add_contacts(const World& w, double scale, LinearSystem& A) {
@@ -128,13 +142,14 @@ bool ensure_linear_pattern(World& w) {
 
 void assemble_step_matrix(World& w, double mass_scale, double stiff_scale) {
     LinearSystem& A = w.linear;
-    const int dim = w.elements.dim;
+    const int dim = w.elements.dim, npe = w.elements.nodes_per_element();
+    std::vector<ElementTerms> terms;
+    if (dim == 3) element_terms<3>(w, stiff_scale, terms);
+    else element_terms<2>(w, stiff_scale, terms);
     parallel_for(A.rows(), [&](int i) {
         std::fill(A.value.begin() + 9 * A.row_offset[i], A.value.begin() + 9 * A.row_offset[i + 1], 0.0);
         for_incident(w, i, [&](bool virt, int k, int entry) {
-            const auto& slot = virt ? A.virtual_slot[k] : A.mesh_slot[k];
-            if (dim == 3) add_element_row<3>(w, entry >> 2, entry & 3, slot, stiff_scale, A);
-            else add_element_row<2>(w, entry >> 2, entry & 3, slot, stiff_scale, A);
+            add_element_row(terms[entry >> 2], entry & 3, npe, dim, virt ? A.virtual_slot[k] : A.mesh_slot[k], A);
         });
         block_at(A, A.diagonal[i]).diagonal().array() += mass_scale * w.nodes.mass[i];
     }, 512);

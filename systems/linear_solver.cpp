@@ -63,6 +63,7 @@ bool factorize(World& w) {
         f.llt.analyzePattern(f.matrix);
         f.topology = A.topology;
         ++A.symbolic_factorizations;
+        A.factor_nonzeros = f.llt.cholmod().lnz;
     }
     f.llt.factorize(f.matrix);
     ++A.factorizations;

@@ -3,6 +3,9 @@
 // xcut_schedule.cpp).
 #include <fmt/format.h>
 
+#include <unistd.h>
+
+#include <cstdlib>
 #include <exception>
 
 #include "engine/error.h"
@@ -26,9 +29,21 @@ void add_scene_options(CLI::App& cmd, SceneOptions& o) {
         ->check(CLI::IsMember({"xfem", "snap"}));
 }
 
+/// Waiting OpenMP threads spin a core by default (libgomp: about 300,000 spins before they sleep).
+/// Beside a renderer, a haptic thread or another process, that core is taken from them, and every
+/// parallel region then waits for a descheduled thread: 2 threads ran 6-16x slower than 1 under
+/// load. The runtime reads its wait policy once, when it loads, before main; so xcut sets
+/// OMP_WAIT_POLICY=passive (unless the user chose one) and starts itself again, once.
+void ensure_passive_wait(char** argv) {
+    if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
+    setenv("OMP_WAIT_POLICY", "passive", 1);
+    execv("/proc/self/exe", argv);  // returns only on failure: run on as started
+}
+
 }  // namespace xcut
 
 int main(int argc, char** argv) {
+    xcut::ensure_passive_wait(argv);
     CLI::App app{"xcut: real-time cutting of soft tissue with the corotational XFEM"};
     app.require_subcommand(1);
     const std::vector<xcut::Command> commands = {

@@ -5,6 +5,7 @@
 #include "tools/bench/bench_collision.h"
 #include "tools/bench/bench_cut.h"
 #include "tools/bench/bench_mapping.h"
+#include "tools/bench/bench_solver.h"
 #include "tools/xcut_commands.h"
 
 namespace xcut {
@@ -22,8 +23,9 @@ void add_bench_options(CLI::App& cmd, BenchOptions& o) {
     cmd.add_option("--suite", o.suite,
                    "perf: steps/s, CG, bytes per tet; cut: cut update per quad, crossing delay; mapping: surface "
                    "update and re-binding; collision: contact time per step, haptic rate; accuracy: error against "
-                   "run time, XFEM and snapping (docs/verification.md problems 3, 5, 6)")
-        ->check(CLI::IsMember({"perf", "cut", "mapping", "collision", "accuracy"}));
+                   "run time, XFEM and snapping (docs/verification.md problems 3, 5, 6); solver: every linear method against "
+                   "jacobi, and 1 vs 2 threads under load")
+        ->check(CLI::IsMember({"perf", "cut", "mapping", "collision", "accuracy", "solver"}));
     cmd.add_option("--sizes", o.perf.sizes, "Target tetrahedron counts")->delimiter(',');
     cmd.add_option("--threads", o.perf.threads, "Thread counts (perf)")->delimiter(',');
     cmd.add_option("--steps", o.perf.steps, "Timed steps per run (perf)")->check(CLI::PositiveNumber);
@@ -32,7 +34,7 @@ void add_bench_options(CLI::App& cmd, BenchOptions& o) {
     cmd.add_option("--speed", o.cut.speed, "Blade speed [m/s] (cut)")->check(CLI::PositiveNumber);
     cmd.add_option("--problems", o.accuracy.problems, "docs/verification.md problems (accuracy): 3, 5, 6")
         ->delimiter(',');
-    cmd.add_flag("--tiny", o.accuracy_tiny, "The small CI configuration (accuracy)");
+    cmd.add_flag("--tiny", o.accuracy_tiny, "The small configuration (accuracy, solver): writes its own CSV");
     cmd.add_option("--cache-dir", o.accuracy.cache_dir,
                    "Where the conforming reference of problem 5 is cached (accuracy; default <build>/accuracy_cache)");
     cmd.add_flag("--no-plots", o.accuracy_no_plots, "CSV only (accuracy)");
@@ -61,6 +63,12 @@ int run_bench(const CLI::App& cmd, const BenchOptions& o) {
         if (cmd.count("--threads")) a.threads = perf.threads.front();
         if (cmd.count("--csv")) a.csv = perf.csv;
         return accuracy_bench_command(a);
+    }
+    if (o.suite == "solver") {
+        SolverBenchOptions sb;
+        sb.tiny = o.accuracy_tiny;
+        if (cmd.count("--csv")) sb.csv = perf.csv;
+        return solver_bench_command(sb);
     }
     if (o.suite == "cut") {
         CutBenchOptions cut = o.cut;

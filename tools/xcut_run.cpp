@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 
 #include "engine/parallel.h"
 #include "systems/enrichment_system.h"
@@ -63,9 +64,10 @@ int run_scene(const RunOptions& o) {
     std::unique_ptr<HapticLoop> haptics = o.haptics ? start_haptics(*sim) : nullptr;
     sim->world.verbose = true;
     const World& w = sim->world;
-    fmt::print("scene {} ({}): {} nodes, {} {}, {} threads, dt {} s ({}), {} steps\n", scene.name, o.scene.scene,
-               w.nodes.count(), w.elements.count(), w.elements.dim == 3 ? "tetrahedra" : "triangles",
-               thread_count(), w.solver.dt, w.solver.realtime ? "real-time" : "fixed", steps);
+    const char* wait = std::getenv("OMP_WAIT_POLICY");
+    fmt::print("scene {} ({}): {} nodes, {} {}, {} threads (OpenMP wait {}), dt {} s ({}), {} steps\n", scene.name,
+               o.scene.scene, w.nodes.count(), w.elements.count(), w.elements.dim == 3 ? "tetrahedra" : "triangles",
+               thread_count(), wait ? wait : "active", w.solver.dt, w.solver.realtime ? "real-time" : "fixed", steps);
     fmt::print("{}", sim->scheduler.describe(w));
     const auto t0 = std::chrono::steady_clock::now();
     run_simulation(*sim, steps, !o.scene.quiet);

@@ -65,6 +65,25 @@ TEST(Cli, NumericalFailureExitsWithThreeAndSaysWhy) {
     fs::remove_all(dir);
 }
 
+// Waiting threads do not spin a core away from other work: xcut sets OpenMP's passive wait policy
+// itself (it restarts once with it), and keeps one the user chose.
+TEST(Cli, OpenMpThreadsWaitPassively) {
+    const fs::path dir = temp_dir("cli_wait");
+    std::ofstream(dir / "tiny.json") << kTiny;
+    const fs::path out = dir / "stdout.txt";
+    const std::string run = std::string(XCUT_BINARY) + " run " + (dir / "tiny.json").string() + " -q --steps 1 -o " +
+                            (dir / "out").string() + " > " + out.string() + " 2>&1";
+    ASSERT_EQ(std::system(("env -u OMP_WAIT_POLICY " + run).c_str()), 0);
+    std::stringstream text;
+    text << std::ifstream(out).rdbuf();
+    EXPECT_NE(text.str().find("OpenMP wait passive"), std::string::npos) << text.str();
+    ASSERT_EQ(std::system(("OMP_WAIT_POLICY=active " + run).c_str()), 0);
+    std::stringstream chosen;
+    chosen << std::ifstream(out).rdbuf();
+    EXPECT_NE(chosen.str().find("OpenMP wait active"), std::string::npos) << chosen.str();
+    fs::remove_all(dir);
+}
+
 TEST(Cli, HelpExitsWithZero) {
     std::string err;
     EXPECT_EQ(run_xcut("run --help", err), 0);

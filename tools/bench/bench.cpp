@@ -25,20 +25,6 @@ size_t bytes(const std::vector<T>& v) {
     return v.capacity() * sizeof(T);
 }
 
-double peak_rss_bytes() {
-    std::ifstream in("/proc/self/status");
-    std::string key;
-    while (in >> key) {
-        if (key == "VmHWM:") {
-            double kb = 0;
-            in >> kb;
-            return kb * 1024.0;
-        }
-        std::getline(in, key);
-    }
-    return 0.0;
-}
-
 /// The 1-minute load average: a run measured while other work shares the cores is noisy.
 double load_average() {
     std::ifstream in("/proc/loadavg");
@@ -163,6 +149,20 @@ void cut_update_rows(const PerfBenchOptions& o) {
 }
 
 }  // namespace
+
+double peak_rss_bytes() {
+    std::ifstream in("/proc/self/status");
+    std::string key;
+    while (in >> key) {
+        if (key == "VmHWM:") {
+            double kb = 0;
+            in >> kb;
+            return kb * 1024.0;
+        }
+        std::getline(in, key);
+    }
+    return 0.0;
+}
 
 size_t world_bytes(const World& w) {
     const Nodes& n = w.nodes;

@@ -51,6 +51,9 @@ std::string sibling_csv(const std::string& csv, const std::string& part);
 /// Opens a CSV for writing, creating its folder.
 fmt::ostream open_csv(const std::string& path);
 
+/// The process's peak resident set so far [bytes] (VmHWM).
+double peak_rss_bytes();
+
 /// Bytes held by the world's component arrays (capacities), for the memory budget.
 struct World;
 size_t world_bytes(const World& world);

@@ -1,0 +1,32 @@
+#pragma once
+// `xcut bench --suite solver`: the linear-solver stage (systems/linear_solver.h) method by method on
+// the same scenes, each ratio measured in one run against solver.linear = jacobi: steps per second,
+// CG iterations per step, the largest residual, steps that needed a renewed factor or substeps, the
+// factor's non-zeros and bytes per tet, peak memory; and the 2-thread step against the 1-thread step
+// while another process keeps one core busy. A benchmark: it prints figures and writes CSV
+// (results/bench_solver.csv; a --tiny run writes results/bench_solver_quick.csv, never the record).
+#include <string>
+#include <vector>
+
+namespace xcut {
+
+struct SolverBenchOptions {
+    bool tiny = false;          ///< small cases and few steps (CI, a quick look)
+    std::string csv;            ///< default: results/bench_solver.csv, or ..._quick.csv when tiny
+    bool progress = true;
+};
+
+struct SolverBenchRow {
+    std::string case_name, method;
+    int tets = 0, steps = 0, threads = 2;
+    double steps_per_s = 0, ms_per_step = 0, cg_per_step = 0, max_residual = 0;
+    int refactored_steps = 0, substepped_steps = 0, factorizations = 0;
+    double factor_bytes_per_tet = 0, rss_bytes_per_tet = 0;
+    std::string failure;        ///< the NumericalError that stopped the run, if any
+};
+
+std::vector<SolverBenchRow> run_solver_bench(const SolverBenchOptions& options);
+/// Prints the tables with the targets, writes the CSV; returns 0.
+int solver_bench_command(const SolverBenchOptions& options);
+
+}  // namespace xcut
