@@ -1,5 +1,6 @@
 #pragma once
-// Mesh readers: Gmsh .msh (ASCII 2.2 and 4.1), TetGen .node/.ele, and closed OBJ/STL surfaces
+// Mesh readers, one file per format: Gmsh .msh (ASCII 2.2 and 4.1; gmsh_reader.cpp), TetGen
+// .node/.ele (tetgen_reader.cpp), and closed OBJ/STL surfaces (surface_reader.cpp)
 // tetrahedralized with TetGen's library. Every error is an InputError naming the file and line.
 #include <array>
 #include <string>

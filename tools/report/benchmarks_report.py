@@ -336,6 +336,24 @@ def stress_section(d, plt, plots):
                   "open edges (runs)", "pinched edges (runs)"], body, ["---"] + ["---:"] * 9)
 
 
+def solver_section(d, plt, plots):
+    """`xcut bench --suite solver`: each linear method per case, its speed-up against jacobi measured in the
+    same run, and the loaded rows (another process busy on one core, 1 and 2 threads)."""
+    rows, _ = read_csv(os.path.join(d, "bench_solver.csv"))
+    body = []
+    for r in rows:
+        failed = str(r["failure"])
+        step = re.search(r"step (\d+)", failed)
+        body.append([r["case"], r["method"], r["threads"], r["tets"], num(r["steps_per_s"]), num(r["cg_per_step"]),
+                     f"{float(r['max_residual']):.1e}", r["refactored_steps"], r["substepped_steps"],
+                     num(r["factor_bytes_per_tet"]), num(r["rss_bytes_per_tet"]),
+                     f"{float(r['speedup_vs_jacobi']):.2f}x" if float(r["speedup_vs_jacobi"]) > 0 else "-",
+                     f"stopped at step {step.group(1)}" if failed and step else ("stopped" if failed else "")])
+    return table(["case", "method", "threads", "tets", "steps/s", "CG / step", "max residual", "renewed", "substepped",
+                  "L bytes / tet", "RSS bytes / tet", "vs jacobi", "run"], body,
+                 ["---", "---", "---:", "---:", "---:", "---:", "---:", "---:", "---:", "---:", "---:", "---:", "---"])
+
+
 def generic_section(name):
     def render(d, plt, plots):
         rows, comments = read_csv(os.path.join(d, f"bench_{name}.csv"))
@@ -346,7 +364,8 @@ def generic_section(name):
     return render
 
 
-SUITES = {"perf": perf_section, "cut": cut_section, "accuracy": accuracy_section, "stress": stress_section}
+SUITES = {"perf": perf_section, "cut": cut_section, "accuracy": accuracy_section, "stress": stress_section,
+          "solver": solver_section}
 
 
 def render_suite(name, d, plt, plots):
