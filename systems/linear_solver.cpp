@@ -1,10 +1,12 @@
 #include "systems/linear_solver.h"
 
+#include <omp.h>
 #include <unistd.h>
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 #include <cmath>
+#include <exception>
 #include <fmt/format.h>
 
 #include "systems/kernels/conjugate_gradient.h"
@@ -22,6 +24,23 @@ struct LinearFactor {
 };
 
 namespace {
+
+/// Runs f with CHOLMOD's own OpenMP loops kept serial. Debian's CHOLMOD 3 opens 4-thread parallel
+/// regions inside its supernodal factorization (CHOLMOD_OMP_NUM_THREADS); on two cores beside the
+/// engine's threads their wake-ups cost more than they save (the default scene ran 20-40 % slower).
+/// With no parallel level allowed to be active, the runtime runs them on the calling thread.
+template <class F>
+void without_library_threads(F&& f) {
+    const int levels = omp_get_max_active_levels();
+    omp_set_max_active_levels(0);
+    try {
+        f();
+    } catch (...) {
+        omp_set_max_active_levels(levels);
+        throw;
+    }
+    omp_set_max_active_levels(levels);
+}
 
 /// The scalar matrix of A: row 3i + r holds, block by block in column order, entries 3j + c.
 void copy_to_scalar(const LinearSystem& A, Eigen::SparseMatrix<double>& S, bool structure) {
@@ -59,13 +78,15 @@ bool factorize(World& w) {
     LinearFactor& f = *A.factor;
     const bool fresh_pattern = f.topology != A.topology || f.matrix.rows() != 3 * A.rows();
     copy_to_scalar(A, f.matrix, fresh_pattern);
+    without_library_threads([&] {
+        if (fresh_pattern) f.llt.analyzePattern(f.matrix);
+        f.llt.factorize(f.matrix);
+    });
     if (fresh_pattern) {
-        f.llt.analyzePattern(f.matrix);
         f.topology = A.topology;
         ++A.symbolic_factorizations;
         A.factor_nonzeros = f.llt.cholmod().lnz;
     }
-    f.llt.factorize(f.matrix);
     ++A.factorizations;
     A.factor_age = 0;
     f.ok = f.llt.info() == Eigen::Success;
@@ -136,7 +157,9 @@ LinearSolve solve_linear(World& w, const std::function<void(const Eigen::VectorX
                        f->last_iterations > s.refactor_iterations;
     bool fresh = false;
     if (stale) fresh = factorize(w), f = A.factor.get();
-    const auto cholesky = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) { z = f->llt.solve(r); };
+    const auto cholesky = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+        without_library_threads([&] { z = f->llt.solve(r); });
+    };
     const Eigen::VectorXd x0 = x;
     if (f->ok && accept(preconditioned_cg(product, cholesky, b, mask, s.cg_tolerance, s.cg_max_iterations, x))) {
         f->last_iterations = out.cg.iterations;
