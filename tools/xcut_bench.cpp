@@ -40,19 +40,24 @@ void add_bench_options(CLI::App& cmd, BenchOptions& o) {
     cmd.add_flag("--no-plots", o.accuracy_no_plots, "CSV only (accuracy)");
 }
 
+/// A suite's options with --csv applied when given (each suite has its own default CSV).
+template <class Options>
+Options& with_csv(const CLI::App& cmd, const std::string& csv, Options& options) {
+    if (cmd.count("--csv")) options.csv = csv;
+    return options;
+}
+
 int run_bench(const CLI::App& cmd, const BenchOptions& o) {
     const PerfBenchOptions& perf = o.perf;
     if (o.suite == "mapping") {
         MappingBenchOptions m;
         m.threads = perf.threads;
-        if (cmd.count("--csv")) m.csv = perf.csv;
-        return mapping_bench_command(m);
+        return mapping_bench_command(with_csv(cmd, perf.csv, m));
     }
     if (o.suite == "collision") {
         CollisionBenchOptions c;
-        if (cmd.count("--csv")) c.csv = perf.csv;
         if (cmd.count("--steps")) c.steps = perf.steps;
-        return collision_bench_command(c);
+        return collision_bench_command(with_csv(cmd, perf.csv, c));
     }
     if (o.suite == "accuracy") {
         AccuracyBenchOptions a = o.accuracy_tiny ? AccuracyBenchOptions::tiny() : AccuracyBenchOptions{};
@@ -61,14 +66,12 @@ int run_bench(const CLI::App& cmd, const BenchOptions& o) {
         a.plots = !o.accuracy_no_plots;
         a.progress = true;
         if (cmd.count("--threads")) a.threads = perf.threads.front();
-        if (cmd.count("--csv")) a.csv = perf.csv;
-        return accuracy_bench_command(a);
+        return accuracy_bench_command(with_csv(cmd, perf.csv, a));
     }
     if (o.suite == "solver") {
         SolverBenchOptions sb;
         sb.tiny = o.accuracy_tiny;
-        if (cmd.count("--csv")) sb.csv = perf.csv;
-        return solver_bench_command(sb);
+        return solver_bench_command(with_csv(cmd, perf.csv, sb));
     }
     if (o.suite == "cut") {
         CutBenchOptions cut = o.cut;
