@@ -4,6 +4,7 @@
 // renewed at a cut; a solve that cannot converge is retried, split into substeps, then stops the run.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <random>
 
 #include "engine/error.h"
@@ -109,6 +110,28 @@ TEST(LinearSolver, EveryMethodReachesTheTolerance) {
         SCOPED_TRACE(method);
         EXPECT_LE(run_skin(method, 60), 1e-6);
     }
+}
+
+// Every method on every shipped scene, 3 steps each: every step reaches the scene's tolerance (in
+// substeps if it must) and none stops the run.
+TEST(LinearSolver, EveryMethodConvergesOnEveryShippedScene) {
+    int scenes = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(std::string(XCUT_SOURCE_DIR) + "/scenes")) {
+        if (entry.path().extension() != ".json") continue;
+        ++scenes;
+        for (const char* method : {"jacobi", "block_jacobi", "cholesky", "direct"}) {
+            SCOPED_TRACE(entry.path().filename().string() + " " + method);
+            Scene scene = load_scene(entry.path().string());
+            scene.solver.linear = method;
+            scene.visual_subdivisions = scene.collision_subdivisions < 0 ? -1 : scene.visual_subdivisions;
+            auto sim = make_simulation(scene, false);
+            for (int i = 0; i < 3; ++i) {
+                ASSERT_NO_THROW(step_simulation(*sim));
+                EXPECT_LE(sim->world.metrics.current.cg_residual, scene.solver.cg_tolerance);
+            }
+        }
+    }
+    EXPECT_GE(scenes, 7);
 }
 
 TEST(LinearSolver, AutoPicksCholeskyWhenItFits) {
