@@ -33,9 +33,9 @@ void print_result(const World& w, int steps, double secs) {
     const StepMetrics& m = w.metrics.current;
     const Metrics& all = w.metrics;
     if (all.refactored_steps > 0 || all.substepped_steps > 0)
-        fmt::print(stderr, "warning: {} of {} steps needed a renewed factor and {} were split into substeps (up to {}) "
-                           "to reach the CG tolerance; solve_flag and substeps in the metrics CSV say which\n",
-                   all.refactored_steps, steps, all.substepped_steps, all.max_substeps);
+        fmt::print(stderr, "warning: to reach the CG tolerance, of {} steps {} needed a renewed factor and {} substeps "
+                           "(up to {} each); solve_flag and substeps in the metrics CSV say which\n",
+                   steps, all.refactored_steps, all.substepped_steps, all.max_substeps);
     double max_disp = 0.0;
     for (int i = 0; i < w.nodes.count(); ++i) max_disp = std::max(max_disp, (w.nodes.position[i] - w.nodes.rest[i]).norm());
     fmt::print("done: t = {:.4g} s in {:.3f} s wall ({:.1f} steps/s); DOFs {}; last step {} CG iterations; "
