@@ -119,7 +119,7 @@ std::string resolve_linear_method(const World& w, std::string* why) {
 }
 
 LinearSolve solve_linear(World& w, const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& apply,
-                         const Eigen::VectorXd& inv_diag, double mass_scale, double stiff_scale,
+                         const std::function<Eigen::VectorXd()>& inverse_diagonal, double mass_scale, double stiff_scale,
                          const Eigen::VectorXd& b, const Eigen::VectorXd& mask, Eigen::VectorXd& x) {
     const SolverSettings& s = w.solver;
     LinearSystem& A = w.linear;
@@ -131,7 +131,7 @@ LinearSolve solve_linear(World& w, const std::function<void(const Eigen::VectorX
         return out.converged;
     };
     if (A.method == "jacobi") {
-        accept(conjugate_gradient(apply, b, inv_diag, mask, s.cg_tolerance, s.cg_max_iterations, x));
+        accept(conjugate_gradient(apply, b, inverse_diagonal(), mask, s.cg_tolerance, s.cg_max_iterations, x));
         return out;
     }
     const bool new_pattern = ensure_linear_pattern(w);

@@ -32,11 +32,11 @@ struct LinearSolve {
 };
 
 /// A x = b for the step: the jacobi method multiplies matrix-free through `apply` with the diagonal
-/// inverse `inv_diag`; the others assemble A (mass_scale, stiff_scale) into world.linear first.
+/// inverse `inverse_diagonal()` (called only by that method); the others assemble A (mass_scale, stiff_scale) into world.linear first.
 /// `x` holds the first guess. A solve above tolerance with a factor older than this step is retried
 /// once with a fresh factor.
 LinearSolve solve_linear(World& world, const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& apply,
-                         const Eigen::VectorXd& inv_diag, double mass_scale, double stiff_scale,
+                         const std::function<Eigen::VectorXd()>& inverse_diagonal, double mass_scale, double stiff_scale,
                          const Eigen::VectorXd& b, const Eigen::VectorXd& mask, Eigen::VectorXd& x);
 
 }  // namespace xcut

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "engine/error.h"
@@ -73,7 +74,7 @@ LinearSolve euler_substep(World& world, double h, const Eigen::VectorXd& m3, con
     Eigen::VectorXd kv;
     stiffness_product(world, v, kv);
     Eigen::VectorXd b = h * world.forces.force - stiff_scale * kv - h * s.damping_mass * m3.cwiseProduct(v);
-    auto inverse_diagonal = [&] {
+    const auto inverse_diagonal = [&] {  // the jacobi method's preconditioner, made only if it runs
         return (mass_scale * m3 + stiff_scale * world.forces.stiffness_diagonal).cwiseInverse().eval();
     };
     auto apply = [&](const Eigen::VectorXd& p, Eigen::VectorXd& out) {
@@ -81,7 +82,7 @@ LinearSolve euler_substep(World& world, double h, const Eigen::VectorXd& m3, con
         parallel_for(n3, [&](int i) { out[i] = mass_scale * m3[i] * p[i] + stiff_scale * out[i]; });
     };
     Eigen::VectorXd dv = world.forces.last_dv.size() == n3 ? world.forces.last_dv : Eigen::VectorXd::Zero(n3);
-    LinearSolve total = solve_linear(world, apply, inverse_diagonal(), mass_scale, stiff_scale, b, mask, dv);
+    LinearSolve total = solve_linear(world, apply, inverse_diagonal, mass_scale, stiff_scale, b, mask, dv);
     int newton = 1;
     if (total.converged && s.newton_iterations > 1) {
         // Newton on the nonlinear step (rotations, forces and K re-evaluated at x_n + h v_k) until
@@ -101,7 +102,7 @@ LinearSolve euler_substep(World& world, double h, const Eigen::VectorXd& m3, con
             const double r = std::sqrt(deterministic_dot(b.cwiseProduct(mask), b.cwiseProduct(mask)));
             if (!(r > s.newton_tolerance * r0)) break;
             Eigen::VectorXd delta = Eigen::VectorXd::Zero(n3);
-            const LinearSolve step = solve_linear(world, apply, inverse_diagonal(), mass_scale, stiff_scale, b, mask, delta);
+            const LinearSolve step = solve_linear(world, apply, inverse_diagonal, mass_scale, stiff_scale, b, mask, delta);
             total.cg.iterations += step.cg.iterations;
             total.cg.relative_residual = step.cg.relative_residual;
             total.converged = step.converged;
@@ -192,16 +193,20 @@ void implicit_euler_step(World& world) {
 
     // A solve above its tolerance is not accepted: solve_linear renews a stale factor first; then
     // the step is split in 2, 4, ... up to solver.max_substeps parts; then the run stops (fail_step).
-    const StepStart start = save_step(world);
+    // A failed single step commits nothing, so the step's start is saved only when it is needed:
+    // up front only if Newton iterations move rotations and forces on the way.
+    std::optional<StepStart> start;
+    if (s.newton_iterations > 1) start = save_step(world);
     Eigen::VectorXd contact_force;
     LinearSolve total;
     int substeps = 1;
     while (!run_substeps(world, substeps, m3, mask, contact_force, total)) {
         if (2 * substeps > s.max_substeps) fail_step(world, total, substeps);
-        restore_step(world, start);
+        if (!start) start = save_step(world);
+        restore_step(world, *start);
         if (contact_force.size() == 0) {
             contact_force = world.contacts.count() > 0 ? contact_part(world) : Eigen::VectorXd::Zero(n3);
-            restore_step(world, start);
+            restore_step(world, *start);
         }
         substeps *= 2;
     }

@@ -1,6 +1,10 @@
 #pragma once
 // Small builders shared by the tests.
+#include <unistd.h>
+
 #include <Eigen/Geometry>
+#include <filesystem>
+#include <string>
 
 #include "engine/io/generators.h"
 #include "engine/setup.h"
@@ -11,6 +15,13 @@
 #include "systems/solver_system.h"
 
 namespace xcut::testing {
+
+/// A fresh folder under the system's temporary directory, unique to this process and `tag`.
+inline std::filesystem::path temp_dir(const std::string& tag) {
+    const auto d = std::filesystem::temp_directory_path() / ("xcut_" + std::to_string(::getpid()) + "_" + tag);
+    std::filesystem::create_directories(d);
+    return d;
+}
 
 inline World world_from_mesh(const MeshData& mesh, const Material& material = Material{}) {
     World world;

@@ -37,6 +37,17 @@ std::vector<std::unique_ptr<ToolDevice>> make_devices(const World& world, const 
     return devices;
 }
 
+namespace {
+
+/// Tool i's current pose, at the world's time.
+Keyframe current_pose(const World& world, int i) {
+    Keyframe k;
+    k.time = world.time, k.position = world.tools.position[i], k.orientation = world.tools.orientation[i];
+    return k;
+}
+
+}  // namespace
+
 SessionRecorder::SessionRecorder(const World& world, const std::string& directory) {
     std::error_code ec;
     std::filesystem::create_directories(directory, ec);
@@ -50,12 +61,7 @@ SessionRecorder::SessionRecorder(const World& world, const std::string& director
     steps_.open(directory + "/steps.csv");
     if (!steps_) throw InputError(directory + "/steps.csv", "--record", "cannot write the session file");
     steps_ << "step,dt_s\n";
-    const ToolBodies& tb = world.tools;
-    for (int i = 0; i < tb.count(); ++i) {
-        Keyframe k;
-        k.time = world.time, k.position = tb.position[i], k.orientation = tb.orientation[i];
-        write_pose(i, k);
-    }
+    for (int i = 0; i < world.tools.count(); ++i) write_pose(i, current_pose(world, i));
     for (auto& f : files_) f.flush();
 }
 
@@ -73,9 +79,7 @@ void SessionRecorder::record(const World& world) {
             // Every pose the device gave over the step; the first is the last step's end.
             for (size_t k = 1; k < tb.sweep[i].size(); ++k) write_pose(i, tb.sweep[i][k]);
         } else {
-            Keyframe k;
-            k.time = world.time, k.position = tb.position[i], k.orientation = tb.orientation[i];
-            write_pose(i, k);
+            write_pose(i, current_pose(world, i));
         }
     }
     steps_ << fmt::format("{},{:.17g}\n", ++step_, world.solver.dt);

@@ -11,16 +11,14 @@
 #include <sstream>
 #include <string>
 
+#include "tests/test_helpers.h"
+
 namespace xcut {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir(const std::string& tag) {
-    const fs::path d = fs::temp_directory_path() / ("xcut_cli_" + std::to_string(::getpid()) + "_" + tag);
-    fs::create_directories(d);
-    return d;
-}
+using testing::temp_dir;
 
 const char* kTiny = R"({
   "mesh": { "generator": "box", "size": [0.01, 0.01, 0.01], "cells": [2, 2, 2] },

@@ -23,8 +23,6 @@ struct Case {
     std::vector<std::string> methods;
 };
 
-Scene scene_file(const std::string& path) { return load_scene(path); }
-
 /// A thin, curved, sliver-rich membrane: 80 x 60 x 1 mm bent around a 30 mm radius, 2 mm cells
 /// jittered by 0.3 of a cell, held along its two short edges, under gravity.
 Scene thin_membrane(bool tiny) {
@@ -43,11 +41,11 @@ Scene thin_membrane(bool tiny) {
 std::vector<Case> cases(bool tiny) {
     const std::vector<std::string> all = {"jacobi", "block_jacobi", "cholesky", "direct"};
     std::vector<Case> out;
-    Scene skin = scene_file("scenes/skin_slab.json");
+    Scene skin = load_scene("scenes/skin_slab.json");
     skin.visual_subdivisions = skin.collision_subdivisions = -1;
     out.push_back({"skin_slab", skin, tiny ? 30 : 200, all});
     if (!tiny) {
-        Scene hand = scene_file("scenes/hand_dorsum.json");
+        Scene hand = load_scene("scenes/hand_dorsum.json");
         hand.visual_subdivisions = hand.collision_subdivisions = -1;
         out.push_back({"hand_dorsum", hand, 30, {"jacobi", "block_jacobi", "cholesky"}});
     }

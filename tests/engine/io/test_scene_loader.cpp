@@ -11,17 +11,14 @@
 
 #include "engine/error.h"
 #include "engine/io/scene.h"
+#include "tests/test_helpers.h"
 
 namespace xcut {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir(const std::string& tag) {
-    const fs::path d = fs::temp_directory_path() / ("xcut_scene_" + std::to_string(::getpid()) + "_" + tag);
-    fs::create_directories(d);
-    return d;
-}
+using testing::temp_dir;
 
 TEST(SceneLoader, EveryShippedSceneLoadsAndBuilds) {
     int count = 0;
@@ -157,7 +154,7 @@ std::pair<double, double> documented_range(const std::string& key) {
     const std::string row = "| `" + key + "` |";
     for (std::string line; std::getline(in, line);) {
         if (line.rfind(row, 0) != 0) continue;
-        for (size_t at; (at = line.find("\u2212")) != std::string::npos;) line.replace(at, 3, "-");
+        for (size_t at; (at = line.find("\u2212")) != std::string::npos;) line.replace(at, 3, 1, '-');
         const size_t open = line.find('['), comma = line.find(',', open), close = line.find(']', comma);
         if (open == std::string::npos || comma == std::string::npos || close == std::string::npos) break;
         return {std::stod(line.substr(open + 1, comma - open - 1)), std::stod(line.substr(comma + 1, close - comma - 1))};
