@@ -2,10 +2,15 @@
 // A mesh as read from a file or made by a generator, before it becomes components. Units: metres.
 #include <Eigen/Core>
 #include <array>
+#include <map>
 #include <string>
 #include <vector>
 
 namespace xcut {
+
+/// The most cells a mesh may have: larger ones are refused before they are allocated (a mesh of
+/// 4 million tets needs about 20 GB in xcut with a Cholesky factor; docs/scene-format.md).
+inline constexpr long long kMaxMeshCells = 4'000'000;
 
 struct MeshData {
     int dim = 3;                                 ///< 3: tetrahedra; 2: triangles in the xy plane (z = 0)
@@ -15,6 +20,20 @@ struct MeshData {
     /// The ids the file gives its nodes and cells (Gmsh tags, TetGen indices), for messages; empty:
     /// the mesh numbers them itself, and messages name points[i] and cells[i].
     std::vector<long long> point_id, cell_id;
+    /// Region of each cell: a Gmsh physical group, a TetGen region attribute, or a VTK cell-data
+    /// array the scene names; empty when the file has none. 0 is "no region".
+    std::vector<int> cell_region;
+    std::map<int, std::string> region_names;  ///< names the file gives regions (Gmsh $PhysicalNames)
+    /// Cell data as read (VTU/VTK arrays), one value per cell and component, for regions and materials.
+    struct CellArray {
+        std::string name;
+        int components = 1;
+        std::vector<double> values;  ///< cells x components, row-major
+    };
+    std::vector<CellArray> cell_data;
+    /// What the reader read differently from the file or repaired (second-order cells read as their
+    /// corners, unused nodes dropped, cells reoriented): said once each, as a warning, by the caller.
+    std::vector<std::string> notes;
 
     int nodes_per_cell() const { return dim == 3 ? 4 : 3; }
     /// How a message names point i and cell e: as the file numbers them.

@@ -50,7 +50,7 @@ void validate_mesh(const MeshData& mesh, double rel_tol) {
         const double tol = rel_tol * std::pow(longest, mesh.dim);
         const char* unit = mesh.dim == 3 ? "m^3" : "m^2";
         if (measure < -tol)
-            throw InputError(src, field, fmt::format("is inverted (signed {} {:.3g} {}): node order must be positive",
+            throw InputError(src, field, fmt::format("is inverted (signed {} {:.3g} {}): node order must be positive (mesh.reorient: true flips such cells)",
                                                      mesh.dim == 3 ? "volume" : "area", measure, unit));
         if (!(measure > tol))
             throw InputError(src, field, fmt::format("is degenerate ({} {:.3g} {})", mesh.dim == 3 ? "volume" : "area",

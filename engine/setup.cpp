@@ -4,7 +4,7 @@
 
 namespace xcut {
 
-void build_bodies(World& world, const MeshData& mesh) {
+void build_bodies(World& world, const MeshData& mesh, const std::vector<uint16_t>& material_of_cell) {
     Nodes& nodes = world.nodes;
     const int n = static_cast<int>(mesh.points.size());
     nodes.rest = mesh.points;
@@ -20,7 +20,7 @@ void build_bodies(World& world, const MeshData& mesh) {
     el.rest_volume.resize(m);
     el.dm_inv.assign(m, Mat3::Identity());
     el.rotation.assign(m, Mat3::Identity());
-    el.material.assign(m, 0);
+    el.material = material_of_cell.empty() ? std::vector<uint16_t>(m, 0) : material_of_cell;
     el.weight.assign(m, 1.0);
     for (int e = 0; e < m; ++e) compute_rest_shape(world, e);
     world.mesh_nodes = n;

@@ -12,7 +12,7 @@ namespace xcut {
 /// Fills world.nodes and world.elements from `mesh` (all elements use material 0 unless
 /// `material_of_cell` is given). Lumped mass: each element's rho V split equally over its nodes
 /// (exact total mass; the standard lumping for linear simplices).
-void build_bodies(World& world, const MeshData& mesh);
+void build_bodies(World& world, const MeshData& mesh, const std::vector<uint16_t>& material_of_cell = {});
 
 /// Rest volume V (2D: area x thickness) and Dm^-1 of element e from its nodes' rest positions.
 void compute_rest_shape(World& world, int e);

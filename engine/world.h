@@ -91,6 +91,9 @@ struct World {
     Incidence incidence;          ///< mesh node -> mesh element (fixed topology)
     Incidence virtual_incidence;  ///< DOF node -> virtual element; rebuilt from the virtual elements only
     LinearSystem linear;          ///< the step's assembled system and the solver's kept factor
+    /// What reading the mesh repaired or read differently from its file (MeshData::notes), each
+    /// "file: note"; the front end prints them as warnings.
+    std::vector<std::string> mesh_notes;
     int mesh_nodes = 0;         ///< nodes [0, mesh_nodes) are the mesh's; after them, enriched DOFs
     int mesh_elements = 0;      ///< elements [0, mesh_elements) are the mesh's; after them, virtual
     Materials materials;

@@ -4,7 +4,7 @@
 #   tools/fuzz.sh [MINUTES] [TARGET...]      default: 5 minutes each for every target
 #   tools/fuzz.sh 20s [TARGET...]            seconds instead (what CI runs)
 #
-# Targets: scene gmsh tetgen surface trajectory. Builds preset "fuzz" (clang-14, ASan + UBSan) in
+# Targets: scene gmsh vtu vtk tetgen surface trajectory. Builds preset "fuzz" (clang-14, ASan + UBSan) in
 # build-fuzz/, then runs each target for MINUTES (a decimal is fine) on a working
 # corpus build-fuzz/corpus/TARGET seeded from tests/fuzz/corpus/TARGET. XCUT_FUZZ_JOBS=N runs N
 # targets at a time (default 1). A crash, a sanitizer report, a leak, an uncaught exception other
@@ -17,7 +17,7 @@ cd "$(dirname "$0")/.."
 minutes="${1:-5}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(scene gmsh tetgen surface trajectory)
+[ ${#targets[@]} -gt 0 ] || targets=(scene gmsh vtu vtk tetgen surface trajectory)
 case "$minutes" in
     *s) seconds="${minutes%s}" ;;
     *) seconds=$(awk -v m="$minutes" 'BEGIN { s = int(m * 60 + 0.5); if (s < 1) s = 1; print s }') ;;

@@ -1,10 +1,11 @@
-// xcut bench --suite perf|cut|mapping|collision|accuracy: benchmarks that print figures and write
+// xcut bench --suite perf|cut|mapping|collision|accuracy|solver|mesh_io: benchmarks that print figures and write
 // CSV (never pass/fail); docs/BENCHMARKS.md is generated from their CSVs by tools/report/.
 #include "tools/bench/bench.h"
 #include "tools/bench/bench_accuracy.h"
 #include "tools/bench/bench_collision.h"
 #include "tools/bench/bench_cut.h"
 #include "tools/bench/bench_mapping.h"
+#include "tools/bench/bench_mesh_io.h"
 #include "tools/bench/bench_solver.h"
 #include "tools/xcut_commands.h"
 
@@ -24,8 +25,8 @@ void add_bench_options(CLI::App& cmd, BenchOptions& o) {
                    "perf: steps/s, CG, bytes per tet; cut: cut update per quad, crossing delay; mapping: surface "
                    "update and re-binding; collision: contact time per step, haptic rate; accuracy: error against "
                    "run time, XFEM and snapping (docs/verification.md problems 3, 5, 6); solver: every linear method against "
-                   "jacobi, and 1 vs 2 threads under load")
-        ->check(CLI::IsMember({"perf", "cut", "mapping", "collision", "accuracy", "solver"}));
+                   "jacobi, and 1 vs 2 threads under load; mesh_io: reading a 200k-tet mesh in each binary format")
+        ->check(CLI::IsMember({"perf", "cut", "mapping", "collision", "accuracy", "solver", "mesh_io"}));
     cmd.add_option("--sizes", o.perf.sizes, "Target tetrahedron counts")->delimiter(',');
     cmd.add_option("--threads", o.perf.threads, "Thread counts (perf)")->delimiter(',');
     cmd.add_option("--steps", o.perf.steps, "Timed steps per run (perf)")->check(CLI::PositiveNumber);
@@ -34,7 +35,7 @@ void add_bench_options(CLI::App& cmd, BenchOptions& o) {
     cmd.add_option("--speed", o.cut.speed, "Blade speed [m/s] (cut)")->check(CLI::PositiveNumber);
     cmd.add_option("--problems", o.accuracy.problems, "docs/verification.md problems (accuracy): 3, 5, 6")
         ->delimiter(',');
-    cmd.add_flag("--tiny", o.accuracy_tiny, "The small configuration (accuracy, solver): writes its own CSV");
+    cmd.add_flag("--tiny", o.accuracy_tiny, "The small configuration (accuracy, solver, mesh_io): writes its own CSV");
     cmd.add_option("--cache-dir", o.accuracy.cache_dir,
                    "Where the conforming reference of problem 5 is cached (accuracy; default <build>/accuracy_cache)");
     cmd.add_flag("--no-plots", o.accuracy_no_plots, "CSV only (accuracy)");
@@ -72,6 +73,11 @@ int run_bench(const CLI::App& cmd, const BenchOptions& o) {
         SolverBenchOptions sb;
         sb.tiny = o.accuracy_tiny;
         return solver_bench_command(with_csv(cmd, perf.csv, sb));
+    }
+    if (o.suite == "mesh_io") {
+        MeshIoBenchOptions m;
+        m.tiny = o.accuracy_tiny;
+        return mesh_io_bench_command(with_csv(cmd, perf.csv, m));
     }
     if (o.suite == "cut") {
         CutBenchOptions cut = o.cut;

@@ -68,6 +68,7 @@ int run_scene(const RunOptions& o) {
     fmt::print("scene {} ({}): {} nodes, {} {}, {} threads (OpenMP wait {}), dt {} s ({}), {} steps\n", scene.name,
                o.scene.scene, w.nodes.count(), w.elements.count(), w.elements.dim == 3 ? "tetrahedra" : "triangles",
                thread_count(), wait ? wait : "active", w.solver.dt, w.solver.realtime ? "real-time" : "fixed", steps);
+    for (const std::string& note : w.mesh_notes) fmt::print(stderr, "warning: {}\n", note);
     fmt::print("{}", sim->scheduler.describe(w));
     const auto t0 = std::chrono::steady_clock::now();
     run_simulation(*sim, steps, !o.scene.quiet);

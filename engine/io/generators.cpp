@@ -30,7 +30,9 @@ void jitter_interior(MeshData& mesh, const GridSpec& spec, int dims) {
 
 Eigen::Vector3i cells_for_size(const Eigen::Vector3d& size, double element_size) {
     Eigen::Vector3i c;
-    for (int k = 0; k < 3; ++k) c[k] = std::max(1, static_cast<int>(std::lround(size[k] / element_size)));
+    // Clamped in double before the cast, so a tiny element size cannot overflow an int: the scene's
+    // element-count limit then refuses the result.
+    for (int k = 0; k < 3; ++k) c[k] = static_cast<int>(std::clamp(std::round(size[k] / element_size), 1.0, 1e8));
     return c;
 }
 

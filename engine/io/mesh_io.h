@@ -1,12 +1,15 @@
 #pragma once
-// Mesh readers, one file per format: Gmsh .msh (ASCII 2.2 and 4.1; gmsh_reader.cpp), TetGen
-// .node/.ele (tetgen_reader.cpp), and closed OBJ/STL surfaces (surface_reader.cpp)
-// tetrahedralized with TetGen's library. Every error is an InputError naming the file and line.
+// Mesh readers, one file per format: Gmsh .msh (1, 2.2 and 4.1, ASCII and binary; gmsh_reader.cpp),
+// VTK XML .vtu (vtu_reader.cpp), legacy .vtk (unstructured grids, and polydata surfaces meshed by
+// TetGen; legacy_vtk_reader.cpp), TetGen .node/.ele (tetgen_reader.cpp), and closed OBJ/STL surfaces
+// (surface_reader.cpp) tetrahedralized with TetGen's library. Every error is an InputError naming
+// the file and the line (or byte, in binary data).
 #include <array>
 #include <string>
 #include <vector>
 
 #include "engine/mesh_data.h"
+#include "engine/mesh_repair.h"
 
 namespace xcut {
 
@@ -17,11 +20,25 @@ struct ClosedSurface {
     std::vector<std::array<int, 3>> triangles;
 };
 ClosedSurface read_closed_surface(const std::string& path);
+/// The closedness and volume checks read_closed_surface makes, for surfaces read elsewhere (VTK).
+void check_closed_surface(const std::string& path, const ClosedSurface& surface);
+/// Signed volume the surface encloses (positive when outward oriented), in its units cubed.
+double enclosed_volume(const ClosedSurface& surface);
 
 MeshData read_gmsh(const std::string& path);
 MeshData read_tetgen(const std::string& node_path, const std::string& ele_path);
 MeshData read_surface_tetrahedralize(const std::string& path, double max_volume, double min_ratio = 1.5);
-/// Dispatches on the extension (.msh, .node, .ele, .obj, .stl) and validates the result.
-MeshData read_mesh_file(const std::string& path, double max_volume);
+/// Tetrahedralizes a closed surface (file units; max_volume in their cube, 0: no bound).
+MeshData tetrahedralize_surface(const std::string& path, const ClosedSurface& surface, double max_volume,
+                                double min_ratio = 1.5);
+/// VTK XML UnstructuredGrid: ascii, binary (base64) or appended (raw or base64), zlib-compressed or not.
+MeshData read_vtu(const std::string& path);
+/// Legacy VTK, ASCII or BINARY: an UNSTRUCTURED_GRID, or a POLYDATA closed surface tetrahedralized
+/// like an OBJ/STL (max_volume in file units cubed).
+MeshData read_legacy_vtk(const std::string& path, double max_volume);
+/// Dispatches on the extension (.msh, .vtu, .vtk, .node, .ele, .obj, .stl), drops unused nodes,
+/// places the mesh (units, rotation, translation), reorients if asked, and validates the result.
+/// `max_volume` [m^3] bounds TetGen's tets for surfaces.
+MeshData read_mesh_file(const std::string& path, double max_volume, const MeshPlacement& placement = {});
 
 }  // namespace xcut

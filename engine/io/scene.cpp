@@ -14,6 +14,7 @@
 #include "engine/io/input_file.h"
 #include "engine/io/json_fields.h"
 #include "engine/io/mesh_io.h"
+#include "engine/io/scene_mesh.h"
 #include "engine/setup.h"
 
 namespace xcut {
@@ -37,58 +38,6 @@ void apply_override(nlohmann::json& root, const std::string& file, const std::st
         at = &(*at)[part];
     }
     *at = value;
-}
-
-MeshSpec read_mesh(const JsonFields& m, const fs::path& scene_dir) {
-    MeshSpec spec;
-    m.allow_only({"generator", "origin", "size", "cells", "element_size", "jitter", "seed", "file", "max_volume",
-                  "bend_radius"});
-    if (m.has("file") == m.has("generator")) m.fail("file", "give exactly one of \"file\" or \"generator\"");
-    if (m.has("file")) {
-        const fs::path p = m.string("file", "");
-        spec.file = (p.is_absolute() ? p : scene_dir / p).lexically_normal().string();
-        spec.max_volume = m.number("max_volume", 0.0, 0.0);
-        return spec;
-    }
-    spec.generator = m.choice("generator", "box", {"box", "plate"});
-    GridSpec& g = spec.grid;
-    g.origin = m.vec3("origin", Eigen::Vector3d::Zero());
-    g.size = m.required_vec3("size");
-    const int dims = spec.generator == "plate" ? 2 : 3;
-    for (int k = 0; k < dims; ++k)
-        if (!(g.size[k] > 0.0)) m.fail(fmt::format("size[{}]", k), "must be > 0");
-    if (m.has("cells") == m.has("element_size"))
-        m.fail("element_size", "give exactly one of \"element_size\" [m] or \"cells\"");
-    if (m.has("cells")) {
-        const std::vector<int> c = m.int_list("cells");
-        if (c.size() != 3) m.fail("cells", "expected 3 integers");
-        for (int k = 0; k < 3; ++k)
-            if (c[k] < 1 || c[k] > 2000) m.fail(fmt::format("cells[{}]", k), "must be in [1, 2000]");
-        g.cells = Eigen::Vector3i(c[0], c[1], c[2]);
-    } else {
-        const double h = m.required_number("element_size", 1e-9);
-        g.cells = cells_for_size(g.size, h);
-    }
-    if (dims == 2) g.cells.z() = 1;
-    // Doubles near the origin must resolve a cell: their spacing there, 2.2e-16 (|origin| + size),
-    // is held below 1e-9 of the cell size (an origin of 1e300 would collapse every cell).
-    for (int k = 0; k < dims; ++k) {
-        const double h = g.size[k] / g.cells[k], far = std::abs(g.origin[k]) + g.size[k];
-        if (!(far * std::numeric_limits<double>::epsilon() <= 1e-9 * h))
-            m.fail(fmt::format("origin[{}]", k), fmt::format("{:.6g} m is too far from 0 for cells of {:.3g} m: doubles "
-                                                          "there are {:.3g} m apart (keep |origin| below {:.3g} m)",
-                                                          g.origin[k], h, far * std::numeric_limits<double>::epsilon(),
-                                                          1e-9 * h / std::numeric_limits<double>::epsilon()));
-    }
-    const double count = double(g.cells.x()) * g.cells.y() * g.cells.z();
-    if (count * (dims == 3 ? 6 : 2) > 2e7) m.fail("element_size", fmt::format("gives {:.3g} elements (max 2e7)", count * 6));
-    g.jitter = m.number("jitter", 0.0, 0.0, 0.3);
-    g.seed = static_cast<uint64_t>(m.integer("seed", 1, 0));
-    g.bend_radius = m.number("bend_radius", 0.0, 0.0);
-    if (g.bend_radius > 0.0 && dims == 2) m.fail("bend_radius", "only for the 3D box generator");
-    if (g.bend_radius > 0.0 && g.size.y() > 3.0 * g.bend_radius)
-        m.fail("bend_radius", "the box would wrap more than 3 radians around the cylinder");
-    return spec;
 }
 
 uint8_t read_axes(const JsonFields& f, const std::string& key) {
@@ -336,19 +285,14 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     Scene scene;
     scene.file = path;
     const JsonFields top(root, path, "");
-    top.allow_only({"name", "description", "mesh", "material", "gravity", "constraints", "solver", "steps",
+    top.allow_only({"name", "description", "mesh", "material", "region_materials", "gravity", "constraints", "solver", "steps",
                     "duration", "output", "cuts", "tools", "cutter", "visual", "collision", "camera"});
     scene.name = top.string("name", fs::path(path).stem().string());
     if (!top.has("mesh")) top.fail("mesh", "required field is missing");
-    scene.mesh = read_mesh(top.object("mesh"), fs::path(path).parent_path());
+    scene.mesh = read_mesh_spec(top.object("mesh"), fs::path(path).parent_path());
 
-    const JsonFields mat = top.object("material");
-    mat.allow_only({"name", "young", "poisson", "density", "thickness"});
-    scene.material.name = mat.string("name", "skin");
-    scene.material.young = mat.number("young", 1.0e4, 1e-12);
-    scene.material.poisson = mat.number("poisson", 0.3, -0.999, 0.4999);
-    scene.material.density = mat.number("density", 1000.0, 1e-12);
-    scene.material.thickness = mat.number("thickness", 1.0e-3, 1e-12);
+    scene.material = read_material(top.object("material"), Material{});
+    scene.region_materials = read_region_materials(top, scene.material);
 
     scene.gravity = top.vec3("gravity", Eigen::Vector3d::Zero());
 
@@ -438,27 +382,10 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     return scene;
 }
 
-MeshData load_scene_mesh(const Scene& scene) {
-    const MeshSpec& m = scene.mesh;
-    MeshData mesh;
-    if (!m.file.empty()) {
-        mesh = read_mesh_file(m.file, m.max_volume);
-    } else {
-        mesh = m.generator == "plate" ? generate_plate(m.grid) : generate_box(m.grid);
-        try {
-            validate_mesh(mesh);
-        } catch (const InputError& e) {  // the scene's fields made it: name them, not the generator
-            throw InputError(scene.file, "mesh", fmt::format("the \"{}\" generator made an invalid mesh ({}: {}); check "
-                                                             "mesh.origin, size, cells and bend_radius",
-                                                             m.generator, e.field(), e.message()));
-        }
-    }
-    return mesh;
-}
-
 World build_world(const Scene& scene) {
     World world;
     world.materials.list = {scene.material};
+    for (const RegionMaterial& r : scene.region_materials) world.materials.list.push_back(r.material);
     world.gravity = scene.gravity;
     world.constraints = scene.constraints;
     world.solver = scene.solver;
@@ -486,7 +413,8 @@ World build_world(const Scene& scene) {
     world.snap.threshold = scene.snap_threshold;
     world.snap.visual_subdivisions = scene.visual_subdivisions;
     world.snap.collision_subdivisions = scene.collision_subdivisions;
-    build_bodies(world, mesh);
+    build_bodies(world, mesh, region_material_index(scene.file, mesh, scene.region_materials));
+    for (const std::string& note : mesh.notes) world.mesh_notes.push_back(mesh.source + ": " + note);
     return world;
 }
 

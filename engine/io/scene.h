@@ -7,6 +7,7 @@
 
 #include "engine/io/generators.h"
 #include "engine/mesh_data.h"
+#include "engine/mesh_repair.h"
 #include "engine/io/render.h"
 #include "engine/world.h"
 
@@ -17,13 +18,22 @@ struct MeshSpec {
     GridSpec grid;
     std::string file;          ///< resolved path of a mesh file
     double max_volume = 0.0;   ///< surfaces tetrahedralized with TetGen: max tet volume [m^3]; 0: none
+    MeshPlacement placement;   ///< "units"/"scale", "rotate", "translate", "reorient", "region_array"
+};
+
+/// "region_materials": the material of the cells of one region (a name or a number).
+struct RegionMaterial {
+    std::string region;
+    Material material;                             ///< cells of no listed region
+    std::vector<RegionMaterial> region_materials;  ///< "region_materials"
 };
 
 struct Scene {
     std::string file;          ///< the scene file, for messages
     std::string name;
     MeshSpec mesh;
-    Material material;
+    Material material;                             ///< cells of no listed region
+    std::vector<RegionMaterial> region_materials;  ///< "region_materials"
     Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
     Constraints constraints;
     SolverSettings solver;

@@ -32,10 +32,7 @@ uint64_t edge_key(int a, int b) {
     return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
 }
 
-struct Surface {
-    std::vector<Vec3> points;
-    std::vector<std::array<int, 3>> triangles;
-};
+using Surface = ClosedSurface;
 
 Surface read_obj(const std::string& path) {
     const std::string text = read_input_file(path, "file", "mesh");
@@ -170,11 +167,33 @@ ClosedSurface read_closed_surface(const std::string& path) {
     const std::string ext = fs::path(path).extension().string();
     Surface s = ext == ".stl" || ext == ".STL" ? read_stl(path) : read_obj(path);
     check_closed(path, s);
-    return {s.points, s.triangles};
+    return s;
+}
+
+void check_closed_surface(const std::string& path, const ClosedSurface& surface) { check_closed(path, surface); }
+
+double enclosed_volume(const ClosedSurface& s) {
+    double volume = 0.0;
+    if (s.points.empty()) return 0.0;
+    const Vec3 p0 = s.points[0];
+    for (const auto& t : s.triangles)
+        volume += (s.points[t[0]] - p0).dot((s.points[t[1]] - p0).cross(s.points[t[2]] - p0)) / 6.0;
+    return volume;
 }
 
 MeshData read_surface_tetrahedralize(const std::string& path, double max_volume, double min_ratio) {
-    const ClosedSurface s = read_closed_surface(path);
+    return tetrahedralize_surface(path, read_closed_surface(path), max_volume, min_ratio);
+}
+
+MeshData tetrahedralize_surface(const std::string& path, const ClosedSurface& s, double max_volume, double min_ratio) {
+    if (max_volume > 0.0) {
+        // Every tet is at most max_volume, so the enclosed volume over it is a lower bound on the count.
+        const double at_least = std::abs(enclosed_volume(s)) / max_volume;
+        if (at_least > static_cast<double>(kMaxMeshCells))
+            throw InputError(path, "mesh.max_volume",
+                             fmt::format("{:.3g} would make at least {:.3g} tetrahedra, above the limit of {} "
+                                         "(docs/scene-format.md): raise max_volume", max_volume, at_least, kMaxMeshCells));
+    }
     tetgenio in, out;
     in.firstnumber = 0;
     in.numberofpoints = static_cast<int>(s.points.size());

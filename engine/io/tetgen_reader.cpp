@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cstdint>
 #include <map>
@@ -55,6 +56,9 @@ MeshData read_tetgen(const std::string& node_path, const std::string& ele_path) 
     if (corners != 4) te.fail(fmt::format("{}-node tetrahedra are not supported: linear (4-node) only", corners), -1);
     const long long region = te.integer("region attribute count");
     if (region < 0 || region > 64) te.fail("implausible attribute count", -1);
+    // Region attributes (TetGen's -A switch): each kept as cell data; the first, when integral, as regions.
+    mesh.cell_data.resize(region);
+    for (long long a = 0; a < region; ++a) mesh.cell_data[a].name = a == 0 ? "tetgen:region" : fmt::format("tetgen:attribute{}", a + 1);
     for (long long e = 0; e < m; ++e) {
         const long long idx = te.integer("element index");
         if (e == 0 && idx != 0 && idx != 1) te.fail("element indices must start at 0 or 1", -1);
@@ -66,8 +70,14 @@ MeshData read_tetgen(const std::string& node_path, const std::string& ele_path) 
                 te.fail(fmt::format("node {} is out of range ({} nodes, first index {})", v + base, n, base), -1);
             c[a] = static_cast<int>(v);
         }
-        for (long long a = 0; a < region; ++a) te.real("attribute");
+        for (long long a = 0; a < region; ++a) mesh.cell_data[a].values.push_back(te.real("attribute"));
         mesh.cells.push_back(c);
+    }
+    if (region > 0) {
+        std::vector<int> r;
+        for (double v : mesh.cell_data[0].values)
+            if (v == std::floor(v) && std::abs(v) <= 1e9) r.push_back(static_cast<int>(v));
+        if (r.size() == mesh.cells.size()) mesh.cell_region = std::move(r);
     }
     return mesh;
 }

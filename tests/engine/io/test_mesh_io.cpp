@@ -173,10 +173,45 @@ struct BadCase {
 };
 
 const BadCase kBad[] = {
-    {"unknown extension", "m.vtk", "x", "unknown mesh format"},
-    {"empty gmsh", "e.msh", "", "no $MeshFormat"},
-    {"gmsh binary", "b.msh", "$MeshFormat\n2.2 1 8\n$EndMeshFormat\n", "binary"},
-    {"gmsh version 3", "v3.msh", "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n$Nodes\n", "version 3"},
+    {"unknown extension", "m.xyz", "x", "unknown mesh format"},
+    {"empty gmsh", "e.msh", "", "expected $MeshFormat or $NOD"},
+    {"not gmsh", "ng.msh", "solid cube\n", "not a Gmsh file: it begins with \"solid\""},
+    {"gmsh binary without its byte-order integer", "b.msh", "$MeshFormat\n2.2 1 8\n$EndMeshFormat\n", "byte-order integer"},
+    {"gmsh binary truncated", "bt.msh", "$MeshFormat\n2.2 1 8\n\x01\x00\x00\x00\n$EndMeshFormat\n$Nodes\n2\n\x01\x00", "byte"},
+    {"gmsh version 3", "v3.msh", "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n$Nodes\n", "format 3 is not supported"},
+    {"gmsh version 4.0", "v40.msh", "$MeshFormat\n4 0 8\n$EndMeshFormat\n$Nodes\n", "format 4 is not supported"},
+    {"gmsh duplicate node id", "dup.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n1 1 0 0\n$EndNodes\n", "node 1 is defined twice"},
+    {"gmsh v1 without elements", "v1.msh", "$NOD\n1\n1 0 0 0\n$ENDNOD\n", "no $ELM"},
+    {"gmsh hexahedra only", "hex.msh",
+     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0 0 1\n6 1 0 1\n7 1 1 1\n8 0 1 1\n$EndNodes\n"
+     "$Elements\n1\n1 5 0 1 2 3 4 5 6 7 8\n$EndElements\n",
+     "the file holds 1 of type 5"},
+    {"vtu not xml", "x.vtu", "<VTKFile type=\"UnstructuredGrid\"><Unstructured", "not valid XML"},
+    {"vtu polydata", "p.vtu", "<VTKFile type=\"PolyData\"/>", "reads UnstructuredGrid"},
+    {"vtu lz4", "lz.vtu", "<VTKFile type=\"UnstructuredGrid\" compressor=\"vtkLZ4DataCompressor\"/>", "vtkLZ4DataCompressor"},
+    {"vtu bad offset", "off.vtu",
+     "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid><Piece NumberOfPoints=\"1\" NumberOfCells=\"1\"><Points>"
+     "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"appended\" offset=\"99\"/></Points></Piece>"
+     "</UnstructuredGrid><AppendedData encoding=\"raw\">_abc</AppendedData></VTKFile>",
+     "offset 99 is outside the appended data"},
+    {"vtu too few values", "few.vtu",
+     "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid><Piece NumberOfPoints=\"2\" NumberOfCells=\"1\"><Points>"
+     "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 1</DataArray></Points></Piece>"
+     "</UnstructuredGrid></VTKFile>",
+     "5 values, expected 6"},
+    {"vtu corrupt zlib", "z.vtu",
+     "<VTKFile type=\"UnstructuredGrid\" compressor=\"vtkZLibDataCompressor\"><UnstructuredGrid><Piece NumberOfPoints=\"1\" "
+     "NumberOfCells=\"1\"><Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"binary\">"
+     "AQAAAAwAAAAMAAAABAAAAA==AAAAAA==</DataArray></Points></Piece></UnstructuredGrid></VTKFile>",
+     "does not inflate"},
+    {"vtk not legacy", "n.vtk", "x", "not a legacy VTK file"},
+    {"vtk structured points", "sp.vtk", "# vtk DataFile Version 3.0\nt\nASCII\nDATASET STRUCTURED_POINTS\n", "DATASET STRUCTURED_POINTS"},
+    {"vtk cells past the list", "cl.vtk",
+     "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 float\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n9 0 1 2 3\n",
+     "does not fit in the CELLS list"},
+    {"vtk polydata open", "po.vtk",
+     "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n0 0 0 1 0 0 0 1 0 0 0 1\nPOLYGONS 3 12\n3 0 2 1\n3 0 1 3\n3 1 2 3\n",
+     "not closed"},
     {"gmsh missing EndNodes", "n.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n$Elements\n", "expected $EndNodes"},
     {"gmsh node count too large", "c.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1000000000000\n1 0 0 0\n", "does not fit"},
     {"gmsh non-numeric coordinate", "x.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 abc 0\n$EndNodes\n", "\"abc\" is not a number"},
@@ -260,6 +295,61 @@ TEST_F(MeshIo, NodesAreNamedAsTheFileNumbersThem) {
     const std::string inverted = write("inv.ele", "2 4 0\n1 1 2 3 4\n2 1 3 2 4\n");
     msg = error_of([&] { read_mesh_file(inverted, 0.0); });
     EXPECT_NE(msg.find("inv.ele: element 2: is inverted"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace xcut
+
+namespace xcut {
+namespace {
+
+// mesh.reorient flips inverted cells and says how many; without it, the error says it exists.
+TEST_F(MeshIo, ReorientFlipsInvertedCellsAndSaysHowMany) {
+    const std::string path = write("inv.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n"
+                                              "4 0 0 1\n5 1 1 1\n$EndNodes\n$Elements\n2\n1 4 0 1 3 2 4\n2 4 0 2 5 3 4\n$EndElements\n");
+    EXPECT_NE(error_of([&] { read_mesh_file(path, 0.0); }).find("mesh.reorient: true flips such cells"), std::string::npos);
+    MeshPlacement p;
+    p.reorient = true;
+    const MeshData m = read_mesh_file(path, 0.0, p);
+    ASSERT_EQ(m.notes.size(), 1u);
+    EXPECT_EQ(m.notes[0], "1 inverted tetrahedra reoriented (mesh.reorient)");
+    EXPECT_NEAR(total_volume(m), 1.0 / 6.0 + 1.0 / 3.0, 1e-12) << "both cells positive";
+}
+
+// A node no tet uses would be massless and freeze the solve: it is dropped, with a note.
+TEST_F(MeshIo, UnusedNodeIsDroppedWithANote) {
+    write("u.node", "5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 5 5 5\n5 0 0 1\n");
+    const MeshData m = read_mesh_file(write("u.ele", "1 4 0\n1 1 2 3 5\n"), 0.0);
+    ASSERT_EQ(m.points.size(), 4u);
+    EXPECT_EQ(m.point_id, (std::vector<long long>{1, 2, 3, 5})) << "messages still name nodes as the file does";
+    ASSERT_EQ(m.notes.size(), 1u);
+    EXPECT_EQ(m.notes[0], "1 node no tetrahedron uses dropped");
+    EXPECT_NEAR(total_volume(m), 1.0 / 6.0, 1e-12);
+}
+
+// Units, rotation and translation, in that order (x -> R (s x) + t).
+TEST_F(MeshIo, PlacementScalesThenRotatesThenTranslates) {
+    const std::string path = write("p.msh", kGmsh22);
+    MeshPlacement p;
+    p.scale = 0.01;
+    p.rotate_deg = Eigen::Vector3d(0, 0, 90);
+    p.translate = Eigen::Vector3d(1, 2, 3);
+    const MeshData m = read_mesh_file(path, 0.0, p);
+    const MeshData raw = read_mesh_file(path, 0.0);
+    for (size_t i = 0; i < m.points.size(); ++i) {
+        const Eigen::Vector3d expected(1 - 0.01 * raw.points[i].y(), 2 + 0.01 * raw.points[i].x(), 3 + 0.01 * raw.points[i].z());
+        EXPECT_LE((m.points[i] - expected).norm(), 1e-15) << i;
+    }
+    EXPECT_NEAR(total_volume(m), 1e-6 * total_volume(raw), 1e-18) << "a rotation keeps every cell positive";
+}
+
+// A max_volume that would make more tets than the limit is refused before TetGen allocates them.
+TEST_F(MeshIo, SurfaceMeshedTooFinelyIsRefusedBeforeMeshing) {
+    const std::string cube = write("cube.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                                               "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
+    const std::string msg = error_of([&] { read_mesh_file(cube, 1e-15); });
+    EXPECT_NE(msg.find("mesh.max_volume: 1e-15 would make at least 1e+15 tetrahedra, above the limit of 4000000"),
+              std::string::npos) << msg;
 }
 
 }  // namespace

@@ -99,6 +99,16 @@ std::vector<BadScene> bad_scenes() {
          "{ \"min\": [0, 0, 0], \"max\": [1, 1, 1], \"min\": [0, 0, 0] } ] } }",
          "constraints.fixed_boxes[1].min", "given twice"},
         {"origin too far for the cells", "mesh.origin=[1e300,0,0]", "mesh.origin[0]", "too far from 0"},
+        {"more elements than the limit", "!{ \"mesh\": { \"generator\": \"box\", \"size\": [3, 3, 3], \"element_size\": 1e-5 } }",
+         "mesh.element_size", "above the limit of 4000000"},
+        {"units on a generator", "mesh.units=\"cm\"", "mesh.units", "applies to a mesh file"},
+        {"units and scale", "!{ \"mesh\": { \"file\": \"m.msh\", \"units\": \"cm\", \"scale\": 0.01 } }", "mesh.scale", "not both"},
+        {"unknown units", "!{ \"mesh\": { \"file\": \"m.msh\", \"units\": \"inch\" } }", "mesh.units", "is not one of"},
+        {"rotation beyond a turn", "!{ \"mesh\": { \"file\": \"m.msh\", \"rotate\": [0, 400, 0] } }", "mesh.rotate[1]", "[-360, 360]"},
+        {"region material without regions", "region_materials={\"fat\":{\"young\":1e3}}", "region_materials.fat",
+         "its regions: none"},
+        {"region material with an unknown field", "region_materials={\"fat\":{\"stiffness\":1e3}}",
+         "region_materials.fat.stiffness", "unknown field"},
     };
 }
 

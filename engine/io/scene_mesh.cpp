@@ -1,0 +1,181 @@
+// Scene fields of the mesh (docs/scene-format.md, "mesh"): a generator's grid, or a file with its
+// units, placement, repairs and regions; and the per-region materials. Loading the mesh applies them.
+#include "engine/io/scene_mesh.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "engine/error.h"
+#include "engine/io/mesh_io.h"
+
+namespace xcut {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+MeshPlacement read_placement(const JsonFields& m) {
+    MeshPlacement p;
+    if (m.has("units") && m.has("scale")) m.fail("scale", "give \"units\" or \"scale\", not both");
+    const std::string units = m.choice("units", "m", {"m", "cm", "mm"});
+    p.scale = units == "cm" ? 0.01 : units == "mm" ? 0.001 : 1.0;
+    p.scale = m.number("scale", p.scale, 1e-12, 1e12);
+    p.translate = m.vec3("translate", Eigen::Vector3d::Zero());
+    p.rotate_deg = m.vec3("rotate", Eigen::Vector3d::Zero());
+    for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(p.translate[k])) m.fail(fmt::format("translate[{}]", k), "must be finite");
+        if (!(std::abs(p.rotate_deg[k]) <= 360.0)) m.fail(fmt::format("rotate[{}]", k), "degrees in [-360, 360]");
+    }
+    p.reorient = m.boolean("reorient", false);
+    p.region_array = m.string("region_array", "");
+    return p;
+}
+
+}  // namespace
+
+MeshSpec read_mesh_spec(const JsonFields& m, const fs::path& scene_dir) {
+    MeshSpec spec;
+    m.allow_only({"generator", "origin", "size", "cells", "element_size", "jitter", "seed", "file", "max_volume",
+                  "bend_radius", "units", "scale", "translate", "rotate", "reorient", "region_array"});
+    if (m.has("file") == m.has("generator")) m.fail("file", "give exactly one of \"file\" or \"generator\"");
+    if (m.has("file")) {
+        const fs::path p = m.string("file", "");
+        spec.file = (p.is_absolute() ? p : scene_dir / p).lexically_normal().string();
+        spec.max_volume = m.number("max_volume", 0.0, 0.0);
+        spec.placement = read_placement(m);
+        return spec;
+    }
+    for (const char* key : {"units", "scale", "translate", "rotate", "reorient", "region_array"})
+        if (m.has(key)) m.fail(key, "applies to a mesh file, not to a generator (give the generator's size in metres)");
+    spec.generator = m.choice("generator", "box", {"box", "plate"});
+    GridSpec& g = spec.grid;
+    g.origin = m.vec3("origin", Eigen::Vector3d::Zero());
+    g.size = m.required_vec3("size");
+    const int dims = spec.generator == "plate" ? 2 : 3;
+    for (int k = 0; k < dims; ++k)
+        if (!(g.size[k] > 0.0)) m.fail(fmt::format("size[{}]", k), "must be > 0");
+    if (m.has("cells") == m.has("element_size"))
+        m.fail("element_size", "give exactly one of \"element_size\" [m] or \"cells\"");
+    if (m.has("cells")) {
+        const std::vector<int> c = m.int_list("cells");
+        if (c.size() != 3) m.fail("cells", "expected 3 integers");
+        for (int k = 0; k < 3; ++k)
+            if (c[k] < 1 || c[k] > 2000) m.fail(fmt::format("cells[{}]", k), "must be in [1, 2000]");
+        g.cells = Eigen::Vector3i(c[0], c[1], c[2]);
+    } else {
+        const double h = m.required_number("element_size", 1e-9);
+        g.cells = cells_for_size(g.size, h);
+    }
+    if (dims == 2) g.cells.z() = 1;
+    // Doubles near the origin must resolve a cell: their spacing there, 2.2e-16 (|origin| + size),
+    // is held below 1e-9 of the cell size (an origin of 1e300 would collapse every cell).
+    for (int k = 0; k < dims; ++k) {
+        const double h = g.size[k] / g.cells[k], far = std::abs(g.origin[k]) + g.size[k];
+        if (!(far * std::numeric_limits<double>::epsilon() <= 1e-9 * h))
+            m.fail(fmt::format("origin[{}]", k), fmt::format("{:.6g} m is too far from 0 for cells of {:.3g} m: doubles "
+                                                          "there are {:.3g} m apart (keep |origin| below {:.3g} m)",
+                                                          g.origin[k], h, far * std::numeric_limits<double>::epsilon(),
+                                                          1e-9 * h / std::numeric_limits<double>::epsilon()));
+    }
+    const double count = double(g.cells.x()) * g.cells.y() * g.cells.z();
+    const double elements = count * (dims == 3 ? 6 : 2);
+    if (elements > static_cast<double>(kMaxMeshCells))
+        m.fail(m.has("cells") ? "cells" : "element_size",
+               fmt::format("gives {:.3g} elements, above the limit of {} (about {:.0f} GB): refused before allocating",
+                           elements, kMaxMeshCells, elements * 5e3 / 1e9));
+    g.jitter = m.number("jitter", 0.0, 0.0, 0.3);
+    g.seed = static_cast<uint64_t>(m.integer("seed", 1, 0));
+    g.bend_radius = m.number("bend_radius", 0.0, 0.0);
+    if (g.bend_radius > 0.0 && dims == 2) m.fail("bend_radius", "only for the 3D box generator");
+    if (g.bend_radius > 0.0 && g.size.y() > 3.0 * g.bend_radius)
+        m.fail("bend_radius", "the box would wrap more than 3 radians around the cylinder");
+    return spec;
+}
+
+std::vector<RegionMaterial> read_region_materials(const JsonFields& top, const Material& base) {
+    std::vector<RegionMaterial> out;
+    const JsonFields regions = top.object("region_materials");
+    if (!top.has("region_materials")) return out;
+    for (const auto& [key, value] : top.raw("region_materials").items()) {
+        const JsonFields mat = regions.object(key);
+        RegionMaterial r;
+        r.region = key;
+        r.material = read_material(mat, base);
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
+Material read_material(const JsonFields& mat, const Material& base) {
+    mat.allow_only({"name", "young", "poisson", "density", "thickness"});
+    Material m;
+    m.name = mat.string("name", base.name);
+    m.young = mat.number("young", base.young, 1e-12);
+    m.poisson = mat.number("poisson", base.poisson, -0.999, 0.4999);
+    m.density = mat.number("density", base.density, 1e-12);
+    m.thickness = mat.number("thickness", base.thickness, 1e-12);
+    return m;
+}
+
+std::vector<uint16_t> region_material_index(const std::string& scene_file, const MeshData& mesh,
+                                            const std::vector<RegionMaterial>& regions) {
+    std::vector<uint16_t> index(mesh.cells.size(), 0);
+    if (regions.empty()) return index;
+    std::map<int, uint16_t> of_region;
+    for (size_t k = 0; k < regions.size(); ++k) {
+        const std::string& key = regions[k].region;
+        int tag = 0;
+        bool found = false;
+        for (const auto& [t, name] : mesh.region_names)
+            if (name == key) tag = t, found = true;
+        if (!found) {
+            char* end = nullptr;
+            const long v = std::strtol(key.c_str(), &end, 10);
+            found = end != key.c_str() && *end == '\0' && std::count(mesh.cell_region.begin(), mesh.cell_region.end(), v) > 0;
+            tag = static_cast<int>(v);
+        }
+        if (!found) {
+            std::map<int, long long> have;
+            for (int r : mesh.cell_region) ++have[r];
+            std::string list;
+            for (const auto& [t, n] : have) {
+                const auto name = mesh.region_names.find(t);
+                list += fmt::format("{}{}{} ({} cells)", list.empty() ? "" : ", ", t,
+                                    name == mesh.region_names.end() ? "" : fmt::format(" \"{}\"", name->second), n);
+            }
+            throw InputError(scene_file, "region_materials." + key,
+                             fmt::format("{} has no region \"{}\"; its regions: {}", mesh.source, key,
+                                         list.empty() ? "none (no physical groups, region attributes or region array)" : list));
+        }
+        of_region[tag] = static_cast<uint16_t>(k + 1);
+    }
+    for (size_t e = 0; e < index.size(); ++e) {
+        const auto it = of_region.find(mesh.cell_region[e]);
+        if (it != of_region.end()) index[e] = it->second;
+    }
+    return index;
+}
+
+MeshData load_scene_mesh(const Scene& scene) {
+    const MeshSpec& m = scene.mesh;
+    MeshData mesh;
+    if (!m.file.empty()) {
+        mesh = read_mesh_file(m.file, m.max_volume, m.placement);
+    } else {
+        mesh = m.generator == "plate" ? generate_plate(m.grid) : generate_box(m.grid);
+        try {
+            validate_mesh(mesh);
+        } catch (const InputError& e) {  // the scene's fields made it: name them, not the generator
+            throw InputError(scene.file, "mesh", fmt::format("the \"{}\" generator made an invalid mesh ({}: {}); check "
+                                                             "mesh.origin, size, cells and bend_radius",
+                                                             m.generator, e.field(), e.message()));
+        }
+    }
+    return mesh;
+}
+
+}  // namespace xcut
