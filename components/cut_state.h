@@ -26,6 +26,14 @@ struct CutQuad {
     std::array<Vec3, 4> corner;       ///< tip0, heel0, heel1, tip1 [m]
 };
 
+/// One bladed tool's cut in progress: its own partly crossed elements, lists and search front, so
+/// several scalpels cut independently (one's front never steers the other's search).
+struct BladeCut {
+    std::unordered_map<int, ElementCrossings> crossing;  ///< partly crossed elements
+    std::array<std::vector<int>, 3> lists;  ///< L1, L2, L3 (element ids)
+    std::vector<int> front;           ///< elements the last quad crossed: seeds of the next search
+};
+
 struct CutState {
     double threshold = 0.0;           ///< blade travel that makes a new quad [m]; 0: mean edge length
     int min_depth = 1;                ///< neighbourhood levels searched around the last crossings
@@ -35,9 +43,7 @@ struct CutState {
     std::vector<Vec3> anchor_tip, anchor_heel;  ///< per tool: blade edge in world at the last quad [m]
     std::vector<Vec3> last_tip, last_heel;      ///< per tool: blade edge at the previous step [m]
     std::vector<CutQuad> quads;       ///< quads made this step (all tools)
-    std::unordered_map<int, ElementCrossings> crossing;  ///< partly crossed elements
-    std::array<std::vector<int>, 3> lists;  ///< L1, L2, L3 (element ids)
-    std::vector<int> front;           ///< elements the last quad crossed: seeds of the next search
+    std::vector<BladeCut> blade;      ///< per tool
     /// Per mesh element: a split was queued for it; it is not tested again. The decision is the
     /// CutSystem's, whichever cutter (XFEM or snapping) applies the split.
     std::vector<uint8_t> queued;

@@ -116,18 +116,17 @@ bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) 
     return true;
 }
 
-void remove_from_list(CutState& cs, int e, int list) {
+void remove_from_list(BladeCut& bc, int e, int list) {
     if (list < 1) return;
-    auto& l = cs.lists[list - 1];
+    auto& l = bc.lists[list - 1];
     l.erase(std::remove(l.begin(), l.end(), e), l.end());
 }
 
 /// Tests the candidate's edges against the quad; returns how many new distinct edges it crossed.
-int test_element(World& w, int e, const CutQuad& q, const Vec3 normal[2]) {
+int test_element(World& w, BladeCut& bc, int e, const CutQuad& q, const Vec3 normal[2]) {
     const Elements& el = w.elements;
     const int dim = el.dim;
     const Vec3* x = w.nodes.position.data();
-    CutState& cs = w.cut_state;
     int found = 0;
     for (int k = 0; k < edges_of(dim); ++k) {
         const int* ed = edge_of(dim, k);
@@ -142,12 +141,12 @@ int test_element(World& w, int e, const CutQuad& q, const Vec3 normal[2]) {
             t = segment_segment_2d(a, b, q.corner[0], q.corner[3]);
         }
         if (!t) continue;
-        auto it = cs.crossing.find(e);
-        if (it == cs.crossing.end()) {
+        auto it = bc.crossing.find(e);
+        if (it == bc.crossing.end()) {
             ElementCrossings fresh;
             fresh.first_time = w.time;
             fresh.first_wall = wall_seconds();
-            it = cs.crossing.emplace(e, fresh).first;
+            it = bc.crossing.emplace(e, fresh).first;
         }
         ElementCrossings& c = it->second;
         if (c.mask >> k & 1) continue;  // this edge already counted: a trembling blade
@@ -174,8 +173,10 @@ double mean_edge_length(const World& w) {
     return n > 0 ? sum / n : 0.0;
 }
 
-void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q) {
+void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
     CutState& cs = w.cut_state;
+    if (static_cast<int>(cs.blade.size()) <= tool) cs.blade.resize(tool + 1);
+    BladeCut& bc = cs.blade[tool];
     const double t0 = wall_seconds();
     const int dim = w.elements.dim;
     ++cs.quads_built;
@@ -190,9 +191,9 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q) {
     }
     const double length = std::max((q.corner[3] - q.corner[0]).norm(), (q.corner[2] - q.corner[1]).norm());
     std::vector<int> candidates;
-    if (!cs.front.empty() && !cs.bvh_every_quad) {
+    if (!bc.front.empty() && !cs.bvh_every_quad) {
         const int depth = cs.min_depth + static_cast<int>(std::ceil(length / std::max(cs.mean_edge, 1e-300)));
-        candidates = neighbourhood(w, cs.front, depth);
+        candidates = neighbourhood(w, bc.front, depth);
     } else {
         Vec3 centre = Vec3::Zero();
         for (const Vec3& c : q.corner) centre += 0.25 * c;
@@ -208,14 +209,14 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q) {
     for (int e : candidates) {
         if ((!cut.empty() && cut[e] >= 0) || (!cs.queued.empty() && cs.queued[e])) continue;
         ++cs.elements_tested;
-        const int found = test_element(w, e, q, normal);
+        const int found = test_element(w, bc, e, q, normal);
         cs.crossings_found += found;
         if (found > 0) crossed.push_back(e);
     }
     // Lists and splits, in element order (deterministic).
     const int need = dim == 3 ? 3 : 2;
     for (int e : crossed) {
-        ElementCrossings& c = cs.crossing.at(e);
+        ElementCrossings& c = bc.crossing.at(e);
         const int count = std::min(__builtin_popcount(c.mask), 3);
         if (count >= need) {
             CutEvent ev;
@@ -226,27 +227,27 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q) {
                 cs.delay_sim.push_back(w.time - c.first_time);
                 cs.delay_wall.push_back(wall_seconds() - c.first_wall);
                 ++cs.elements_split;
-                remove_from_list(cs, e, c.list);
-                cs.crossing.erase(e);
+                remove_from_list(bc, e, c.list);
+                bc.crossing.erase(e);
                 continue;
             }
         }
         if (count != c.list) {
-            remove_from_list(cs, e, c.list);
+            remove_from_list(bc, e, c.list);
             c.list = count;
-            cs.lists[count - 1].push_back(e);
+            bc.lists[count - 1].push_back(e);
         }
     }
     // Elements the search no longer reaches are dropped: the blade has left them.
-    for (auto it = cs.crossing.begin(); it != cs.crossing.end();) {
+    for (auto it = bc.crossing.begin(); it != bc.crossing.end();) {
         if (std::binary_search(candidates.begin(), candidates.end(), it->first)) {
             ++it;
             continue;
         }
-        remove_from_list(cs, it->first, it->second.list);
-        it = cs.crossing.erase(it);
+        remove_from_list(bc, it->first, it->second.list);
+        it = bc.crossing.erase(it);
     }
-    cs.front = crossed;
+    bc.front = crossed;
     const double ms = (wall_seconds() - t0) * 1e3;
     cs.update_ms += ms;
     cs.quad_ms.push_back(ms);
@@ -266,7 +267,7 @@ void sweep_blade(World& w, ElementBvh& bvh, int i, const std::vector<std::pair<V
     for (size_t k = path.size() > 1 ? 1 : 0; k < path.size(); ++k) {
         const auto& [tip, heel] = path[k];
         if (moved(tip, heel) < threshold) continue;
-        process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], heel, tip}});
+        process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], heel, tip}}, i);
         cs.anchor_tip[i] = tip, cs.anchor_heel[i] = heel;
     }
     const auto& [tip, heel] = path.back();
@@ -274,7 +275,7 @@ void sweep_blade(World& w, ElementBvh& bvh, int i, const std::vector<std::pair<V
     cs.last_tip[i] = tip, cs.last_heel[i] = heel;
     const double left = moved(tip, heel);
     if (stopped && left > 1e-6 * threshold && left < threshold) {
-        process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], heel, tip}});
+        process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], heel, tip}}, i);
         cs.anchor_tip[i] = tip, cs.anchor_heel[i] = heel;
     }
 }
@@ -294,6 +295,7 @@ void run_cut_system(World& w, ElementBvh& bvh) {
     cs.anchor_heel.resize(tb.count());
     cs.last_tip.resize(tb.count());
     cs.last_heel.resize(tb.count());
+    cs.blade.resize(tb.count());
     for (int i = 0; i < tb.count(); ++i) {
         if (!tb.has_blade[i]) continue;
         // The blade's path over the step (ToolBodies::sweep), or only where it is now.

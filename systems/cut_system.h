@@ -11,6 +11,8 @@
 //    L1 -> L2 -> L3 by their count of distinct crossed edges, and are split (a CutEvent) once fully
 //    crossed: three distinct edges or four in 3D, two in 2D. Elements the search no longer reaches
 //    are dropped from the lists.
+//  - Each bladed tool has its own lists and front (CutState::blade): several scalpels cut
+//    independently; an element queued by one is not tested again by any.
 // 2D: the blade is a point (its tip) moving in the plane; the quad is the segment it swept.
 #include <memory>
 
@@ -20,8 +22,9 @@
 
 namespace xcut {
 
-/// Processes one quad (corners: tip0, heel0, heel1, tip1; 2D uses tip0 -> tip1). Queues splits.
-void process_cut_quad(World& world, ElementBvh& bvh, const CutQuad& quad);
+/// Processes one quad of bladed tool `tool` (corners: tip0, heel0, heel1, tip1; 2D uses tip0 ->
+/// tip1) against that tool's own lists and front. Queues splits.
+void process_cut_quad(World& world, ElementBvh& bvh, const CutQuad& quad, int tool = 0);
 /// One step of the cutter for every bladed tool.
 void run_cut_system(World& world, ElementBvh& bvh);
 /// Builds the first-contact BVH (boxes grown by one mean edge) before the first step, so the

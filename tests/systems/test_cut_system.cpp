@@ -48,7 +48,8 @@ std::set<int> run_cutter(World& w, double t_end, double dt) {
 /// Independent reference: a tet is fully crossed by the swept rectangle x = kX, y in [y0, y1]
 /// (the blade spans the thickness) when it straddles the plane and every straddling edge meets the
 /// plane at y in [y0, y1].
-std::set<int> expected_split(const World& w, double y0, double y1) {
+std::set<int> expected_split(const World& w, double y0, double y1, double plane_x = kX) {
+    const double kX = plane_x;
     std::set<int> out;
     for (int e = 0; e < w.mesh_elements; ++e) {
         bool straddles = false, inside = true;
@@ -71,6 +72,23 @@ TEST(CutSystem, StraightIncisionSplitsExactlyTheCrossedElements) {
     EXPECT_EQ(expected.size(), 7u * 6u) << "cells y in [4, 16] mm: 6 full cells of 6 tets, plus the tets of the end cells the sweep crosses completely";
     EXPECT_EQ(split, expected);
     EXPECT_EQ(w.cuts.count(), static_cast<int>(expected.size()));
+}
+
+// Two scalpels making two incisions at the same time cut independently: each splits exactly what it
+// crossed, as it would alone. (With one shared crack front, the second searched around the first's
+// wound and cut nothing until it reached it.)
+TEST(CutSystem, TwoScalpelsCutTwoIncisionsIndependently) {
+    constexpr double kX2 = 0.011;  // the second incision, also in the middle of a 2 mm cell
+    World w = slab_with_scalpel({key(0.0, kX, 0.003), key(1.0, kX, 0.017)});
+    add_scalpel(w, "second", {key(0.0, kX2, 0.017), key(1.0, kX2, 0.003)}, Vec3(0, 0, -0.001), Vec3(0, 0, 0.003));
+    const std::set<int> split = run_cutter(w, 1.2, 0.01);
+    std::set<int> expected = expected_split(w, 0.003, 0.017);
+    const std::set<int> second = expected_split(w, 0.003, 0.017, kX2);
+    ASSERT_GE(second.size(), 6u * 6u) << "at least the 6 inner cells";
+    for (int e : second) ASSERT_EQ(expected.count(e), 0u) << "two separate incisions";
+    expected.insert(second.begin(), second.end());
+    EXPECT_EQ(split, expected);
+    ASSERT_EQ(w.cut_state.blade.size(), 2u);
 }
 
 // The sweep of a step is cut whole: the same incision (1 s along y at x = kX) stepped at dt from

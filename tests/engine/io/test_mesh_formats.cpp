@@ -94,7 +94,9 @@ TEST_F(RealMeshFiles, EveryGmshFormatAndEncodingReadsAsTheSameMesh) {
                           "layers_msh41_bin.msh"}) {
         const MeshData m = read_mesh_file(at(f), 0.0);
         expect_same_mesh(ref, m, 1e-15);  // ASCII holds 16 digits, binary all 17
-        if (std::string(f) != "layers_msh1.msh") EXPECT_EQ(m.region_names, names) << f;  // format 1 has no names
+        if (std::string(f) != "layers_msh1.msh") {  // format 1 has no names
+            EXPECT_EQ(m.region_names, names) << f;
+        }
         EXPECT_TRUE(m.notes.empty()) << f << ": " << (m.notes.empty() ? "" : m.notes[0]);
     }
 }
@@ -187,7 +189,9 @@ TEST_F(RealMeshFiles, BinaryGmsh41LayersGetTheirRegionMaterialsAndAreCut) {
         const Material& m = w.materials.list[w.elements.material[e]];
         const int r = mesh.cell_region[e];
         EXPECT_EQ(m.young, r == 2 ? 3e3 : r == 3 ? 5e4 : 2e4) << "cell " << e << " region " << r;
-        if (r == 3) EXPECT_EQ(m.poisson, 0.3) << "a field left out comes from the scene's material";
+        if (r == 3) {
+            EXPECT_EQ(m.poisson, 0.3) << "a field left out comes from the scene's material";
+        }
     }
     // A region the mesh does not have is named with the ones it has.
     std::ofstream(dir_ / "bad_region.json") << R"({ "mesh": { "file": "layers_msh41_bin.msh" },
