@@ -82,6 +82,7 @@ struct OutputSettings {
     std::string name = "xcut";      ///< file stem
     int every = 10;                 ///< write a frame every N steps
     bool vtu = true;
+    bool ascii = false;             ///< VTU arrays as text instead of zlib-compressed binary
     bool metrics_csv = true;
 };
 

@@ -11,6 +11,8 @@
 #include <fmt/os.h>
 
 #include "engine/error.h"
+#include "engine/io/cell_stress.h"
+#include "engine/io/vtu_writer.h"
 
 namespace xcut {
 namespace {
@@ -38,40 +40,45 @@ void write_vtu(const World& world, const std::string& path) {
         side[world.virtual_elements.element[v]] = world.virtual_elements.side[v];
         parent[world.virtual_elements.element[v]] = world.virtual_elements.parent[v];
     }
-    auto out = fmt::output_file(path);
-    out.print("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
-    out.print("<UnstructuredGrid>\n<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n.count(), cells.size());
-    out.print("<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
-    for (const Vec3& p : n.position) out.print("{:.10g} {:.10g} {:.10g}\n", p.x(), p.y(), p.z());
-    out.print("</DataArray>\n</Points>\n<PointData Vectors=\"displacement\">\n");
-    out.print("<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n");
-    for (int i = 0; i < n.count(); ++i) {
-        const Vec3 u = n.position[i] - n.rest[i];
-        out.print("{:.10g} {:.10g} {:.10g}\n", u.x(), u.y(), u.z());
-    }
-    out.print("</DataArray>\n<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" format=\"ascii\">\n");
-    for (const Vec3& v : n.velocity) out.print("{:.10g} {:.10g} {:.10g}\n", v.x(), v.y(), v.z());
-    out.print("</DataArray>\n<DataArray type=\"UInt8\" Name=\"fixed\" format=\"ascii\">\n");
-    for (uint8_t f : n.fixed) out.print("{} ", int(f));
-    out.print("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"enriched_dof\" format=\"ascii\">\n");
-    for (int i = 0; i < n.count(); ++i) out.print("{} ", i >= world.mesh_nodes ? 1 : 0);
-    out.print("\n</DataArray>\n</PointData>\n<CellData Scalars=\"side\">\n");
-    out.print("<DataArray type=\"Int8\" Name=\"side\" format=\"ascii\">\n");
-    for (int e : cells) out.print("{} ", side[e]);
-    out.print("\n</DataArray>\n<DataArray type=\"Int32\" Name=\"parent\" format=\"ascii\">\n");
-    for (int e : cells) out.print("{} ", parent[e]);
-    out.print("\n</DataArray>\n<DataArray type=\"Float64\" Name=\"volume_fraction\" format=\"ascii\">\n");
-    for (int e : cells) out.print("{:.6g} ", el.weight[e]);
-    out.print("\n</DataArray>\n</CellData>\n<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
+    VtuWriter vtu(world.output.ascii);
+    std::vector<double> xyz, u, v;
+    for (int i = 0; i < n.count(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            xyz.push_back(n.position[i][k]);
+            u.push_back(n.position[i][k] - n.rest[i][k]);
+            v.push_back(n.velocity[i][k]);
+        }
+    vtu.points(xyz);
+    vtu.point_data("displacement_m", 3, u);
+    vtu.point_data("velocity_m_per_s", 3, v);
+    vtu.point_data("fixed", std::vector<uint8_t>(n.fixed.begin(), n.fixed.end()));
+    std::vector<uint8_t> enriched(n.count(), 0);
+    for (int i = world.mesh_nodes; i < n.count(); ++i) enriched[i] = 1;
+    vtu.point_data("enriched_dof", enriched);
+    std::vector<int32_t> side_of, parent_of, region, material, conn, offsets;
+    std::vector<double> fraction, mises, stress;
     for (int e : cells) {
-        for (int a = 0; a < npe; ++a) out.print("{} ", el.nodes[e][a]);
-        out.print("\n");
+        side_of.push_back(side[e]), parent_of.push_back(parent[e]), fraction.push_back(el.weight[e]);
+        region.push_back(el.region.empty() ? 0 : el.region[e]), material.push_back(el.material[e]);
+        const Mat3 sigma = cell_cauchy_stress(world, e);
+        mises.push_back(von_mises(sigma));
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) stress.push_back(sigma(r, c));
+        for (int a = 0; a < npe; ++a) conn.push_back(el.nodes[e][a]);
+        offsets.push_back(static_cast<int32_t>(conn.size()));
     }
-    out.print("</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n");
-    for (size_t c = 0; c < cells.size(); ++c) out.print("{} ", (c + 1) * npe);
-    out.print("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    for (size_t c = 0; c < cells.size(); ++c) out.print("{} ", vtk_cell_type(el.dim));
-    out.print("\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+    vtu.cell_data("side", side_of);
+    vtu.cell_data("parent", parent_of);
+    vtu.cell_data("volume_fraction", 1, fraction);
+    vtu.cell_data("region", region);
+    vtu.cell_data("material", material);
+    vtu.cell_data("von_mises_Pa", 1, mises);
+    vtu.cell_data("stress_Pa", 9, stress);
+    vtu.cells(conn, offsets, std::vector<uint8_t>(cells.size(), static_cast<uint8_t>(vtk_cell_type(el.dim))));
+    vtu.field("units", "SI: lengths m, time s, displacement_m m, velocity_m_per_s m/s, von_mises_Pa and stress_Pa "
+                       "(Cauchy, row-major 3x3) Pa; region: the mesh file's region; material: index into the scene's "
+                       "materials (0: \"material\", then \"region_materials\" in order)");
+    vtu.write(path);
 }
 
 void write_surface_obj(const World& world, const std::string& path) {
@@ -80,23 +87,37 @@ void write_surface_obj(const World& world, const std::string& path) {
     out.print("# xcut visual surface: {} vertices, {} triangles, t = {} s\n", s.vertex_count(), s.triangles.size(),
               world.time);
     for (const Vec3& p : s.position) out.print("v {:.9g} {:.9g} {:.9g}\n", p.x(), p.y(), p.z());
-    for (const auto& t : s.triangles) out.print("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    // Two groups: the skin, then the wound's faces ("g cut"), so a viewer can colour the cut.
+    for (int cut = 0; cut < 2; ++cut) {
+        out.print("g {}\n", cut ? "cut" : "skin");
+        for (size_t k = 0; k < s.triangles.size(); ++k) {
+            const bool is_cut = k < s.cut_face.size() && s.cut_face[k];
+            if (is_cut != (cut == 1)) continue;
+            const auto& t = s.triangles[k];
+            out.print("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+    }
 }
 
 void write_surface_vtu(const World& world, const std::string& path) {
     const SurfaceMesh& s = world.visual;
-    auto out = fmt::output_file(path);
-    out.print("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
-    out.print("<UnstructuredGrid>\n<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", s.vertex_count(), s.triangles.size());
-    out.print("<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
-    for (const Vec3& p : s.position) out.print("{:.10g} {:.10g} {:.10g}\n", p.x(), p.y(), p.z());
-    out.print("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
-    for (const auto& t : s.triangles) out.print("{} {} {}\n", t[0], t[1], t[2]);
-    out.print("</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n");
-    for (size_t c = 0; c < s.triangles.size(); ++c) out.print("{} ", 3 * (c + 1));
-    out.print("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    for (size_t c = 0; c < s.triangles.size(); ++c) out.print("5 ");
-    out.print("\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+    VtuWriter vtu(world.output.ascii);
+    std::vector<double> xyz;
+    for (const Vec3& p : s.position) xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+    vtu.points(xyz);
+    std::vector<int32_t> conn, offsets, owner;
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        conn.insert(conn.end(), s.triangles[t].begin(), s.triangles[t].end());
+        offsets.push_back(static_cast<int32_t>(conn.size()));
+        owner.push_back(t < s.triangle_owner.size() ? s.triangle_owner[t] : -1);
+    }
+    std::vector<uint8_t> cut(s.triangles.size(), 0);
+    for (size_t t = 0; t < s.triangles.size() && t < s.cut_face.size(); ++t) cut[t] = s.cut_face[t];
+    vtu.cell_data("cut_face", cut);
+    vtu.cell_data("mesh_element", owner);
+    vtu.cells(conn, offsets, std::vector<uint8_t>(s.triangles.size(), 5));
+    vtu.field("units", "SI: lengths m; cut_face 1 on the wound's faces (the internal cut surface), 0 on the skin");
+    vtu.write(path);
 }
 
 void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& frames) {

@@ -11,10 +11,13 @@
 
 namespace xcut {
 
-/// Writes the mesh of `world` at its current positions as a VTK UnstructuredGrid (ASCII XML) with
-/// point fields displacement [m], velocity [m/s], fixed, and cell fields volume [m^3].
+/// Writes the mesh of `world` at its current positions as a VTK UnstructuredGrid (binary appended,
+/// zlib; ASCII with output.ascii): point fields displacement_m, velocity_m_per_s, fixed, enriched_dof;
+/// cell fields side, parent, volume_fraction, region, material, von_mises_Pa, stress_Pa (Cauchy,
+/// 3x3); the units as field data. Each cut element is shown as its two virtual elements.
 void write_vtu(const World& world, const std::string& path);
-/// Writes the visual surface as OBJ (positions [m], triangles) and as a VTK triangle grid.
+/// Writes the visual surface as OBJ (positions [m], triangles; the wound's faces in group "cut") and
+/// as a VTK triangle grid with cell fields cut_face (1: the wound's) and mesh_element.
 void write_surface_obj(const World& world, const std::string& path);
 void write_surface_vtu(const World& world, const std::string& path);
 /// Writes the .pvd collection listing (time, file) pairs.

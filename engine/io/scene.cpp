@@ -373,7 +373,8 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     }
 
     const JsonFields out = top.object("output");
-    out.allow_only({"directory", "every", "vtu", "metrics_csv"});
+    out.allow_only({"directory", "every", "vtu", "metrics_csv", "format"});
+    scene.output.ascii = out.choice("format", "binary", {"binary", "ascii"}) == "ascii";
     scene.output.directory = out.string("directory", "out/" + scene.name);
     scene.output.name = scene.name;
     scene.output.every = out.integer("every", 10, 1);

@@ -1,0 +1,36 @@
+#include "engine/io/cell_stress.h"
+
+#include <Eigen/SVD>
+
+namespace xcut {
+
+Mat3 cell_cauchy_stress(const World& w, int e) {
+    const Elements& el = w.elements;
+    const Vec3* x = w.nodes.position.data();
+    const auto& c = el.nodes[e];
+    Mat3 Ds = Mat3::Identity();  // 2D: the third column stays e_z, as Dm^-1's
+    for (int k = 0; k < el.dim; ++k) Ds.col(k) = x[c[k + 1]] - x[c[0]];
+    const Mat3 F = Ds * el.dm_inv[e];
+    const Eigen::JacobiSVD<Mat3> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Mat3 U = svd.matrixU();
+    if ((U * svd.matrixV().transpose()).determinant() < 0.0) U.col(2) *= -1.0;
+    const Mat3 R = U * svd.matrixV().transpose();
+    const Mat3 eps = 0.5 * (R.transpose() * F + F.transpose() * R) - Mat3::Identity();
+    const Material& m = w.materials.list[el.material[e]];
+    const double mu = m.mu(), lambda = el.dim == 3 ? m.lambda() : m.lambda_plane_stress();
+    Mat3 s = 2.0 * mu * eps;
+    if (el.dim == 3) {
+        s += lambda * eps.trace() * Mat3::Identity();
+    } else {
+        s.topLeftCorner<2, 2>() += lambda * eps.topLeftCorner<2, 2>().trace() * Eigen::Matrix2d::Identity();
+        s.row(2).setZero(), s.col(2).setZero();
+    }
+    return R * s * R.transpose();
+}
+
+double von_mises(const Mat3& sigma) {
+    const Mat3 dev = sigma - sigma.trace() / 3.0 * Mat3::Identity();
+    return std::sqrt(1.5 * dev.cwiseProduct(dev).sum());
+}
+
+}  // namespace xcut

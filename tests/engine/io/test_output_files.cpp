@@ -1,0 +1,85 @@
+// The run's output files as ParaView reads them: the volume and surface VTUs of a cut multi-region
+// scene are read by VTK's own XML reader (tests/engine/io/read_vtu_summary.py, Debian's python3-vtk9)
+// in both encodings (binary appended zlib, the default, and ASCII): the arrays, their units, the
+// regions, the stress and the wound's faces are there; and xcut's reader reads its own files back.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "engine/io/mesh_io.h"
+#include "engine/io/output.h"
+#include "engine/io/scene.h"
+#include "systems/pipeline.h"
+
+namespace xcut {
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json vtk_summary(const std::string& vtu, const fs::path& dir) {
+    const std::string json = (dir / "summary.json").string();
+    const std::string cmd = fmt::format("{} {}/tests/engine/io/read_vtu_summary.py '{}' > '{}' 2>&1", XCUT_MESH_PYTHON,
+                                        XCUT_SOURCE_DIR, vtu, json);
+    const int rc = std::system(cmd.c_str());
+    std::ifstream in(json);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(rc, 0) << text;
+    return nlohmann::json::parse(text, nullptr, false);
+}
+
+class OutputFiles : public ::testing::TestWithParam<bool> {};
+
+TEST_P(OutputFiles, VtkReadsTheArraysOfACutMultiRegionScene) {
+    const bool ascii = GetParam();
+    const fs::path dir = fs::temp_directory_path() / fmt::format("xcut_output_{}_{}", ::getpid(), ascii);
+    fs::create_directories(dir);
+    Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/layered_incision.json");
+    scene.solver.dt = 0.026;
+    scene.solver.cg_tolerance = 1e-4;
+    scene.output.directory = dir.string();
+    scene.output.ascii = ascii;
+    auto sim = make_simulation(scene, false);
+    for (int i = 0; i < 50; ++i) step_simulation(*sim);
+    const World& w = sim->world;
+    ASSERT_GT(w.cuts.count(), 0);
+    write_vtu(w, (dir / "volume.vtu").string());
+    write_surface_vtu(w, (dir / "surface.vtu").string());
+
+    const nlohmann::json v = vtk_summary((dir / "volume.vtu").string(), dir);
+    ASSERT_FALSE(v.is_discarded());
+    const int cells = w.mesh_elements - w.cuts.count() + 2 * w.cuts.count();
+    EXPECT_EQ(v["cells"], cells) << "uncut elements and two virtual elements per cut one";
+    EXPECT_EQ(v["points"], w.nodes.count());
+    const auto& cd = v["cell_data"];
+    EXPECT_EQ(cd["region"]["values"], nlohmann::json::array({1, 2, 3})) << "muscle, fat, skin";
+    EXPECT_EQ(cd["material"]["values"], nlohmann::json::array({0, 1, 2}));
+    EXPECT_EQ(cd["side"]["values"], nlohmann::json::array({-1, 0, 1}));
+    EXPECT_EQ(cd["stress_Pa"]["components"], 9);
+    EXPECT_GT(cd["von_mises_Pa"]["max"].get<double>(), 100.0) << "the wall is stretched by 2 mm";
+    EXPECT_LT(cd["von_mises_Pa"]["max"].get<double>(), 1e6);
+    EXPECT_EQ(v["point_data"]["displacement_m"]["components"], 3);
+    EXPECT_NE(v["fields"]["units"].get<std::string>().find("von_mises_Pa and stress_Pa"), std::string::npos);
+
+    const nlohmann::json s = vtk_summary((dir / "surface.vtu").string(), dir);
+    ASSERT_FALSE(s.is_discarded());
+    EXPECT_EQ(s["cells"], w.visual.triangles.size());
+    const double cut_faces = std::count(w.visual.cut_face.begin(), w.visual.cut_face.end(), 1);
+    EXPECT_GT(cut_faces, 0);
+    EXPECT_EQ(s["cell_data"]["cut_face"]["sum"].get<double>(), cut_faces) << "the wound's faces are flagged";
+
+    // xcut reads its own output back, with the region array.
+    const MeshData back = read_mesh_file((dir / "volume.vtu").string(), 0.0);
+    EXPECT_EQ(static_cast<int>(back.cells.size()), cells);
+    EXPECT_EQ(back.cell_region.size(), back.cells.size());
+    fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(Encodings, OutputFiles, ::testing::Values(false, true),
+                         [](const auto& info) { return info.param ? "Ascii" : "BinaryZlib"; });
+
+}  // namespace
+}  // namespace xcut
