@@ -22,5 +22,6 @@ install(FILES ${CMAKE_BINARY_DIR}/xcutConfig.cmake ${CMAKE_BINARY_DIR}/xcutConfi
 
 # What the binary and a user need beside it: the shipped scenes, and the report and plot scripts
 # `xcut compare` and `xcut bench` call (looked for in <prefix>/share/xcut/report).
-install(DIRECTORY ${CMAKE_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/xcut/scenes FILES_MATCHING PATTERN "*.json")
+install(DIRECTORY ${CMAKE_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/xcut/scenes FILES_MATCHING
+  PATTERN "*.json" PATTERN "*.msh" PATTERN "*.stl" PATTERN "*.geo")
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/tools/report/ DESTINATION ${CMAKE_INSTALL_DATADIR}/xcut/report FILES_MATCHING PATTERN "*.py")

@@ -37,7 +37,7 @@ void add_bench_options(CLI::App& cmd, BenchOptions& o) {
         ->delimiter(',');
     cmd.add_flag("--tiny", o.accuracy_tiny, "The small configuration (accuracy, solver, mesh_io): writes its own CSV");
     cmd.add_option("--cache-dir", o.accuracy.cache_dir,
-                   "Where the conforming reference of problem 5 is cached (accuracy; default <build>/accuracy_cache)");
+                   "Where the conforming reference of problem 5 is cached (accuracy; default $XDG_CACHE_HOME/xcut/accuracy, ~/.cache/xcut/accuracy)");
     cmd.add_flag("--no-plots", o.accuracy_no_plots, "CSV only (accuracy)");
 }
 

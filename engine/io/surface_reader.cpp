@@ -185,7 +185,43 @@ MeshData read_surface_tetrahedralize(const std::string& path, double max_volume,
     return tetrahedralize_surface(path, read_closed_surface(path), max_volume, min_ratio);
 }
 
-MeshData tetrahedralize_surface(const std::string& path, const ClosedSurface& s, double max_volume, double min_ratio) {
+namespace {
+
+/// TetGen 1.5 asserts (aborts the process) inside its intersection predicates on near-degenerate
+/// input such as a coordinate of 1e-309 beside zeros, which binary files make easy. The surface is
+/// therefore snapped to a grid of 2^-40 of its size (about 1e-12: far below any tissue feature), and
+/// what snapping makes degenerate (a triangle without area, two vertices at one place) is refused.
+ClosedSurface conditioned(const std::string& path, ClosedSurface s) {
+    Vec3 lo = s.points[0], hi = s.points[0];
+    for (const Vec3& p : s.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    const double q = std::ldexp((hi - lo).norm(), -40);
+    if (!(q > 0.0) || !std::isfinite(q)) throw InputError(path, "faces", "the surface has no extent");
+    for (Vec3& p : s.points)
+        for (int k = 0; k < 3; ++k) p[k] = lo[k] + std::round((p[k] - lo[k]) / q) * q;
+    std::map<std::array<double, 3>, int> at;
+    std::vector<uint8_t> used(s.points.size(), 0);
+    for (const auto& t : s.triangles)
+        for (int v : t) used[v] = 1;
+    for (size_t i = 0; i < s.points.size(); ++i) {
+        if (!used[i]) continue;
+        const auto [it, fresh] = at.emplace(std::array<double, 3>{s.points[i].x(), s.points[i].y(), s.points[i].z()}, static_cast<int>(i));
+        if (!fresh)
+            throw InputError(path, fmt::format("vertex {}", i + 1),
+                             fmt::format("lies on vertex {} (closer than 1e-12 of the surface's size)", it->second + 1));
+    }
+    for (size_t f = 0; f < s.triangles.size(); ++f) {
+        const auto& t = s.triangles[f];
+        const Vec3 n = (s.points[t[1]] - s.points[t[0]]).cross(s.points[t[2]] - s.points[t[0]]);
+        if (!(n.norm() > 0.0))
+            throw InputError(path, fmt::format("triangle {}", f + 1), "has no area (its vertices are on one line)");
+    }
+    return s;
+}
+
+}  // namespace
+
+MeshData tetrahedralize_surface(const std::string& path, const ClosedSurface& input, double max_volume, double min_ratio) {
+    const ClosedSurface s = conditioned(path, input);
     if (max_volume > 0.0) {
         // Every tet is at most max_volume, so the enclosed volume over it is a lower bound on the count.
         const double at_least = std::abs(enclosed_volume(s)) / max_volume;

@@ -49,6 +49,7 @@ TEST(InstallPackage, ExampleBuildsAndRunsAgainstTheInstalledLibrary) {
     EXPECT_TRUE(fs::exists(prefix / "include/xcut/systems/solver_system.h"));
     ASSERT_TRUE(fs::exists(prefix / "lib/cmake/xcut/xcutConfig.cmake"));
     EXPECT_TRUE(fs::exists(prefix / "share/xcut/scenes/skin_slab.json"));
+    EXPECT_TRUE(fs::exists(prefix / "share/xcut/scenes/meshes/abdominal_wall.msh")) << "the mesh files scenes read";
     EXPECT_TRUE(fs::exists(prefix / "share/xcut/report/plot_compare.py"));
     EXPECT_FALSE(fs::exists(prefix / "include/xcut/tools")) << "the studies are not the engine";
 
@@ -87,6 +88,13 @@ TEST(InstallPackage, ExampleBuildsAndRunsAgainstTheInstalledLibrary) {
     EXPECT_TRUE(std::isfinite(d)) << text;
     EXPECT_GT(d, 0.0) << text;
     EXPECT_LT(d, 0.01) << "a 0.1 m beam sagging under its own weight: " << text;
+
+    // The installed binary runs an installed scene that reads an installed mesh file.
+    const fs::path schedule = dir / "schedule.txt";
+    EXPECT_TRUE(run(quote((prefix / "bin/xcut").string()) + " schedule " +
+                        quote((prefix / "share/xcut/scenes/layered_incision.json").string()),
+                    schedule))
+        << slurp(schedule);
     fs::remove_all(dir);
 }
 

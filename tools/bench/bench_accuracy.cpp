@@ -1,3 +1,4 @@
+#include <cstdlib>
 #include "tools/bench/bench_accuracy.h"
 
 #include <algorithm>
@@ -93,10 +94,14 @@ AccuracyRow plate_run(int n, const char* cutter) {
     return row;
 }
 
+/// The user's cache directory (XDG Base Directory: $XDG_CACHE_HOME, else ~/.cache), never beside
+/// the binary: an installed xcut may sit in a directory its user cannot write.
 std::string default_cache_dir() {
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    return ((ec ? fs::current_path() : exe.parent_path()) / "accuracy_cache").string();
+    const char* xdg = std::getenv("XDG_CACHE_HOME");
+    if (xdg && *xdg && fs::path(xdg).is_absolute()) return (fs::path(xdg) / "xcut" / "accuracy").string();
+    const char* home = std::getenv("HOME");
+    if (home && *home) return (fs::path(home) / ".cache" / "xcut" / "accuracy").string();
+    return (fs::current_path() / ".xcut_cache" / "accuracy").string();
 }
 
 void check_options(const AccuracyBenchOptions& o) {

@@ -22,7 +22,7 @@ struct AccuracyBenchOptions {
     int block_reference = 80;                            ///< cells along L of the conforming reference
     std::vector<int> plate_levels{10, 20, 40, 80, 160};  ///< cells across the plate's width (even)
     std::string csv = "results/bench_accuracy.csv";      ///< PNGs beside it: accuracy_problem<k>.png
-    std::string cache_dir;                               ///< default: <executable's directory>/accuracy_cache
+    std::string cache_dir;                               ///< default: $XDG_CACHE_HOME/xcut/accuracy (~/.cache/xcut/accuracy)
     /// One thread by default: the suite compares methods, not parallel scaling, and single-thread
     /// timings stay meaningful on a shared machine (an oversubscribed OpenMP team can be 20x slower).
     int threads = 1;

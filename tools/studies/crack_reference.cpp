@@ -1,4 +1,5 @@
 #include "tools/studies/crack_reference.h"
+#include "engine/error.h"
 
 #include <unistd.h>
 
@@ -117,7 +118,12 @@ ReferenceField cut_block_reference(const CutBlockSpec& s, int n, const std::stri
         throw std::runtime_error(fmt::format("the conforming reference ({}) did not converge: residual {:.3g}", key, r.residual));
     ref.dofs = 3 * w.nodes.count();
     for (const Probe& p : locate_points(w, samples)) ref.displacement.push_back(probe_displacement(w, p));
-    fs::create_directories(cache_dir);
+    std::error_code ec;
+    fs::create_directories(cache_dir, ec);
+    if (ec || access(cache_dir.c_str(), W_OK) != 0)
+        throw InputError(cache_dir, "--cache-dir", fmt::format("cannot write the reference cache here ({}): give a "
+                                                               "writable one with --cache-dir or XDG_CACHE_HOME",
+                                                               ec ? ec.message() : "permission denied"));
     const std::string tmp = fmt::format("{}.{}.tmp", ref.path, getpid());
     {
         auto out = fmt::output_file(tmp);

@@ -31,6 +31,10 @@ const Regression kRegressions[] = {
     {"self-intersecting OBJ", "mesh", "surface/crash_self_intersecting.obj", "faces", "intersects itself"},
     // Two copies of one triangle: "closed", 3 points; TetGen's Delaunay step segfaults on it.
     {"doubled triangle STL", "mesh", "surface/crash_three_points.stl", "faces", "encloses no volume"},
+    // TetGen 1.5 asserts in its intersection predicates on a binary VTK surface with a coordinate of
+    // 1e-309 beside zeros: surfaces are snapped to 1e-12 of their size first, and this one then has a
+    // triangle without area.
+    {"denormal coordinate in a VTK surface", "mesh", "vtk/crash_tetgen_denormal.vtk", "triangle 1", "has no area"},
     // A number beyond double's range: nlohmann::json throws out_of_range, not parse_error.
     {"number overflow", "scene", "scene/crash_number_overflow.json", "JSON", "not valid JSON"},
     // A --set override that is not JSON becomes a string; one with invalid UTF-8 made the message's
