@@ -4,7 +4,8 @@
 # libopenblas0-serial: CHOLMOD's supernodal factor and solve run on BLAS; the reference BLAS Debian
 # installs otherwise is several times slower. The serial build keeps BLAS off the second core (the
 # engine's own threads are OpenMP's) and its results independent of the thread count.
-# gmsh, python3-meshio, python3-vtk9: the tests write mesh files with the real programs and read them.
+# gmsh, python3-meshio, python3-vtk9: the tests write mesh files with the real programs and read them;
+# python3-jsonschema checks every scene against docs/scene.schema.json.
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -17,4 +18,4 @@ $SUDO apt-get install -y -q --no-install-recommends \
   libgtest-dev libgmock-dev libbenchmark-dev libtet1.5-dev \
   zlib1g-dev libpugixml-dev libpng-dev libstb-dev python3 python3-matplotlib \
   libsuitesparse-dev libopenblas0-serial clang-14 libclang-rt-14-dev libomp-14-dev \
-  gmsh python3-meshio python3-vtk9
+  gmsh python3-meshio python3-vtk9 python3-jsonschema
