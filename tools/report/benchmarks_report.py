@@ -388,7 +388,7 @@ def splice(doc, name, body, source):
 def suites_in(d):
     found = set()
     for f in os.listdir(d) if os.path.isdir(d) else []:
-        m = re.fullmatch(r"bench_([a-z0-9]+)\.csv", f)
+        m = re.fullmatch(r"bench_([a-z0-9_]+)\.csv", f)
         if m:
             found.add(m.group(1))
     return found
@@ -399,9 +399,11 @@ def main():
     plt = None if ARGS.no_plots else import_pyplot()
     if plt is None and not ARGS.no_plots:
         print("note: no matplotlib: tables only, plots left as they are")
-    marked = re.findall(r"<!-- generated: ([a-z0-9]+) -->", doc)
+    marked = re.findall(r"<!-- generated: ([a-z0-9_]+) -->", doc)
     present = suites_in(ARGS.results)
-    for name in list(dict.fromkeys(marked + sorted(present))):
+    # A suite is a marked section, or a CSV bench_<name>.csv whose name has no "_" (bench_perf_cut.csv,
+    # bench_solver_quick.csv are a suite's other tables and quick runs, not suites of their own).
+    for name in list(dict.fromkeys(marked + sorted(n for n in present if "_" not in n))):
         if name not in present:
             print(f"skipped {name}: no {ARGS.results}/bench_{name}.csv (run `xcut bench --suite {name}`); "
                   "its section is left as it is")
