@@ -19,6 +19,7 @@ struct Elements {
     std::vector<Mat3> rotation;                   ///< R from the polar decomposition of F, frozen in a step
     std::vector<uint16_t> material;               ///< index into Materials
     std::vector<int> region;                      ///< the mesh region (Gmsh physical group...) it comes from; 0: none
+    std::vector<int> body;                        ///< the scene body it belongs to (World::body_names)
     /// Share of the element's volume this element carries [-]: 1 for a mesh element, V_s/V for a
     /// virtual element (one side of a cut element), 0 for a mesh element that has been cut (its two
     /// virtual elements carry it from then on). Scales stiffness and mass alike.

@@ -22,6 +22,7 @@ void build_bodies(World& world, const MeshData& mesh, const std::vector<uint16_t
     el.rotation.assign(m, Mat3::Identity());
     el.material = material_of_cell.empty() ? std::vector<uint16_t>(m, 0) : material_of_cell;
     el.region = mesh.cell_region.empty() ? std::vector<int>(m, 0) : mesh.cell_region;
+    el.body.assign(m, 0);
     el.weight.assign(m, 1.0);
     for (int e = 0; e < m; ++e) compute_rest_shape(world, e);
     world.mesh_nodes = n;

@@ -95,6 +95,7 @@ struct World {
     /// What reading the mesh repaired or read differently from its file (MeshData::notes), each
     /// "file: note"; the front end prints them as warnings.
     std::vector<std::string> mesh_notes;
+    std::vector<std::string> body_names = {"body"};  ///< the scene's bodies (Elements::body indexes them)
     int mesh_nodes = 0;         ///< nodes [0, mesh_nodes) are the mesh's; after them, enriched DOFs
     int mesh_elements = 0;      ///< elements [0, mesh_elements) are the mesh's; after them, virtual
     Materials materials;

@@ -25,7 +25,7 @@ void prepare_enrichment(World& w) {
     Elements& el = w.elements;
     const size_t e_cap = static_cast<size_t>(w.mesh_elements) * 2;
     el.nodes.reserve(e_cap), el.rest_volume.reserve(e_cap), el.dm_inv.reserve(e_cap);
-    el.rotation.reserve(e_cap), el.material.reserve(e_cap), el.region.reserve(e_cap), el.weight.reserve(e_cap);
+    el.rotation.reserve(e_cap), el.material.reserve(e_cap), el.region.reserve(e_cap), el.body.reserve(e_cap), el.weight.reserve(e_cap);
     w.forces.element_buffer.reserve(e_cap);
     Nodes& n = w.nodes;
     const size_t n_cap = static_cast<size_t>(w.mesh_nodes) * 2;
@@ -158,6 +158,7 @@ void build_virtual_elements(World& w, int c) {
         el.rotation.push_back(el.rotation[e]);
         el.material.push_back(el.material[e]);
         el.region.push_back(el.region[e]);
+        el.body.push_back(el.body[e]);
         el.weight.push_back(std::max(side > 0 ? fa : 1.0 - fa, kMinSideFraction));
     }
     el.weight[e] = 0.0;

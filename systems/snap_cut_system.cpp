@@ -212,6 +212,7 @@ void regenerate(World& w, int f) {
         el.rotation.push_back(el.rotation[f]);
         el.material.push_back(el.material[f]);
         el.region.push_back(el.region[f]);
+        el.body.push_back(el.body[f]);
         el.weight.push_back(0.0);
         s.piece_parent.push_back(f);
         s.piece_side.push_back(0);

@@ -55,11 +55,12 @@ void write_vtu(const World& world, const std::string& path) {
     std::vector<uint8_t> enriched(n.count(), 0);
     for (int i = world.mesh_nodes; i < n.count(); ++i) enriched[i] = 1;
     vtu.point_data("enriched_dof", enriched);
-    std::vector<int32_t> side_of, parent_of, region, material, conn, offsets;
+    std::vector<int32_t> side_of, parent_of, region, material, body, conn, offsets;
     std::vector<double> fraction, mises, stress;
     for (int e : cells) {
         side_of.push_back(side[e]), parent_of.push_back(parent[e]), fraction.push_back(el.weight[e]);
         region.push_back(el.region.empty() ? 0 : el.region[e]), material.push_back(el.material[e]);
+        body.push_back(el.body.empty() ? 0 : el.body[e]);
         const Mat3 sigma = cell_cauchy_stress(world, e);
         mises.push_back(von_mises(sigma));
         for (int r = 0; r < 3; ++r)
@@ -72,12 +73,13 @@ void write_vtu(const World& world, const std::string& path) {
     vtu.cell_data("volume_fraction", 1, fraction);
     vtu.cell_data("region", region);
     vtu.cell_data("material", material);
+    vtu.cell_data("body", body);
     vtu.cell_data("von_mises_Pa", 1, mises);
     vtu.cell_data("stress_Pa", 9, stress);
     vtu.cells(conn, offsets, std::vector<uint8_t>(cells.size(), static_cast<uint8_t>(vtk_cell_type(el.dim))));
     vtu.field("units", "SI: lengths m, time s, displacement_m m, velocity_m_per_s m/s, von_mises_Pa and stress_Pa "
                        "(Cauchy, row-major 3x3) Pa; region: the mesh file's region; material: index into the scene's "
-                       "materials (0: \"material\", then \"region_materials\" in order)");
+                       "materials (per body: \"material\", then \"region_materials\" in order); body: index into the scene's bodies");
     vtu.write(path);
 }
 

@@ -285,14 +285,10 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     Scene scene;
     scene.file = path;
     const JsonFields top(root, path, "");
-    top.allow_only({"name", "description", "mesh", "material", "region_materials", "gravity", "constraints", "solver", "steps",
-                    "duration", "output", "cuts", "tools", "cutter", "visual", "collision", "camera"});
+    top.allow_only({"name", "description", "mesh", "material", "region_materials", "bodies", "gravity", "constraints",
+                    "solver", "steps", "duration", "output", "cuts", "tools", "cutter", "visual", "collision", "camera"});
     scene.name = top.string("name", fs::path(path).stem().string());
-    if (!top.has("mesh")) top.fail("mesh", "required field is missing");
-    scene.mesh = read_mesh_spec(top.object("mesh"), fs::path(path).parent_path());
-
-    scene.material = read_material(top.object("material"), Material{});
-    scene.region_materials = read_region_materials(top, scene.material);
+    read_bodies(top, fs::path(path).parent_path(), scene);
 
     scene.gravity = top.vec3("gravity", Eigen::Vector3d::Zero());
 
@@ -385,13 +381,13 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 
 World build_world(const Scene& scene) {
     World world;
-    world.materials.list = {scene.material};
-    for (const RegionMaterial& r : scene.region_materials) world.materials.list.push_back(r.material);
     world.gravity = scene.gravity;
     world.constraints = scene.constraints;
     world.solver = scene.solver;
     world.output = scene.output;
-    const MeshData mesh = load_scene_mesh(scene);
+    SceneBodies bodies = load_scene_bodies(scene);
+    const MeshData& mesh = bodies.mesh;
+    world.materials.list = bodies.materials;
     for (size_t i = 0; i < scene.constraints.nodes.size(); ++i)
         if (scene.constraints.nodes[i] >= static_cast<int>(mesh.points.size()))
             throw InputError(scene.file, fmt::format("constraints.fixed_nodes[{}]", i),
@@ -414,8 +410,13 @@ World build_world(const Scene& scene) {
     world.snap.threshold = scene.snap_threshold;
     world.snap.visual_subdivisions = scene.visual_subdivisions;
     world.snap.collision_subdivisions = scene.collision_subdivisions;
-    build_bodies(world, mesh, region_material_index(scene.file, mesh, scene.region_materials));
-    for (const std::string& note : mesh.notes) world.mesh_notes.push_back(mesh.source + ": " + note);
+    build_bodies(world, mesh, bodies.material_of_cell);
+    world.elements.body = std::move(bodies.body_of_cell);
+    world.body_names = std::move(bodies.names);
+    // Several bodies are apart in the mesh: a blade leaving one must find the next by position, not
+    // by the crossed elements' neighbours (systems/cut_system.h).
+    world.cut_state.bvh_every_quad = world.body_names.size() > 1;
+    for (const std::string& note : mesh.notes) world.mesh_notes.push_back(note);
     return world;
 }
 

@@ -24,8 +24,16 @@ struct MeshSpec {
 /// "region_materials": the material of the cells of one region (a name or a number).
 struct RegionMaterial {
     std::string region;
-    Material material;                             ///< cells of no listed region
-    std::vector<RegionMaterial> region_materials;  ///< "region_materials"
+    Material material;
+};
+
+/// A body of a multi-body scene ("bodies": [...]) after the first; the first body fills
+/// Scene::mesh, material and region_materials, so a one-body scene reads as before.
+struct BodySpec {
+    std::string name;
+    MeshSpec mesh;
+    Material material;
+    std::vector<RegionMaterial> region_materials;
 };
 
 struct Scene {
@@ -34,6 +42,8 @@ struct Scene {
     MeshSpec mesh;
     Material material;                             ///< cells of no listed region
     std::vector<RegionMaterial> region_materials;  ///< "region_materials"
+    std::string body_name = "body";                ///< the first body's name ("bodies[0].name")
+    std::vector<BodySpec> more_bodies;             ///< "bodies"[1...]
     Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
     Constraints constraints;
     SolverSettings solver;
@@ -59,8 +69,20 @@ void check_trajectory(std::vector<Keyframe>& keys, const std::string& file, cons
 
 /// `overrides`: "field.path=json-value" pairs (from --set) applied to the JSON before it is read.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
-/// Reads or generates the mesh (validated) for the scene.
+/// Reads or generates the first body's mesh (validated).
 MeshData load_scene_mesh(const Scene& scene);
+
+/// Every body of the scene as one mesh: the bodies' nodes and cells one after the other (a body is
+/// a range of nodes and elements, not a second world), with each cell's material and body.
+struct SceneBodies {
+    MeshData mesh;                          ///< all bodies; cell_region keeps each body's own region numbers
+    std::vector<Material> materials;        ///< per body in order: its material, then its region materials
+    std::vector<uint16_t> material_of_cell;
+    std::vector<int> body_of_cell;
+    std::vector<std::string> names;         ///< per body
+    std::vector<int> first_node;            ///< per body, and the total at the end
+};
+SceneBodies load_scene_bodies(const Scene& scene);
 /// The world for a scene: components, constraints, settings.
 World build_world(const Scene& scene);
 

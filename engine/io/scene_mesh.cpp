@@ -121,7 +121,7 @@ Material read_material(const JsonFields& mat, const Material& base) {
     return m;
 }
 
-std::vector<uint16_t> region_material_index(const std::string& scene_file, const MeshData& mesh,
+std::vector<uint16_t> region_material_index(const std::string& scene_file, const std::string& field, const MeshData& mesh,
                                             const std::vector<RegionMaterial>& regions) {
     std::vector<uint16_t> index(mesh.cells.size(), 0);
     if (regions.empty()) return index;
@@ -147,7 +147,7 @@ std::vector<uint16_t> region_material_index(const std::string& scene_file, const
                 list += fmt::format("{}{}{} ({} cells)", list.empty() ? "" : ", ", t,
                                     name == mesh.region_names.end() ? "" : fmt::format(" \"{}\"", name->second), n);
             }
-            throw InputError(scene_file, "region_materials." + key,
+            throw InputError(scene_file, field + "." + key,
                              fmt::format("{} has no region \"{}\"; its regions: {}", mesh.source, key,
                                          list.empty() ? "none (no physical groups, region attributes or region array)" : list));
         }
@@ -160,8 +160,9 @@ std::vector<uint16_t> region_material_index(const std::string& scene_file, const
     return index;
 }
 
-MeshData load_scene_mesh(const Scene& scene) {
-    const MeshSpec& m = scene.mesh;
+namespace {
+
+MeshData load_body_mesh(const Scene& scene, const MeshSpec& m, const std::string& field) {
     MeshData mesh;
     if (!m.file.empty()) {
         mesh = read_mesh_file(m.file, m.max_volume, m.placement);
@@ -170,12 +171,98 @@ MeshData load_scene_mesh(const Scene& scene) {
         try {
             validate_mesh(mesh);
         } catch (const InputError& e) {  // the scene's fields made it: name them, not the generator
-            throw InputError(scene.file, "mesh", fmt::format("the \"{}\" generator made an invalid mesh ({}: {}); check "
-                                                             "mesh.origin, size, cells and bend_radius",
-                                                             m.generator, e.field(), e.message()));
+            throw InputError(scene.file, field, fmt::format("the \"{}\" generator made an invalid mesh ({}: {}); check "
+                                                            "{}.origin, size, cells and bend_radius",
+                                                            m.generator, e.field(), e.message(), field));
         }
     }
+    for (std::string& note : mesh.notes) note = mesh.source + ": " + note;
     return mesh;
+}
+
+}  // namespace
+
+MeshData load_scene_mesh(const Scene& scene) { return load_body_mesh(scene, scene.mesh, "mesh"); }
+
+void read_bodies(const JsonFields& top, const fs::path& scene_dir, Scene& scene) {
+    if (!top.has("bodies")) {
+        if (!top.has("mesh")) top.fail("mesh", "required field is missing");
+        scene.mesh = read_mesh_spec(top.object("mesh"), scene_dir);
+        scene.material = read_material(top.object("material"), Material{});
+        scene.region_materials = read_region_materials(top, scene.material);
+        return;
+    }
+    for (const char* key : {"mesh", "material", "region_materials"})
+        if (top.has(key)) top.fail(key, "give the bodies' meshes and materials in \"bodies\", or one top-level mesh, not both");
+    const std::vector<JsonFields> bodies = top.array_of_objects("bodies");
+    if (bodies.empty()) top.fail("bodies", "give at least one body");
+    for (size_t i = 0; i < bodies.size(); ++i) {
+        const JsonFields& b = bodies[i];
+        b.allow_only({"name", "mesh", "material", "region_materials"});
+        if (!b.has("mesh")) b.fail("mesh", "required field is missing");
+        BodySpec body;
+        body.name = b.string("name", fmt::format("body{}", i));
+        body.mesh = read_mesh_spec(b.object("mesh"), scene_dir);
+        body.material = read_material(b.object("material"), Material{});
+        body.region_materials = read_region_materials(b, body.material);
+        for (size_t j = 0; j < i; ++j)
+            if ((j == 0 ? scene.body_name : scene.more_bodies[j - 1].name) == body.name)
+                b.fail("name", fmt::format("\"{}\" is the name of bodies[{}] too", body.name, j));
+        if (i == 0) {
+            scene.body_name = body.name, scene.mesh = body.mesh, scene.material = body.material;
+            scene.region_materials = body.region_materials;
+        } else {
+            scene.more_bodies.push_back(std::move(body));
+        }
+    }
+}
+
+SceneBodies load_scene_bodies(const Scene& scene) {
+    SceneBodies out;
+    const bool several = !scene.more_bodies.empty();
+    auto add = [&](const std::string& name, const MeshSpec& spec, const Material& material,
+                   const std::vector<RegionMaterial>& regions, size_t k) {
+        const std::string field = several ? fmt::format("bodies[{}]", k) : "";
+        MeshData m = load_body_mesh(scene, spec, several ? field + ".mesh" : "mesh");
+        const std::vector<uint16_t> index =
+            region_material_index(scene.file, several ? field + ".region_materials" : "region_materials", m, regions);
+        MeshData& all = out.mesh;
+        if (k == 0) {
+            all.dim = m.dim;
+            all.source = m.source;
+        } else if (m.dim != all.dim) {
+            throw InputError(scene.file, field + ".mesh", "every body of a scene is 3D, or every body 2D");
+        }
+        const int base_material = static_cast<int>(out.materials.size()), first = static_cast<int>(all.points.size());
+        if (base_material + regions.size() + 1 > 65535) throw InputError(scene.file, field, "too many materials");
+        out.materials.push_back(material);
+        for (const RegionMaterial& r : regions) out.materials.push_back(r.material);
+        out.names.push_back(name);
+        out.first_node.push_back(first);
+        all.points.insert(all.points.end(), m.points.begin(), m.points.end());
+        for (size_t e = 0; e < m.cells.size(); ++e) {
+            std::array<int, 4> c = m.cells[e];
+            for (int a = 0; a < m.nodes_per_cell(); ++a) c[a] += first;
+            all.cells.push_back(c);
+            all.cell_region.push_back(m.cell_region.empty() ? 0 : m.cell_region[e]);
+            out.material_of_cell.push_back(static_cast<uint16_t>(base_material + index[e]));
+            out.body_of_cell.push_back(static_cast<int>(k));
+        }
+        if (k == 0) all.region_names = m.region_names;  // names of the first body's regions (messages, xcut mesh)
+        all.notes.insert(all.notes.end(), m.notes.begin(), m.notes.end());
+        if (all.cells.size() > static_cast<size_t>(kMaxMeshCells))
+            throw InputError(scene.file, field.empty() ? "mesh" : field, fmt::format("the bodies hold {} elements together, above the "
+                                                                                     "limit of {}", all.cells.size(), kMaxMeshCells));
+    };
+    add(scene.body_name, scene.mesh, scene.material, scene.region_materials, 0);
+    for (size_t k = 0; k < scene.more_bodies.size(); ++k) {
+        const BodySpec& b = scene.more_bodies[k];
+        add(b.name, b.mesh, b.material, b.region_materials, k + 1);
+    }
+    out.first_node.push_back(static_cast<int>(out.mesh.points.size()));
+    if (std::all_of(out.mesh.cell_region.begin(), out.mesh.cell_region.end(), [](int r) { return r == 0; }))
+        out.mesh.cell_region.clear();
+    return out;
 }
 
 }  // namespace xcut

@@ -69,6 +69,8 @@ def main():
         "sphere without a radius": {**base, "tools": [{"shape": {"type": "sphere"},
                                                        "trajectory": [{"time": 0, "position": [0, 0, 0]}]}]},
         "unknown material field in a region": {**base, "region_materials": {"fat": {"stiffness": 1}}},
+        "bodies and a top-level mesh": {**base, "bodies": [base]},
+        "a body without a mesh": {"bodies": [{"name": "skin"}]},
     }
     for name, scene in bad.items():
         check(name, scene, expect_valid=False)

@@ -1,0 +1,96 @@
+// Several bodies in one scene ("bodies": [...]): skin over an organ, each with its own mesh and
+// material. A body is a range of nodes and elements with a body id; one blade cuts every body it
+// passes through, and the bodies do not touch each other (no deformable-deformable contact).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <set>
+
+#include "engine/error.h"
+#include "engine/io/scene.h"
+#include "systems/pipeline.h"
+
+namespace xcut {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A 40 x 30 x 2 mm skin 3 mm above a 40 x 30 x 10 mm organ; a scalpel whose blade spans both cuts
+/// along y at x = 21 mm.
+const char* kSkinOverOrgan = R"({
+  "bodies": [
+    { "name": "skin", "mesh": { "generator": "box", "origin": [0, 0, 0.013], "size": [0.04, 0.03, 0.002], "element_size": 0.002 },
+      "material": { "name": "skin", "young": 1e4, "poisson": 0.3 } },
+    { "name": "organ", "mesh": { "generator": "box", "size": [0.04, 0.03, 0.01], "element_size": 0.0025 },
+      "material": { "name": "liver", "young": 5e3, "poisson": 0.45, "density": 1060 } }
+  ],
+  "constraints": { "fixed_boxes": [ { "min": [-1, -1, -1], "max": [1, 1, 1e-6] },
+                                    { "min": [-1, -1, 0.0129], "max": [1e-6, 1, 1] }, { "min": [0.039999, -1, 0.0129], "max": [1, 1, 1] } ] },
+  "tools": [ { "name": "scalpel", "blade": { "tip": [0, 0, 0.006], "heel": [0, 0, 0.02] },
+               "trajectory": [ { "time": 0, "position": [0.021, 0.004, 0] }, { "time": 0.2, "position": [0.021, 0.026, 0] } ] } ],
+  "solver": { "dt": 0.01, "cg_tolerance": 1e-6 }
+})";
+
+fs::path write_scene(const std::string& name, const std::string& text) {
+    const fs::path dir = fs::temp_directory_path() / fmt::format("xcut_bodies_{}", ::getpid());
+    fs::create_directories(dir);
+    std::ofstream(dir / name) << text;
+    return dir / name;
+}
+
+TEST(MultiBody, OneBladeCutsEveryBodyItPassesThrough) {
+    const Scene scene = load_scene(write_scene("two.json", kSkinOverOrgan).string());
+    auto sim = make_simulation(scene, false);
+    for (int i = 0; i < 30; ++i) step_simulation(*sim);
+    const World& w = sim->world;
+    ASSERT_EQ(w.body_names, (std::vector<std::string>{"skin", "organ"}));
+    ASSERT_EQ(w.materials.list.size(), 2u);
+    EXPECT_EQ(w.materials.list[1].name, "liver");
+    std::set<int> cut_bodies;
+    for (int c = 0; c < w.cuts.count(); ++c) {
+        const int e = w.cuts.element[c];
+        cut_bodies.insert(w.elements.body[e]);
+        EXPECT_EQ(w.elements.material[e], w.elements.body[e]) << "each body's cells have its material";
+    }
+    EXPECT_EQ(cut_bodies, (std::set<int>{0, 1})) << "the skin and the organ under it are both cut";
+    // The skin's nodes come first, then the organ's: a body is a range.
+    for (int e = 0; e < w.mesh_elements; ++e)
+        for (int a = 0; a < 4; ++a)
+            EXPECT_EQ(w.nodes.rest[w.elements.nodes[e][a]].z() > 0.0125, w.elements.body[e] == 0) << e;
+}
+
+TEST(MultiBody, BodiesAndATopLevelMeshAreRefusedTogether) {
+    const std::string both = R"({ "mesh": { "generator": "box", "size": [0.01, 0.01, 0.01], "cells": [1, 1, 1] },
+      "bodies": [ { "mesh": { "generator": "box", "size": [0.01, 0.01, 0.01], "cells": [1, 1, 1] } } ] })";
+    try {
+        load_scene(write_scene("both.json", both).string());
+        ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "mesh");
+        EXPECT_NE(e.message().find("not both"), std::string::npos) << e.what();
+    }
+    const std::string twice = R"({ "bodies": [
+      { "name": "a", "mesh": { "generator": "box", "size": [0.01, 0.01, 0.01], "cells": [1, 1, 1] } },
+      { "name": "a", "mesh": { "generator": "box", "size": [0.01, 0.01, 0.01], "cells": [1, 1, 1] } } ] })";
+    try {
+        load_scene(write_scene("twice.json", twice).string());
+        ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "bodies[1].name");
+    }
+    const std::string region = R"({ "bodies": [
+      { "name": "a", "mesh": { "generator": "box", "size": [0.01, 0.01, 0.01], "cells": [1, 1, 1] } },
+      { "name": "b", "mesh": { "generator": "box", "size": [0.01, 0.01, 0.01], "cells": [1, 1, 1] },
+        "region_materials": { "fat": { "young": 1e3 } } } ] })";
+    try {
+        build_world(load_scene(write_scene("region.json", region).string()));
+        ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "bodies[1].region_materials.fat") << "the message names the body";
+    }
+}
+
+}  // namespace
+}  // namespace xcut
