@@ -15,8 +15,17 @@ struct FixedBox {
     Eigen::Vector3d displacement = Eigen::Vector3d::Zero();  ///< held nodes start displaced by this [m]
 };
 
+/// A node set held like a box, named in the scene by a region of a body's mesh, a sphere or an index
+/// file, and resolved to node indices when the world is built.
+struct FixedSet {
+    std::vector<int> nodes;
+    uint8_t axes = 7;      ///< bit mask of held axes (x=1, y=2, z=4)
+    Eigen::Vector3d displacement = Eigen::Vector3d::Zero();  ///< held nodes start displaced by this [m]
+};
+
 struct Constraints {
     std::vector<FixedBox> boxes;
+    std::vector<FixedSet> sets;
     std::vector<int> nodes;            ///< explicitly fixed node indices (all axes)
 };
 

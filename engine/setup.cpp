@@ -93,6 +93,12 @@ void apply_constraints(World& world) {
         }
         nodes.fixed[i] = flags;
     }
+    for (const FixedSet& set : world.constraints.sets)
+        for (int i : set.nodes) {
+            nodes.fixed[i] |= set.axes;
+            for (int k = 0; k < 3; ++k)
+                if ((set.axes >> k) & 1) nodes.position[i][k] = nodes.rest[i][k] + set.displacement[k];
+        }
     for (int i : world.constraints.nodes) nodes.fixed[i] = 7;
     // A node no element touches would have zero mass: hold it so the system stays SPD.
     for (int i = 0; i < nodes.count(); ++i)

@@ -12,6 +12,7 @@
 
 #include "engine/error.h"
 #include "engine/io/cell_stress.h"
+#include "engine/io/clipped_cells.h"
 #include "engine/io/vtu_writer.h"
 
 namespace xcut {
@@ -28,12 +29,9 @@ int vtk_cell_type(int dim) { return dim == 3 ? 10 : 5; }  // VTK_TETRA, VTK_TRIA
 void write_vtu(const World& world, const std::string& path) {
     const Nodes& n = world.nodes;
     const Elements& el = world.elements;
-    const int npe = el.nodes_per_element();
-    // Cells: every element that carries material (weight > 0): uncut mesh elements and the virtual
-    // elements of cut ones, so ParaView shows the opening. Cell fields say which is which.
-    std::vector<int> cells;
-    for (int e = 0; e < el.count(); ++e)
-        if (el.weight[e] > 0.0) cells.push_back(e);
+    // Cells: every element that carries material (weight > 0): uncut mesh elements, and the virtual
+    // elements of cut ones clipped to their sides, so ParaView shows the opening.
+    const ClippedCells shown = clipped_cells(world);
     std::vector<int> side(el.count(), 0), parent(el.count());
     for (int e = 0; e < world.mesh_elements; ++e) parent[e] = e;
     for (int v = 0; v < world.virtual_elements.count(); ++v) {
@@ -41,31 +39,36 @@ void write_vtu(const World& world, const std::string& path) {
         parent[world.virtual_elements.element[v]] = world.virtual_elements.parent[v];
     }
     VtuWriter vtu(world.output.ascii);
+    const size_t points = shown.position.size();
     std::vector<double> xyz, u, v;
-    for (int i = 0; i < n.count(); ++i)
+    for (size_t i = 0; i < points; ++i)
         for (int k = 0; k < 3; ++k) {
-            xyz.push_back(n.position[i][k]);
-            u.push_back(n.position[i][k] - n.rest[i][k]);
-            v.push_back(n.velocity[i][k]);
+            xyz.push_back(shown.position[i][k]);
+            u.push_back(shown.position[i][k] - shown.rest[i][k]);
+            v.push_back(shown.velocity[i][k]);
         }
     vtu.points(xyz);
     vtu.point_data("displacement_m", 3, u);
     vtu.point_data("velocity_m_per_s", 3, v);
-    vtu.point_data("fixed", std::vector<uint8_t>(n.fixed.begin(), n.fixed.end()));
-    std::vector<uint8_t> enriched(n.count(), 0);
-    for (int i = world.mesh_nodes; i < n.count(); ++i) enriched[i] = 1;
+    std::vector<uint8_t> fixed(points, 0), enriched(points, 0);
+    for (int i = 0; i < n.count(); ++i) fixed[i] = n.fixed[i], enriched[i] = i >= world.mesh_nodes;
+    for (size_t i = n.count(); i < points; ++i) enriched[i] = 2;
+    vtu.point_data("fixed", fixed);
     vtu.point_data("enriched_dof", enriched);
     std::vector<int32_t> side_of, parent_of, region, material, body, conn, offsets;
     std::vector<double> fraction, mises, stress;
-    for (int e : cells) {
+    int last = -1;
+    Mat3 sigma = Mat3::Zero();
+    for (size_t c = 0; c < shown.cells.size(); ++c) {
+        const int e = shown.element[c];
         side_of.push_back(side[e]), parent_of.push_back(parent[e]), fraction.push_back(el.weight[e]);
         region.push_back(el.region.empty() ? 0 : el.region[e]), material.push_back(el.material[e]);
         body.push_back(el.body.empty() ? 0 : el.body[e]);
-        const Mat3 sigma = cell_cauchy_stress(world, e);
+        if (e != last) sigma = cell_cauchy_stress(world, e), last = e;  // the pieces of one element share it
         mises.push_back(von_mises(sigma));
         for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 3; ++c) stress.push_back(sigma(r, c));
-        for (int a = 0; a < npe; ++a) conn.push_back(el.nodes[e][a]);
+            for (int k = 0; k < 3; ++k) stress.push_back(sigma(r, k));
+        for (int a = 0; a < el.nodes_per_element(); ++a) conn.push_back(shown.cells[c][a]);
         offsets.push_back(static_cast<int32_t>(conn.size()));
     }
     vtu.cell_data("side", side_of);
@@ -76,9 +79,9 @@ void write_vtu(const World& world, const std::string& path) {
     vtu.cell_data("body", body);
     vtu.cell_data("von_mises_Pa", 1, mises);
     vtu.cell_data("stress_Pa", 9, stress);
-    vtu.cells(conn, offsets, std::vector<uint8_t>(cells.size(), static_cast<uint8_t>(vtk_cell_type(el.dim))));
+    vtu.cells(conn, offsets, std::vector<uint8_t>(shown.cells.size(), static_cast<uint8_t>(vtk_cell_type(el.dim))));
     vtu.field("units", "SI: lengths m, time s, displacement_m m, velocity_m_per_s m/s, von_mises_Pa and stress_Pa "
-                       "(Cauchy, row-major 3x3) Pa; region: the mesh file's region; material: index into the scene's "
+                       "(Cauchy, row-major 3x3) Pa; each cut element is shown as its two virtual elements clipped to their sides (enriched_dof 2: a cut point); region: the mesh file's region; material: index into the scene's "
                        "materials (per body: \"material\", then \"region_materials\" in order); body: index into the scene's bodies");
     vtu.write(path);
 }

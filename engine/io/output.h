@@ -14,7 +14,8 @@ namespace xcut {
 /// Writes the mesh of `world` at its current positions as a VTK UnstructuredGrid (binary appended,
 /// zlib; ASCII with output.ascii): point fields displacement_m, velocity_m_per_s, fixed, enriched_dof;
 /// cell fields side, parent, volume_fraction, region, material, von_mises_Pa, stress_Pa (Cauchy,
-/// 3x3); the units as field data. Each cut element is shown as its two virtual elements.
+/// 3x3); the units as field data. Each cut element is shown as its two virtual elements, each
+/// clipped to its side of the cut (engine/io/clipped_cells.h).
 void write_vtu(const World& world, const std::string& path);
 /// Writes the visual surface as OBJ (positions [m], triangles; the wound's faces in group "cut") and
 /// as a VTK triangle grid with cell fields cut_face (1: the wound's) and mesh_element.

@@ -15,6 +15,7 @@
 #include "engine/io/json_fields.h"
 #include "engine/io/mesh_io.h"
 #include "engine/io/scene_mesh.h"
+#include "engine/io/scene_node_sets.h"
 #include "engine/setup.h"
 
 namespace xcut {
@@ -38,17 +39,6 @@ void apply_override(nlohmann::json& root, const std::string& file, const std::st
         at = &(*at)[part];
     }
     *at = value;
-}
-
-uint8_t read_axes(const JsonFields& f, const std::string& key) {
-    const std::string s = f.string(key, "xyz");
-    uint8_t mask = 0;
-    for (char c : s) {
-        if (c < 'x' || c > 'z') f.fail(key, fmt::format("\"{}\": use letters x, y, z", s));
-        mask |= uint8_t(1u << (c - 'x'));
-    }
-    if (mask == 0) f.fail(key, "must name at least one axis");
-    return mask;
 }
 
 /// A 3D cut polygon must be planar and have area; a 2D segment must have length.
@@ -293,7 +283,8 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     scene.gravity = top.vec3("gravity", Eigen::Vector3d::Zero());
 
     const JsonFields con = top.object("constraints");
-    con.allow_only({"fixed_boxes", "fixed_nodes"});
+    con.allow_only({"fixed_boxes", "fixed_nodes", "fixed_sets"});
+    scene.fixed_sets = read_fixed_sets(con, fs::path(path).parent_path());
     for (const JsonFields& b : con.array_of_objects("fixed_boxes")) {
         b.allow_only({"min", "max", "axes", "displacement"});
         FixedBox box{b.required_vec3("min"), b.required_vec3("max"), read_axes(b, "axes"),
@@ -410,6 +401,7 @@ World build_world(const Scene& scene) {
     world.snap.threshold = scene.snap_threshold;
     world.snap.visual_subdivisions = scene.visual_subdivisions;
     world.snap.collision_subdivisions = scene.collision_subdivisions;
+    world.constraints.sets = resolve_fixed_sets(scene, bodies);
     build_bodies(world, mesh, bodies.material_of_cell);
     world.elements.body = std::move(bodies.body_of_cell);
     world.body_names = std::move(bodies.names);

@@ -1,6 +1,7 @@
 #pragma once
 // Scene files: JSON, schema in docs/scene-format.md. Loading checks every field and names the file
 // and field path of any error; building turns the scene into a World ready to step.
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -36,6 +37,18 @@ struct BodySpec {
     std::vector<RegionMaterial> region_materials;
 };
 
+/// "constraints.fixed_sets"[i]: exactly one of a region (of `body`, or of every body that has it), a
+/// sphere, or a file of node indices; held on `axes`, starting displaced by `displacement`.
+struct FixedSetSpec {
+    std::string field;                 ///< "constraints.fixed_sets[i]", for messages
+    std::string region, body;          ///< a region's name or number; the body's name (empty: any)
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    double radius = -1.0;              ///< [m]; < 0: not a sphere
+    std::string file;                  ///< resolved path of an index file
+    uint8_t axes = 7;
+    Eigen::Vector3d displacement = Eigen::Vector3d::Zero();
+};
+
 struct Scene {
     std::string file;          ///< the scene file, for messages
     std::string name;
@@ -46,6 +59,7 @@ struct Scene {
     std::vector<BodySpec> more_bodies;             ///< "bodies"[1...]
     Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
     Constraints constraints;
+    std::vector<FixedSetSpec> fixed_sets;  ///< "constraints.fixed_sets", resolved by build_world
     SolverSettings solver;
     int steps = 100;
     OutputSettings output;
@@ -81,6 +95,7 @@ struct SceneBodies {
     std::vector<int> body_of_cell;
     std::vector<std::string> names;         ///< per body
     std::vector<int> first_node;            ///< per body, and the total at the end
+    std::vector<std::map<int, std::string>> region_names;  ///< per body
 };
 SceneBodies load_scene_bodies(const Scene& scene);
 /// The world for a scene: components, constraints, settings.

@@ -249,6 +249,7 @@ SceneBodies load_scene_bodies(const Scene& scene) {
             out.body_of_cell.push_back(static_cast<int>(k));
         }
         if (k == 0) all.region_names = m.region_names;  // names of the first body's regions (messages, xcut mesh)
+        out.region_names.push_back(m.region_names);
         all.notes.insert(all.notes.end(), m.notes.begin(), m.notes.end());
         if (all.cells.size() > static_cast<size_t>(kMaxMeshCells))
             throw InputError(scene.file, field.empty() ? "mesh" : field, fmt::format("the bodies hold {} elements together, above the "

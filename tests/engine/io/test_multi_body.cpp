@@ -94,3 +94,78 @@ TEST(MultiBody, BodiesAndATopLevelMeshAreRefusedTogether) {
 
 }  // namespace
 }  // namespace xcut
+
+namespace xcut {
+namespace {
+
+// Constraints on named node sets: a region of a body's mesh (the layered wall's muscle), a sphere,
+// an index file; each held on its axes.
+TEST(NodeSets, RegionSphereAndFileSetsHoldTheirNodes) {
+    const fs::path dir = fs::temp_directory_path() / fmt::format("xcut_sets_{}", ::getpid());
+    fs::create_directories(dir);
+    std::ofstream(dir / "held.txt") << "# nodes held by index\n0 1 2\n5  # the sixth\n";
+    const std::string mesh = std::string(XCUT_SOURCE_DIR) + "/scenes/meshes/abdominal_wall.msh";
+    std::ofstream(dir / "sets.json") << fmt::format(R"({{
+      "bodies": [ {{ "name": "wall", "mesh": {{ "file": "{}" }} }} ],
+      "constraints": {{ "fixed_sets": [ {{ "region": "muscle", "body": "wall", "axes": "z" }},
+                                        {{ "sphere": {{ "centre": [0.03, 0.02, 0.017], "radius": 0.006 }}, "axes": "x" }},
+                                        {{ "file": "held.txt" }} ] }} }})", mesh);
+    const World w = build_world(load_scene((dir / "sets.json").string()));
+    int muscle = 0, sphere = 0;
+    for (int e = 0; e < w.mesh_elements; ++e) {
+        if (w.elements.region[e] != 1) continue;  // "muscle"
+        for (int a = 0; a < 4; ++a) {
+            EXPECT_TRUE(w.nodes.fixed[w.elements.nodes[e][a]] & 4);
+            ++muscle;
+        }
+    }
+    for (int i = 0; i < w.mesh_nodes; ++i) {
+        const bool in_sphere = (w.nodes.rest[i] - Vec3(0.03, 0.02, 0.017)).norm() <= 0.006;
+        if (in_sphere) {
+            EXPECT_TRUE(w.nodes.fixed[i] & 1) << i;
+            ++sphere;
+        }
+        const bool skin_node = w.nodes.rest[i].z() > 0.0151;  // no muscle cell reaches the skin
+        if (skin_node && !in_sphere && i != 0 && i != 1 && i != 2 && i != 5) {
+            EXPECT_EQ(w.nodes.fixed[i], 0) << i;
+        }
+    }
+    EXPECT_GT(muscle, 100);
+    EXPECT_GT(sphere, 3);
+    for (int i : {0, 1, 2, 5}) EXPECT_EQ(w.nodes.fixed[i], 7) << "listed in held.txt";
+
+    struct Bad {
+        std::string set, field, phrase;
+    };
+    const Bad bad[] = {
+        {R"({ "region": "bone" })", "constraints.fixed_sets[0].region", "named regions: 1 \"muscle\""},
+        {R"({ "region": "muscle", "body": "liver" })", "constraints.fixed_sets[0].body", "no body is named \"liver\""},
+        {R"({ "sphere": { "centre": [1, 1, 1], "radius": 0.001 } })", "constraints.fixed_sets[0].sphere", "holds no node"},
+        {R"({ "region": "muscle", "sphere": { "centre": [0, 0, 0], "radius": 1 } })", "constraints.fixed_sets[0].region",
+         "exactly one of"},
+    };
+    for (const Bad& c : bad) {
+        std::ofstream(dir / "bad.json") << fmt::format(R"({{ "mesh": {{ "file": "{}" }}, "constraints": {{ "fixed_sets": [ {} ] }} }})",
+                                                       mesh, c.set);
+        try {
+            build_world(load_scene((dir / "bad.json").string()));
+            ADD_FAILURE() << c.set << ": accepted";
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.field(), c.field) << e.what();
+            EXPECT_NE(e.message().find(c.phrase), std::string::npos) << e.what();
+        }
+    }
+    std::ofstream(dir / "bad_index.txt") << "3\n4 x9\n";
+    std::ofstream(dir / "bad.json") << fmt::format(R"({{ "mesh": {{ "file": "{}" }}, "constraints": {{ "fixed_sets": [ {{ "file": "bad_index.txt" }} ] }} }})", mesh);
+    try {
+        build_world(load_scene((dir / "bad.json").string()));
+        ADD_FAILURE() << "bad index accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "line 2") << e.what();
+        EXPECT_NE(e.message().find("\"x9\" is not a node index"), std::string::npos) << e.what();
+    }
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace xcut

@@ -1,0 +1,127 @@
+#include "engine/io/clipped_cells.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+
+namespace xcut {
+
+namespace {
+
+/// Appends a cut point of virtual element `ve` on local edge (i, j) at rest position X.
+int add_cut_point(ClippedCells& out, const World& w, int ve, int i, int j, const Vec3& X) {
+    const Elements& el = w.elements;
+    const auto& v = el.nodes[ve];
+    const Vec3 Xi = w.nodes.rest[v[i]], Xj = w.nodes.rest[v[j]];
+    const double len2 = (Xj - Xi).squaredNorm();
+    const double t = len2 > 0.0 ? std::clamp((X - Xi).dot(Xj - Xi) / len2, 0.0, 1.0) : 0.5;
+    out.position.push_back((1.0 - t) * w.nodes.position[v[i]] + t * w.nodes.position[v[j]]);
+    out.rest.push_back(X);
+    out.velocity.push_back((1.0 - t) * w.nodes.velocity[v[i]] + t * w.nodes.velocity[v[j]]);
+    return static_cast<int>(out.position.size()) - 1;
+}
+
+double signed_measure(const ClippedCells& out, const std::array<int, 4>& c, int dim) {
+    const Vec3 a = out.position[c[1]] - out.position[c[0]], b = out.position[c[2]] - out.position[c[0]];
+    if (dim == 2) return a.x() * b.y() - a.y() * b.x();
+    return a.cross(b).dot(out.position[c[3]] - out.position[c[0]]);
+}
+
+void add_cell(ClippedCells& out, std::array<int, 4> c, int dim, int element) {
+    if (signed_measure(out, c, dim) < 0.0) std::swap(c[dim == 3 ? 2 : 1], c[dim == 3 ? 3 : 2]);
+    out.cells.push_back(c);
+    out.element.push_back(element);
+}
+
+/// A prism with bottom (a0, a1, a2) and top (b0, b1, b2), bk above ak, as three tetrahedra.
+void add_prism(ClippedCells& out, const std::array<int, 3>& a, const std::array<int, 3>& b, int element) {
+    add_cell(out, {a[0], a[1], a[2], b[0]}, 3, element);
+    add_cell(out, {a[1], a[2], b[0], b[1]}, 3, element);
+    add_cell(out, {a[2], b[0], b[1], b[2]}, 3, element);
+}
+
+void edge_nodes(int dim, int edge, int& i, int& j) {
+    i = dim == 3 ? kTetEdges[edge][0] : kTriEdges[edge][0];
+    j = dim == 3 ? kTetEdges[edge][1] : kTriEdges[edge][1];
+}
+
+/// Writes virtual element `ve` clipped to its side; false (nothing written) if its cut is not a
+/// full crossing: every edge between the two sides crossed, and only those.
+bool add_clipped(ClippedCells& out, const World& w, int ve, int parent, int8_t side) {
+    const Elements& el = w.elements;
+    const int dim = el.dim, npe = el.nodes_per_element();
+    const int c = w.cuts.cut_of_element.empty() ? -1 : w.cuts.cut_of_element[parent];
+    if (c < 0 || w.enriched.sign.empty()) return false;
+    std::array<int, 6> slot_of_edge;  // index into the cut's points, per local edge
+    slot_of_edge.fill(-1);
+    int crossed = 0;
+    for (int k = 0; k < 4; ++k)
+        if (w.cuts.point_edge[c][k] >= 0) slot_of_edge[w.cuts.point_edge[c][k]] = k, ++crossed;
+    auto edge_between = [&](int a, int b) {
+        for (int e = 0; e < (dim == 3 ? 6 : 3); ++e) {
+            int i, j;
+            edge_nodes(dim, e, i, j);
+            if ((i == a && j == b) || (i == b && j == a)) return e;
+        }
+        return -1;
+    };
+    std::vector<int> own, other;
+    for (int a = 0; a < npe; ++a) (w.enriched.sign[el.nodes[parent][a]] == side ? own : other).push_back(a);
+    if (own.empty() || other.empty() || crossed != static_cast<int>(own.size() * other.size())) return false;
+    for (int a : own)
+        for (int b : other)
+            if (slot_of_edge[edge_between(a, b)] < 0) return false;
+    std::array<int, 6> point_of_edge;
+    point_of_edge.fill(-1);
+    auto point = [&](int a, int b) {  // the cut point between local nodes a and b, made once
+        const int e = edge_between(a, b);
+        if (point_of_edge[e] < 0) {
+            int i, j;
+            edge_nodes(dim, e, i, j);
+            point_of_edge[e] = add_cut_point(out, w, ve, i, j, w.cuts.points[c][slot_of_edge[e]]);
+        }
+        return point_of_edge[e];
+    };
+    const auto& v = el.nodes[ve];
+    if (dim == 2) {
+        if (own.size() == 1) {
+            add_cell(out, {v[own[0]], point(own[0], other[0]), point(own[0], other[1]), -1}, 2, ve);
+        } else {
+            const int p0 = point(own[0], other[0]), p1 = point(own[1], other[0]);
+            add_cell(out, {v[own[0]], v[own[1]], p1, -1}, 2, ve);
+            add_cell(out, {v[own[0]], p1, p0, -1}, 2, ve);
+        }
+        return true;
+    }
+    if (own.size() == 1) {
+        add_cell(out, {v[own[0]], point(own[0], other[0]), point(own[0], other[1]), point(own[0], other[2])}, 3, ve);
+    } else if (own.size() == 3) {
+        add_prism(out, {v[own[0]], v[own[1]], v[own[2]]},
+                  {point(other[0], own[0]), point(other[0], own[1]), point(other[0], own[2])}, ve);
+    } else {  // two nodes a, b on this side: the prism (a, p_ac, p_ad) -> (b, p_bc, p_bd)
+        add_prism(out, {v[own[0]], point(own[0], other[0]), point(own[0], other[1])},
+                  {v[own[1]], point(own[1], other[0]), point(own[1], other[1])}, ve);
+    }
+    return true;
+}
+
+}  // namespace
+
+ClippedCells clipped_cells(const World& w) {
+    const Elements& el = w.elements;
+    ClippedCells out;
+    out.position = w.nodes.position;
+    out.rest = w.nodes.rest;
+    out.velocity = w.nodes.velocity;
+    std::vector<int> virtual_of(el.count(), -1);
+    for (int v = 0; v < w.virtual_elements.count(); ++v) virtual_of[w.virtual_elements.element[v]] = v;
+    for (int e = 0; e < el.count(); ++e) {
+        if (!(el.weight[e] > 0.0)) continue;
+        const int v = virtual_of[e];
+        if (v >= 0 && add_clipped(out, w, e, w.virtual_elements.parent[v], w.virtual_elements.side[v])) continue;
+        out.cells.push_back(el.nodes[e]);
+        out.element.push_back(e);
+    }
+    return out;
+}
+
+}  // namespace xcut
