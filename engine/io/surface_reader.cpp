@@ -18,6 +18,7 @@
 #include "components/nodes.h"
 #include "engine/error.h"
 #include "engine/io/input_file.h"
+#include "engine/io/isolated_mesher.h"
 #include "engine/io/mesh_io.h"
 #include "engine/io/mesh_tokens.h"
 
@@ -220,16 +221,10 @@ ClosedSurface conditioned(const std::string& path, ClosedSurface s) {
 
 }  // namespace
 
-MeshData tetrahedralize_surface(const std::string& path, const ClosedSurface& input, double max_volume, double min_ratio) {
-    const ClosedSurface s = conditioned(path, input);
-    if (max_volume > 0.0) {
-        // Every tet is at most max_volume, so the enclosed volume over it is a lower bound on the count.
-        const double at_least = std::abs(enclosed_volume(s)) / max_volume;
-        if (at_least > static_cast<double>(kMaxMeshCells))
-            throw InputError(path, "mesh.max_volume",
-                             fmt::format("{:.3g} would make at least {:.3g} tetrahedra, above the limit of {} "
-                                         "(docs/scene-format.md): raise max_volume", max_volume, at_least, kMaxMeshCells));
-    }
+namespace {
+
+/// TetGen itself: its self-intersection check, then the quality mesh (run in a child process).
+MeshData run_tetgen(const std::string& path, const ClosedSurface& s, double max_volume, double min_ratio) {
     tetgenio in, out;
     in.firstnumber = 0;
     in.numberofpoints = static_cast<int>(s.points.size());
@@ -287,4 +282,20 @@ MeshData tetrahedralize_surface(const std::string& path, const ClosedSurface& in
     if (mesh.cells.empty()) throw InputError(path, "surface", "TetGen produced no tetrahedra");
     return mesh;
 }
+
+}  // namespace
+
+MeshData tetrahedralize_surface(const std::string& path, const ClosedSurface& input, double max_volume, double min_ratio) {
+    const ClosedSurface s = conditioned(path, input);
+    if (max_volume > 0.0) {
+        // Every tet is at most max_volume, so the enclosed volume over it is a lower bound on the count.
+        const double at_least = std::abs(enclosed_volume(s)) / max_volume;
+        if (at_least > static_cast<double>(kMaxMeshCells))
+            throw InputError(path, "mesh.max_volume",
+                             fmt::format("{:.3g} would make at least {:.3g} tetrahedra, above the limit of {} "
+                                         "(docs/scene-format.md): raise max_volume", max_volume, at_least, kMaxMeshCells));
+    }
+    return run_isolated_mesher(path, [&] { return run_tetgen(path, s, max_volume, min_ratio); });
+}
+
 }  // namespace xcut

@@ -35,6 +35,9 @@ const Regression kRegressions[] = {
     // 1e-309 beside zeros: surfaces are snapped to 1e-12 of their size first, and this one then has a
     // triangle without area.
     {"denormal coordinate in a VTK surface", "mesh", "vtk/crash_tetgen_denormal.vtk", "triangle 1", "has no area"},
+    // And one TetGen aborts on whatever is checked first (an assertion in tri_tri_inter): TetGen runs
+    // in a child process, whose abort becomes this error.
+    {"TetGen abort in a child process", "mesh", "vtk/crash_tetgen_tri_tri_assert.vtk", "surface", "TetGen aborted on this surface"},
     // A number beyond double's range: nlohmann::json throws out_of_range, not parse_error.
     {"number overflow", "scene", "scene/crash_number_overflow.json", "JSON", "not valid JSON"},
     // A --set override that is not JSON becomes a string; one with invalid UTF-8 made the message's
