@@ -41,6 +41,10 @@ struct MeshData {
     std::string cell_name(size_t e) const;
 };
 
+/// Signed volume of cell `c` (2D: signed area in the xy plane) at `mesh.points` [m^3 or m^2];
+/// positive when its nodes are in the positive order. Indices are assumed valid.
+double signed_cell_measure(const MeshData& mesh, const std::array<int, 4>& c);
+
 /// Rejects meshes the physics cannot run on: no cells, NaN/inf coordinates, out-of-range or repeated
 /// indices, inverted or zero-volume (zero-area) cells. Cells of negative orientation are not
 /// silently flipped: the file is wrong, and the message says which cell. Throws InputError naming

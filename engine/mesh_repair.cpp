@@ -3,7 +3,9 @@
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
+#include <climits>
 #include <cmath>
+#include <cstdlib>
 
 #include "engine/error.h"
 
@@ -18,12 +20,26 @@ void place_mesh(MeshData& mesh, const MeshPlacement& p) {
     for (Eigen::Vector3d& x : mesh.points) x = R * (p.scale * x) + p.translate;
 }
 
+std::optional<int> region_tag(const std::map<int, std::string>& names, const std::string& key) {
+    for (const auto& [tag, name] : names)
+        if (name == key) return tag;
+    char* end = nullptr;
+    const long v = std::strtol(key.c_str(), &end, 10);
+    if (end == key.c_str() || *end != '\0' || v < INT_MIN || v > INT_MAX) return std::nullopt;
+    return static_cast<int>(v);
+}
+
+double units_to_metres(const std::string& units) { return units == "cm" ? 0.01 : units == "mm" ? 0.001 : 1.0; }
+
 void regions_from_cell_data(MeshData& mesh, const std::string& name) {
     const MeshData::CellArray* found = nullptr;
-    for (const auto& a : mesh.cell_data) {
-        if (!name.empty() ? a.name == name : false) found = &a;
+    if (!name.empty()) {
+        for (const auto& a : mesh.cell_data)
+            if (a.name == name) found = &a;
+    } else {
         for (const char* candidate : kRegionArrayNames)
-            if (name.empty() && !found && a.name == candidate) found = &a;
+            for (const auto& a : mesh.cell_data)
+                if (!found && a.name == candidate) found = &a;
     }
     if (!found) {
         if (name.empty()) return;
@@ -45,13 +61,6 @@ void regions_from_cell_data(MeshData& mesh, const std::string& name) {
     mesh.cell_region = std::move(region);
 }
 
-namespace {
-double signed_measure(const MeshData& mesh, const std::array<int, 4>& c) {
-    const Eigen::Vector3d u = mesh.points[c[1]] - mesh.points[c[0]], v = mesh.points[c[2]] - mesh.points[c[0]];
-    if (mesh.dim == 2) return u.x() * v.y() - u.y() * v.x();
-    return u.cross(v).dot(mesh.points[c[3]] - mesh.points[c[0]]);
-}
-}  // namespace
 
 long long reorient_cells(MeshData& mesh) {
     long long flipped = 0;
@@ -59,7 +68,7 @@ long long reorient_cells(MeshData& mesh) {
     for (auto& c : mesh.cells) {
         bool valid = true;
         for (int a = 0; a < mesh.nodes_per_cell(); ++a) valid = valid && c[a] >= 0 && c[a] < n;
-        if (!valid || !(signed_measure(mesh, c) < 0.0)) continue;  // validate_mesh names bad indices
+        if (!valid || !(signed_cell_measure(mesh, c) < 0.0)) continue;  // validate_mesh names bad indices
         std::swap(c[mesh.nodes_per_cell() - 2], c[mesh.nodes_per_cell() - 1]);
         ++flipped;
     }

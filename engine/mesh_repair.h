@@ -4,6 +4,9 @@
 // (mesh.reorient), and nodes no cell uses dropped. Each repair is said in MeshData::notes with its
 // count; nothing is changed silently.
 #include <Eigen/Core>
+#include <map>
+#include <optional>
+#include <string>
 
 #include "engine/mesh_data.h"
 
@@ -18,6 +21,12 @@ struct MeshPlacement {
     /// kRegionArrayNames the file has, if any.
     std::string region_array;
 };
+
+/// The region a scene names by `key`: a name the mesh gives a region (Gmsh $PhysicalNames), else a
+/// number; nothing when it is neither. Whether cells are in it is the caller's to check.
+std::optional<int> region_tag(const std::map<int, std::string>& names, const std::string& key);
+/// "m" -> 1, "cm" -> 0.01, "mm" -> 0.001: a length unit to metres (the units a scene or xcut mesh accepts).
+double units_to_metres(const std::string& units);
 
 /// Cell-data arrays taken as regions when the scene names none: meshio's Gmsh physical groups,
 /// ParaView's and VTK's usual names.

@@ -14,6 +14,14 @@ std::string MeshData::cell_name(size_t e) const {
     return e < cell_id.size() ? fmt::format("element {}", cell_id[e]) : fmt::format("cells[{}]", e);
 }
 
+double signed_cell_measure(const MeshData& mesh, const std::array<int, 4>& c) {
+    const Eigen::Vector3d u = mesh.points[c[1]] - mesh.points[c[0]], v = mesh.points[c[2]] - mesh.points[c[0]];
+    if (mesh.dim == 2) return 0.5 * (u.x() * v.y() - u.y() * v.x());
+    Eigen::Matrix3d D;
+    D << u, v, mesh.points[c[3]] - mesh.points[c[0]];
+    return D.determinant() / 6.0;
+}
+
 void validate_mesh(const MeshData& mesh, double rel_tol) {
     const std::string& src = mesh.source;
     if (mesh.dim != 2 && mesh.dim != 3) throw InputError(src, "dimension", fmt::format("must be 2 or 3, not {}", mesh.dim));
@@ -36,17 +44,9 @@ void validate_mesh(const MeshData& mesh, double rel_tol) {
         double longest = 0.0;
         for (int a = 0; a < npe; ++a)
             for (int b = a + 1; b < npe; ++b) longest = std::max(longest, (mesh.points[c[a]] - mesh.points[c[b]]).norm());
-        double measure;
-        if (mesh.dim == 3) {
-            Eigen::Matrix3d D;
-            for (int k = 0; k < 3; ++k) D.col(k) = mesh.points[c[k + 1]] - mesh.points[c[0]];
-            measure = D.determinant() / 6.0;
-        } else {
-            if (mesh.points[c[0]].z() != 0.0 || mesh.points[c[1]].z() != 0.0 || mesh.points[c[2]].z() != 0.0)
-                throw InputError(src, field, "2D meshes lie in the plane z = 0");
-            const Eigen::Vector3d u = mesh.points[c[1]] - mesh.points[c[0]], v = mesh.points[c[2]] - mesh.points[c[0]];
-            measure = 0.5 * (u.x() * v.y() - u.y() * v.x());
-        }
+        if (mesh.dim == 2 && (mesh.points[c[0]].z() != 0.0 || mesh.points[c[1]].z() != 0.0 || mesh.points[c[2]].z() != 0.0))
+            throw InputError(src, field, "2D meshes lie in the plane z = 0");
+        const double measure = signed_cell_measure(mesh, c);
         const double tol = rel_tol * std::pow(longest, mesh.dim);
         const char* unit = mesh.dim == 3 ? "m^3" : "m^2";
         if (measure < -tol)

@@ -48,6 +48,14 @@ Options& with_csv(const CLI::App& cmd, const std::string& csv, Options& options)
     return options;
 }
 
+/// A suite whose only options are --tiny and --csv.
+template <class Options>
+int run_tiny_or_full(const CLI::App& cmd, const BenchOptions& o, int (*run)(const Options&)) {
+    Options options;
+    options.tiny = o.accuracy_tiny;
+    return run(with_csv(cmd, o.perf.csv, options));
+}
+
 int run_bench(const CLI::App& cmd, const BenchOptions& o) {
     const PerfBenchOptions& perf = o.perf;
     if (o.suite == "mapping") {
@@ -69,16 +77,8 @@ int run_bench(const CLI::App& cmd, const BenchOptions& o) {
         if (cmd.count("--threads")) a.threads = perf.threads.front();
         return accuracy_bench_command(with_csv(cmd, perf.csv, a));
     }
-    if (o.suite == "solver") {
-        SolverBenchOptions sb;
-        sb.tiny = o.accuracy_tiny;
-        return solver_bench_command(with_csv(cmd, perf.csv, sb));
-    }
-    if (o.suite == "mesh_io") {
-        MeshIoBenchOptions m;
-        m.tiny = o.accuracy_tiny;
-        return mesh_io_bench_command(with_csv(cmd, perf.csv, m));
-    }
+    if (o.suite == "solver") return run_tiny_or_full<SolverBenchOptions>(cmd, o, solver_bench_command);
+    if (o.suite == "mesh_io") return run_tiny_or_full<MeshIoBenchOptions>(cmd, o, mesh_io_bench_command);
     if (o.suite == "cut") {
         CutBenchOptions cut = o.cut;
         cut.sizes = perf.sizes;

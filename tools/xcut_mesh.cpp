@@ -16,12 +16,6 @@ namespace xcut {
 
 namespace {
 
-double units_scale(const std::string& units) {
-    if (units == "m") return 1.0;
-    if (units == "cm") return 0.01;
-    return 0.001;  // "mm", the only other choice CLI11 lets through
-}
-
 void print_mesh_summary(const MeshData& mesh) {
     fmt::print("{}: {} nodes, {} {}\n", mesh.source, mesh.points.size(), mesh.cells.size(),
                mesh.dim == 3 ? "tetrahedra" : "triangles");
@@ -61,7 +55,7 @@ Command add_mesh_command(CLI::App& app) {
     cmd->add_option("--region-array", o->placement.region_array, "VTK files: the cell-data array of regions");
     cmd->add_option("--max-volume", o->max_volume, "Surfaces: TetGen's largest tetrahedron [m^3]");
     return {cmd, [o] {
-                o->placement.scale = units_scale(o->units);
+                o->placement.scale = units_to_metres(o->units);
                 print_mesh_summary(read_mesh_file(o->file, o->max_volume, o->placement));
                 return 0;
             }};

@@ -89,12 +89,11 @@ MeshData load_scene_mesh(const Scene& scene);
 /// Every body of the scene as one mesh: the bodies' nodes and cells one after the other (a body is
 /// a range of nodes and elements, not a second world), with each cell's material and body.
 struct SceneBodies {
-    MeshData mesh;                          ///< all bodies; cell_region keeps each body's own region numbers
+    MeshData mesh;                          ///< all bodies; cell_region keeps each body's own region numbers (names: below)
     std::vector<Material> materials;        ///< per body in order: its material, then its region materials
     std::vector<uint16_t> material_of_cell;
     std::vector<int> body_of_cell;
     std::vector<std::string> names;         ///< per body
-    std::vector<int> first_node;            ///< per body, and the total at the end
     std::vector<std::map<int, std::string>> region_names;  ///< per body
 };
 SceneBodies load_scene_bodies(const Scene& scene);

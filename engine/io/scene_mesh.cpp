@@ -22,7 +22,7 @@ MeshPlacement read_placement(const JsonFields& m) {
     MeshPlacement p;
     if (m.has("units") && m.has("scale")) m.fail("scale", "give \"units\" or \"scale\", not both");
     const std::string units = m.choice("units", "m", {"m", "cm", "mm"});
-    p.scale = units == "cm" ? 0.01 : units == "mm" ? 0.001 : 1.0;
+    p.scale = units_to_metres(units);
     p.scale = m.number("scale", p.scale, 1e-12, 1e12);
     p.translate = m.vec3("translate", Eigen::Vector3d::Zero());
     p.rotate_deg = m.vec3("rotate", Eigen::Vector3d::Zero());
@@ -128,17 +128,8 @@ std::vector<uint16_t> region_material_index(const std::string& scene_file, const
     std::map<int, uint16_t> of_region;
     for (size_t k = 0; k < regions.size(); ++k) {
         const std::string& key = regions[k].region;
-        int tag = 0;
-        bool found = false;
-        for (const auto& [t, name] : mesh.region_names)
-            if (name == key) tag = t, found = true;
-        if (!found) {
-            char* end = nullptr;
-            const long v = std::strtol(key.c_str(), &end, 10);
-            found = end != key.c_str() && *end == '\0' && std::count(mesh.cell_region.begin(), mesh.cell_region.end(), v) > 0;
-            tag = static_cast<int>(v);
-        }
-        if (!found) {
+        const std::optional<int> tag = region_tag(mesh.region_names, key);
+        if (!tag || std::count(mesh.cell_region.begin(), mesh.cell_region.end(), *tag) == 0) {
             std::map<int, long long> have;
             for (int r : mesh.cell_region) ++have[r];
             std::string list;
@@ -151,7 +142,7 @@ std::vector<uint16_t> region_material_index(const std::string& scene_file, const
                              fmt::format("{} has no region \"{}\"; its regions: {}", mesh.source, key,
                                          list.empty() ? "none (no physical groups, region attributes or region array)" : list));
         }
-        of_region[tag] = static_cast<uint16_t>(k + 1);
+        of_region[*tag] = static_cast<uint16_t>(k + 1);
     }
     for (size_t e = 0; e < index.size(); ++e) {
         const auto it = of_region.find(mesh.cell_region[e]);
@@ -238,7 +229,6 @@ SceneBodies load_scene_bodies(const Scene& scene) {
         out.materials.push_back(material);
         for (const RegionMaterial& r : regions) out.materials.push_back(r.material);
         out.names.push_back(name);
-        out.first_node.push_back(first);
         all.points.insert(all.points.end(), m.points.begin(), m.points.end());
         for (size_t e = 0; e < m.cells.size(); ++e) {
             std::array<int, 4> c = m.cells[e];
@@ -248,7 +238,6 @@ SceneBodies load_scene_bodies(const Scene& scene) {
             out.material_of_cell.push_back(static_cast<uint16_t>(base_material + index[e]));
             out.body_of_cell.push_back(static_cast<int>(k));
         }
-        if (k == 0) all.region_names = m.region_names;  // names of the first body's regions (messages, xcut mesh)
         out.region_names.push_back(m.region_names);
         all.notes.insert(all.notes.end(), m.notes.begin(), m.notes.end());
         if (all.cells.size() > static_cast<size_t>(kMaxMeshCells))
@@ -260,7 +249,6 @@ SceneBodies load_scene_bodies(const Scene& scene) {
         const BodySpec& b = scene.more_bodies[k];
         add(b.name, b.mesh, b.material, b.region_materials, k + 1);
     }
-    out.first_node.push_back(static_cast<int>(out.mesh.points.size()));
     if (std::all_of(out.mesh.cell_region.begin(), out.mesh.cell_region.end(), [](int r) { return r == 0; }))
         out.mesh.cell_region.clear();
     return out;

@@ -8,6 +8,7 @@
 
 #include "engine/error.h"
 #include "engine/io/input_file.h"
+#include "engine/mesh_repair.h"
 
 namespace xcut {
 
@@ -68,17 +69,9 @@ std::vector<int> region_nodes(const Scene& scene, const SceneBodies& b, const Fi
     for (size_t k = 0; k < b.names.size(); ++k) {
         if (!spec.body.empty() && b.names[k] != spec.body) continue;
         body_found = true;
-        int tag = 0;
-        bool named = false;
-        for (const auto& [t, name] : b.region_names[k])
-            if (name == spec.region) tag = t, named = true;
-        char* end = nullptr;
-        if (!named) tag = static_cast<int>(std::strtol(spec.region.c_str(), &end, 10));
-        const bool number = named || (end != spec.region.c_str() && *end == '\0');
-        for (size_t e = 0; e < m.cells.size(); ++e) {
-            if (b.body_of_cell[e] != static_cast<int>(k) || m.cell_region.empty()) continue;
-            const int r = m.cell_region[e];
-            if (!number || r != tag) continue;
+        const std::optional<int> tag = region_tag(b.region_names[k], spec.region);
+        for (size_t e = 0; tag && !m.cell_region.empty() && e < m.cells.size(); ++e) {
+            if (b.body_of_cell[e] != static_cast<int>(k) || m.cell_region[e] != *tag) continue;
             region_found = true;
             for (int a = 0; a < m.nodes_per_cell(); ++a) in[m.cells[e][a]] = 1;
         }
