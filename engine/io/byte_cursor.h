@@ -1,6 +1,6 @@
 #pragma once
-// A read position in a mesh file that mixes text and binary sections (Gmsh binary .msh, legacy VTK
-// BINARY): whitespace-separated tokens for the text, fixed-size little- or big-endian values for the
+// A read position in a mesh file, text or mixed text and binary (Gmsh .msh, legacy VTK, TetGen
+// .node/.ele, ASCII STL): whitespace-separated tokens for the text, fixed-size little- or big-endian values for the
 // binary. Every error names the file and where: "line N" in text, "byte N (line L)" in binary data.
 // Counts read from the file are bounded by the bytes left, so a corrupt count cannot allocate.
 // Internal to engine/io.
@@ -18,7 +18,9 @@ namespace xcut::mesh_io_detail {
 
 class ByteCursor {
 public:
-    ByteCursor(std::string path, std::string_view data) : path_(std::move(path)), data_(data) {}
+    /// `hash_comments`: '#' to the end of the line is skipped like whitespace (TetGen files).
+    ByteCursor(std::string path, std::string_view data, bool hash_comments = false)
+        : path_(std::move(path)), data_(data), hash_comments_(hash_comments) {}
 
     const std::string& path() const { return path_; }
     size_t pos() const { return pos_; }
@@ -104,12 +106,21 @@ public:
 private:
     static bool is_space(char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t' || c == '\v' || c == '\f'; }
     void skip_space() {
-        while (pos_ < data_.size() && is_space(data_[pos_])) ++pos_;
+        while (pos_ < data_.size()) {
+            if (hash_comments_ && data_[pos_] == '#') {
+                while (pos_ < data_.size() && data_[pos_] != '\n') ++pos_;
+            } else if (is_space(data_[pos_])) {
+                ++pos_;
+            } else {
+                return;
+            }
+        }
     }
     std::string path_;
     std::string_view data_;
     size_t pos_ = 0, mark_ = 0;
     bool binary_mark_ = false;
+    bool hash_comments_ = false;
 };
 
 }  // namespace xcut::mesh_io_detail

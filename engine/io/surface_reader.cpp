@@ -20,13 +20,13 @@
 #include "engine/io/input_file.h"
 #include "engine/io/isolated_mesher.h"
 #include "engine/io/mesh_io.h"
-#include "engine/io/mesh_tokens.h"
+#include "engine/io/byte_cursor.h"
 
 namespace xcut {
 namespace {
 
 namespace fs = std::filesystem;
-using mesh_io_detail::Tokens;
+using mesh_io_detail::ByteCursor;
 
 /// Sorted-pair key of an undirected edge.
 uint64_t edge_key(int a, int b) {
@@ -97,7 +97,7 @@ Surface read_stl(const std::string& path) {
     std::map<std::array<double, 3>, int> ids;
     const bool ascii = data.compare(0, 5, "solid") == 0 && data.find("facet") != std::string::npos;
     if (ascii) {
-        Tokens t(path, data, false);
+        ByteCursor t(path, data);
         while (t.seek("vertex")) {
             std::array<Vec3, 3> tri;
             for (int c = 0; c < 3; ++c) {
