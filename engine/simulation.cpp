@@ -12,7 +12,7 @@ std::unique_ptr<Simulation> build_simulation(const Scene& scene, const Pipeline&
                                              const std::string& replay_directory) {
     auto sim = std::make_unique<Simulation>();
     sim->world = build_world(scene);
-    sim->devices = make_devices(sim->world, replay_directory);
+    sim->devices = make_devices(sim->world, scene.devices, replay_directory);
     sim->replay_directory = replay_directory;
     if (!replay_directory.empty()) sim->replay_dt = read_session_steps(replay_directory);
     ToolBodies& tb = sim->world.tools;

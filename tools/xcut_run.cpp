@@ -56,11 +56,16 @@ void print_result(const World& w, int steps, double secs) {
 
 int run_scene(const RunOptions& o) {
     set_thread_count(o.scene.threads);
-    Scene scene = load_scene(o.scene.scene, o.scene.all_overrides());
+    std::vector<std::string> overrides = o.scene.all_overrides();
+    if (!o.replay.empty()) {  // the session's own overrides first (the viewer's tools), then the command line's
+        std::vector<std::string> session = read_session_overrides(o.replay);
+        overrides.insert(overrides.begin(), session.begin(), session.end());
+    }
+    Scene scene = load_scene(o.scene.scene, overrides);
     if (!o.output.empty()) scene.output.directory = o.output;
     const int steps = o.scene.steps >= 0 ? o.scene.steps : scene.steps;
     auto sim = make_simulation(scene, true, o.replay);
-    if (!o.record.empty()) sim->recorder = std::make_unique<SessionRecorder>(sim->world, o.record);
+    if (!o.record.empty()) sim->recorder = std::make_unique<SessionRecorder>(sim->world, o.record, SessionInfo{o.scene.scene, overrides});
     std::unique_ptr<HapticLoop> haptics = o.haptics ? start_haptics(*sim) : nullptr;
     sim->world.verbose = true;
     const World& w = sim->world;

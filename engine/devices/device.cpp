@@ -5,6 +5,9 @@
 #include <filesystem>
 #include <fmt/format.h>
 
+#include <map>
+#include <nlohmann/json.hpp>
+
 #include "engine/error.h"
 #include "engine/io/scene.h"
 
@@ -26,15 +29,50 @@ std::unique_ptr<ToolDevice> make_replay_device(const std::string& directory, con
     return std::make_unique<ScriptedDevice>(read_trajectory_csv(directory + "/" + tool + ".csv"), "replay");
 }
 
-std::vector<std::unique_ptr<ToolDevice>> make_devices(const World& world, const std::string& replay_directory) {
+namespace {
+
+std::map<std::string, DeviceFactory>& device_types() {
+    static std::map<std::string, DeviceFactory> types;
+    return types;
+}
+
+}  // namespace
+
+void register_device_type(const std::string& type, DeviceFactory factory) { device_types()[type] = std::move(factory); }
+
+std::vector<std::unique_ptr<ToolDevice>> make_devices(const World& world, const std::vector<DeviceSpec>& specs,
+                                                      const std::string& replay_directory) {
     std::vector<std::unique_ptr<ToolDevice>> devices;
     for (int i = 0; i < world.tools.count(); ++i) {
-        if (replay_directory.empty())
-            devices.push_back(std::make_unique<ScriptedDevice>(world.tools.trajectory[i]));
-        else
+        const DeviceSpec spec = i < static_cast<int>(specs.size()) ? specs[i] : DeviceSpec{};
+        if (!replay_directory.empty()) {
             devices.push_back(make_replay_device(replay_directory, world.tools.name[i]));
+        } else if (spec.type == "scripted") {
+            devices.push_back(std::make_unique<ScriptedDevice>(world.tools.trajectory[i]));
+        } else {
+            const auto f = device_types().find(spec.type);
+            if (f == device_types().end())
+                throw InputError(spec.file, spec.field + ".type",
+                                 fmt::format("\"{}\": this build of xcut has no such device (built without it?)", spec.type));
+            devices.push_back(f->second(spec, world.tools.name[i], world.tools.trajectory[i].front()));
+        }
     }
     return devices;
+}
+
+std::vector<std::string> read_session_overrides(const std::string& directory) {
+    const std::string path = directory + "/session.json";
+    std::ifstream in(path);
+    std::vector<std::string> out;
+    if (!in) return out;
+    nlohmann::json j;
+    try {
+        in >> j;
+        for (const auto& o : j.at("overrides")) out.push_back(o.get<std::string>());
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(path, "overrides", std::string("expected {\"overrides\": [\"field=value\", ...]}: ") + e.what());
+    }
+    return out;
 }
 
 namespace {
@@ -48,10 +86,13 @@ Keyframe current_pose(const World& world, int i) {
 
 }  // namespace
 
-SessionRecorder::SessionRecorder(const World& world, const std::string& directory) {
+SessionRecorder::SessionRecorder(const World& world, const std::string& directory, const SessionInfo& info) {
     std::error_code ec;
     std::filesystem::create_directories(directory, ec);
     if (ec) throw InputError(directory, "--record", "cannot create the directory: " + ec.message());
+    std::ofstream session(directory + "/session.json");
+    if (!session) throw InputError(directory + "/session.json", "--record", "cannot write the session file");
+    session << nlohmann::json{{"scene", info.scene}, {"overrides", info.overrides}}.dump(2) << "\n";
     for (const std::string& name : world.tools.name) {
         const std::string path = directory + "/" + name + ".csv";
         files_.emplace_back(path);

@@ -8,12 +8,14 @@
 //    step asks for the pose at a recorded time and gets the recorded bits back, so a replay with the
 //    same thread count is bit-identical to the run that was recorded.
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 
 #include "components/tools.h"
+#include "engine/devices/device_spec.h"
 #include "engine/world.h"
 
 namespace xcut {
@@ -23,6 +25,9 @@ public:
     virtual ~ToolDevice() = default;
     /// The tool's pose (tool frame -> world) at simulated time t [s].
     virtual Keyframe pose(double t) = 0;
+    /// The pose the haptic loop couples to at its tick (haptic thread): the physics' pose at t for a
+    /// scripted device, the newest one for a live device (engine/devices/live_device.h).
+    virtual Keyframe haptic_pose(double t) { return pose(t); }
     /// The force and torque the user should feel [N, N m]; called from the haptic thread.
     virtual void render_force(const Vec3& force, const Vec3& torque) = 0;
     virtual const char* kind() const = 0;
@@ -48,9 +53,28 @@ private:
 /// A recorded session: the poses a run's tools had at each step (SessionRecorder's files).
 std::unique_ptr<ToolDevice> make_replay_device(const std::string& directory, const std::string& tool);
 
-/// Devices for every tool of `world`: scripted from its trajectories, or, when `replay_directory`
-/// is given, replayed from `<replay_directory>/<tool name>.csv`.
-std::vector<std::unique_ptr<ToolDevice>> make_devices(const World& world, const std::string& replay_directory);
+/// Makes the device of a tool whose "device" field names a type other than "scripted"; `start` is
+/// the tool's first keyframe (where it holds until the device says otherwise).
+using DeviceFactory = std::function<std::unique_ptr<ToolDevice>(const DeviceSpec& spec, const std::string& tool,
+                                                                const Keyframe& start)>;
+/// The front end registers the device types it was built with ("igtl"); a scene naming a type no
+/// factory makes is an InputError naming the field.
+void register_device_type(const std::string& type, DeviceFactory factory);
+
+/// Devices for every tool of `world`: its scene `specs` (scripted from its trajectory unless the
+/// spec names another type), or, when `replay_directory` is given, replayed from
+/// `<replay_directory>/<tool name>.csv`.
+std::vector<std::unique_ptr<ToolDevice>> make_devices(const World& world, const std::vector<DeviceSpec>& specs,
+                                                      const std::string& replay_directory);
+
+/// What a session ran: its scene file and the --set overrides it was loaded with (the viewer's own
+/// tools among them), written to `<directory>/session.json` so `--replay` rebuilds the same scene.
+struct SessionInfo {
+    std::string scene;
+    std::vector<std::string> overrides;
+};
+/// The overrides of a recorded session (empty when it has no session.json).
+std::vector<std::string> read_session_overrides(const std::string& directory);
 
 /// Writes every pose each tool's device gave to `<directory>/<tool name>.csv` (the trajectory_csv
 /// format, 17 significant digits: the doubles read back exactly), the sub-step samples of a blade's
@@ -58,8 +82,8 @@ std::vector<std::unique_ptr<ToolDevice>> make_devices(const World& world, const 
 /// in real-time mode, whose dt follows the wall clock, replays on the same time axis.
 class SessionRecorder {
 public:
-    /// Opens the files and records the tools' initial poses.
-    SessionRecorder(const World& world, const std::string& directory);
+    /// Opens the files, writes session.json and records the tools' initial poses.
+    SessionRecorder(const World& world, const std::string& directory, const SessionInfo& info = {});
     /// After a step: the poses of the step and the dt it took.
     void record(const World& world);
 

@@ -59,7 +59,7 @@ void HapticLoop::run() {
             lin = latest_;
         }
         for (size_t i = 0; i < devices_.size(); ++i) {
-            const Keyframe pose = devices_[i]->pose(lin[i].time);
+            const Keyframe pose = devices_[i]->haptic_pose(lin[i].time);
             devices_[i]->render_force(coupled_force(lin[i], pose.position, coupling_), lin[i].torque);
         }
         next += period;

@@ -16,6 +16,7 @@
 #include "engine/io/mesh_io.h"
 #include "engine/io/scene_mesh.h"
 #include "engine/io/scene_node_sets.h"
+#include "engine/mesh_repair.h"
 #include "engine/setup.h"
 
 namespace xcut {
@@ -27,7 +28,8 @@ namespace fs = std::filesystem;
 void apply_override(nlohmann::json& root, const std::string& file, const std::string& item) {
     const size_t eq = item.find('=');
     if (eq == std::string::npos || eq == 0) throw InputError(file, "--set " + item, "expected field.path=value");
-    const std::string path = item.substr(0, eq), text = item.substr(eq + 1);
+    const bool append = item[eq - 1] == '+';  // "tools+={...}": appends to the array
+    const std::string path = item.substr(0, append ? eq - 1 : eq), text = item.substr(eq + 1);
     nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
     if (value.is_discarded()) value = text;
     nlohmann::json* at = &root;
@@ -38,7 +40,16 @@ void apply_override(nlohmann::json& root, const std::string& file, const std::st
         if (part.empty() || !at->is_object()) throw InputError(file, "--set " + path, "not an object field path");
         at = &(*at)[part];
     }
-    *at = value;
+    if (!append) {
+        *at = value;
+        return;
+    }
+    if (at->is_null()) *at = nlohmann::json::array();
+    if (!at->is_array()) throw InputError(file, "--set " + path + "+=", "+= appends to an array; this field is not one");
+    if (value.is_array())
+        for (const auto& v : value) at->push_back(v);
+    else
+        at->push_back(value);
 }
 
 /// A 3D cut polygon must be planar and have area; a 2D segment must have length.
@@ -117,6 +128,25 @@ void read_tool_shape(const JsonFields& t, const fs::path& scene_dir, ToolBodies&
     tb.contact_damping.push_back(damping);
 }
 
+/// "tools[i].device": where the tool's pose comes from (engine/devices/device_spec.h).
+DeviceSpec read_device(const JsonFields& tool, const std::string& file) {
+    DeviceSpec d;
+    d.file = file;
+    d.field = tool.field("device");
+    if (!tool.has("device")) return d;
+    const JsonFields dev = tool.object("device");
+    dev.allow_only({"type", "host", "port", "stream", "units", "sync", "timeout"});
+    d.type = dev.choice("type", "scripted", {"scripted", "igtl", "viewer"});
+    d.host = dev.string("host", "");
+    d.port = dev.integer("port", 18944, 1, 65535);
+    d.stream = dev.string("stream", "");
+    const std::string units = dev.choice("units", "mm", {"m", "cm", "mm"});
+    d.units = units_to_metres(units);
+    d.sync = dev.boolean("sync", false);
+    d.timeout = dev.number("timeout", 2.0, 1e-3, 3600.0);
+    return d;
+}
+
 void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) {
     const JsonFields cutter = top.object("cutter");
     cutter.allow_only({"threshold", "neighbourhood_depth", "type", "snap_threshold"});
@@ -131,7 +161,7 @@ void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) 
     const auto tools = top.array_of_objects("tools");
     for (size_t i = 0; i < tools.size(); ++i) {
         const JsonFields& t = tools[i];
-        t.allow_only({"name", "blade", "shape", "contact", "trajectory", "trajectory_csv"});
+        t.allow_only({"name", "blade", "shape", "contact", "trajectory", "trajectory_csv", "device"});
         tb.name.push_back(t.string("name", fmt::format("tool{}", i)));
         const JsonFields blade = t.object("blade");
         blade.allow_only({"tip", "heel"});
@@ -141,8 +171,13 @@ void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) 
         if (t.has("blade") && !((tb.blade_heel.back() - tb.blade_tip.back()).norm() > 1e-9))
             blade.fail("heel", "the blade has zero length: tip and heel must differ by more than 1e-9 m");
         std::vector<Keyframe> keys;
-        if (t.has("trajectory") == t.has("trajectory_csv"))
+        scene.devices.push_back(read_device(t, top.file()));
+        const bool live = scene.devices.back().type != "scripted";
+        if (t.has("trajectory") && t.has("trajectory_csv"))
+            t.fail("trajectory", "give one of \"trajectory\" (keyframes) or \"trajectory_csv\" (a recorded file), not both");
+        if (!live && !t.has("trajectory") && !t.has("trajectory_csv"))
             t.fail("trajectory", "give exactly one of \"trajectory\" (keyframes) or \"trajectory_csv\" (a recorded file)");
+        if (live && !t.has("trajectory") && !t.has("trajectory_csv")) keys.push_back(Keyframe{});  // holds at the origin
         read_tool_shape(t, scene_dir, tb);
         if (t.has("trajectory_csv")) {
             keys = read_trajectory_csv(beside_scene(scene_dir, t.string("trajectory_csv", "")).string());

@@ -1,6 +1,7 @@
 #pragma once
 // Scene files: JSON, schema in docs/scene-format.md. Loading checks every field and names the file
 // and field path of any error; building turns the scene into a World ready to step.
+#include "engine/devices/device_spec.h"
 #include <map>
 #include <string>
 #include <utility>
@@ -65,6 +66,7 @@ struct Scene {
     OutputSettings output;
     std::vector<ScriptedCut> cuts;   ///< "cuts": programmatic XFEM cuts
     ToolBodies tools;                ///< "tools"
+    std::vector<DeviceSpec> devices; ///< "tools[i].device", one per tool
     double cut_threshold = 0.0;      ///< "cutter.threshold" [m]; 0: mean edge length
     int cut_min_depth = 1;           ///< "cutter.neighbourhood_depth"
     std::string cutter = "xfem";     ///< "cutter.type": "xfem" (enrichment) or "snap" (snapping and subdivision)

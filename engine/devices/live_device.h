@@ -1,0 +1,49 @@
+#pragma once
+// A tool device moved live by another thread: the viewer's mouse and keys, a tracker over the
+// network. The other thread sets a target pose whenever it has one; the physics takes it at the end
+// of each step and sees the tool move along a straight segment (slerp for the orientation) from
+// where the last step left it, so a blade sampled inside the step (ToolBodies::sweep) sweeps the
+// way the hand went and cuts what it passed. Every pose given lands in a recorded session
+// (SessionRecorder), so a live session replays bit for bit.
+#include <mutex>
+#include <vector>
+
+#include "engine/devices/device.h"
+
+namespace xcut {
+
+class LiveDevice : public ToolDevice {
+public:
+    LiveDevice(const Keyframe& start, const char* kind);
+    /// Follows `script` (the tool's scripted trajectory) until take_over() is called.
+    LiveDevice(std::vector<Keyframe> script, const char* kind);
+    /// From the next step on, the tool follows the targets, starting where the script left it.
+    void take_over();
+    bool live() const;
+    /// Any thread: the pose the tool should go to [m, tool -> world].
+    void set_target(const Vec3& position, const Eigen::Quaterniond& orientation);
+    Keyframe target() const;
+    /// Physics thread. A time past the last one given takes the newest target as the end of a new
+    /// segment; an earlier time interpolates on the current segment.
+    Keyframe pose(double t) override;
+    /// Haptic thread: the newest target, where the hand is now.
+    Keyframe haptic_pose(double t) override;
+    void render_force(const Vec3& force, const Vec3& torque) override;
+    const char* kind() const override { return kind_; }
+    Vec3 last_force() const;
+
+protected:
+    mutable std::mutex mutex_;
+
+private:
+    const char* kind_;
+    Keyframe target_, from_, to_;  ///< newest target; the segment of the current step
+    std::vector<Keyframe> script_;  ///< followed while not live
+    bool live_ = true, take_over_ = false, started_ = false;
+    Vec3 force_ = Vec3::Zero(), torque_ = Vec3::Zero();
+};
+
+/// Pose on the segment a -> b at time t (clamped): linear position, slerp orientation.
+Keyframe interpolate_pose(const Keyframe& a, const Keyframe& b, double t);
+
+}  // namespace xcut
