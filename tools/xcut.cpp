@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
     const std::vector<xcut::Command> commands = {
         xcut::add_run_command(app),    xcut::add_render_command(app),  xcut::add_bench_command(app),
         xcut::add_stress_command(app), xcut::add_compare_command(app), xcut::add_schedule_command(app),
-        xcut::add_mesh_command(app),
+        xcut::add_mesh_command(app),   xcut::add_view_command(app),
     };
     CLI11_PARSE(app, argc, argv);
     try {

@@ -25,6 +25,7 @@ Command add_stress_command(CLI::App& app);   ///< xcut stress (xcut_stress.cpp)
 Command add_compare_command(CLI::App& app);  ///< xcut compare SCENE (xcut_compare.cpp)
 Command add_schedule_command(CLI::App& app); ///< xcut schedule SCENE [--dataflow] (xcut_schedule.cpp)
 Command add_mesh_command(CLI::App& app);     ///< xcut mesh FILE: what a mesh file reads as (xcut_mesh.cpp)
+Command add_view_command(CLI::App& app);     ///< xcut view SCENE: the live viewer (xcut_view.cpp)
 
 /// The options every scene-running subcommand shares.
 struct SceneOptions {

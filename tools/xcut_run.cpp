@@ -57,9 +57,9 @@ void print_result(const World& w, int steps, double secs) {
 int run_scene(const RunOptions& o) {
     set_thread_count(o.scene.threads);
     std::vector<std::string> overrides = o.scene.all_overrides();
-    if (!o.replay.empty()) {  // the session's own overrides first (the viewer's tools), then the command line's
+    if (!o.replay.empty()) {  // the session's overrides (its command line's, the viewer's tools) last: they win
         std::vector<std::string> session = read_session_overrides(o.replay);
-        overrides.insert(overrides.begin(), session.begin(), session.end());
+        overrides.insert(overrides.end(), session.begin(), session.end());
     }
     Scene scene = load_scene(o.scene.scene, overrides);
     if (!o.output.empty()) scene.output.directory = o.output;

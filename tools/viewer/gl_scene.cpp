@@ -1,0 +1,181 @@
+#include "tools/viewer/gl_scene.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace xcut::viewer {
+
+namespace {
+
+const char* kVertex = R"(#version 330 core
+layout(location = 0) in vec3 p;
+layout(location = 1) in vec3 n;
+layout(location = 2) in vec3 c;
+uniform mat4 mvp;
+out vec3 vp;
+out vec3 vn;
+out vec3 vc;
+void main() { vp = p; vn = n; vc = c; gl_Position = mvp * vec4(p, 1.0); }
+)";
+
+// engine/io/render.cpp's shading: 0.25 + 0.75 max(0, n.l), n turned towards the eye.
+const char* kFragment = R"(#version 330 core
+in vec3 vp;
+in vec3 vn;
+in vec3 vc;
+uniform vec3 eye;
+uniform vec3 light;
+uniform int lit;
+out vec4 colour;
+void main() {
+    vec3 c = vc;
+    if (lit == 1) {
+        vec3 n = normalize(vn);
+        if (dot(n, vp - eye) > 0.0) n = -n;
+        c *= 0.25 + 0.75 * max(0.0, dot(n, light));
+    }
+    colour = vec4(c, 1.0);
+}
+)";
+
+GLuint compile(GLenum kind, const char* source) {
+    const GLuint s = glCreateShader(kind);
+    glShaderSource(s, 1, &source, nullptr);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[1024];
+        glGetShaderInfoLog(s, sizeof(log), nullptr, log);
+        throw std::runtime_error(std::string("OpenGL: a viewer shader did not compile: ") + log);
+    }
+    return s;
+}
+
+constexpr float kSkin[3] = {0.93f, 0.76f, 0.66f}, kWound[3] = {0.80f, 0.12f, 0.12f};
+
+void vertex(std::vector<float>& out, const Vec3& p, const Vec3& n, const float* c) {
+    out.insert(out.end(), {float(p.x()), float(p.y()), float(p.z()), float(n.x()), float(n.y()), float(n.z()), c[0], c[1], c[2]});
+}
+
+void triangles(std::vector<float>& out, const std::vector<Vec3>& v, const std::vector<std::array<int, 3>>& tris,
+               const std::vector<uint8_t>* cut, const float* colour) {
+    for (size_t t = 0; t < tris.size(); ++t) {
+        const Vec3 &a = v[tris[t][0]], &b = v[tris[t][1]], &c = v[tris[t][2]];
+        const Vec3 n = (b - a).cross(c - a).normalized();  // flat, as Embree's geometric normal
+        const float* col = cut && t < cut->size() && (*cut)[t] ? kWound : colour;
+        vertex(out, a, n, col), vertex(out, b, n, col), vertex(out, c, n, col);
+    }
+}
+
+void lines(std::vector<float>& out, const std::vector<Vec3>& pairs, const float* colour) {
+    for (const Vec3& p : pairs) vertex(out, p, Vec3::UnitZ(), colour);
+}
+
+}  // namespace
+
+GlScene::GlScene() {
+    const GLuint vs = compile(GL_VERTEX_SHADER, kVertex), fs = compile(GL_FRAGMENT_SHADER, kFragment);
+    program_ = glCreateProgram();
+    glAttachShader(program_, vs);
+    glAttachShader(program_, fs);
+    glLinkProgram(program_);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    mvp_ = glGetUniformLocation(program_, "mvp");
+    eye_ = glGetUniformLocation(program_, "eye");
+    light_ = glGetUniformLocation(program_, "light");
+    lit_ = glGetUniformLocation(program_, "lit");
+    for (Batch* b : {&surface_, &shapes_, &lines_}) {
+        glGenVertexArrays(1, &b->vao);
+        glGenBuffers(1, &b->vbo);
+        glBindVertexArray(b->vao);
+        glBindBuffer(GL_ARRAY_BUFFER, b->vbo);
+        for (GLuint a = 0; a < 3; ++a) {
+            glEnableVertexAttribArray(a);
+            glVertexAttribPointer(a, 3, GL_FLOAT, GL_FALSE, 9 * sizeof(float),
+                                  reinterpret_cast<void*>(static_cast<uintptr_t>(3 * a * sizeof(float))));
+        }
+    }
+    glBindVertexArray(0);
+    lines_.mode = GL_LINES, lines_.lit = false;
+}
+
+GlScene::~GlScene() {
+    for (Batch* b : {&surface_, &shapes_, &lines_}) glDeleteBuffers(1, &b->vbo), glDeleteVertexArrays(1, &b->vao);
+    glDeleteProgram(program_);
+}
+
+void GlScene::fill(Batch& b, const std::vector<float>& data) {
+    glBindBuffer(GL_ARRAY_BUFFER, b.vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data(), GL_STREAM_DRAW);
+    b.count = static_cast<GLsizei>(data.size() / 9);
+}
+
+void GlScene::upload(const Snapshot& s, const Overlays& show) {
+    static constexpr float kTool[3] = {0.55f, 0.60f, 0.68f}, kMesh[3] = {0.35f, 0.35f, 0.40f},
+                           kVirtual[3] = {0.10f, 0.45f, 0.85f}, kQuad[3] = {0.95f, 0.65f, 0.05f},
+                           kContact[3] = {0.05f, 0.65f, 0.25f}, kForce[3] = {0.85f, 0.05f, 0.65f},
+                           kBlade[3] = {0.10f, 0.10f, 0.12f};
+    std::vector<float> data;
+    triangles(data, s.surface, s.triangles, &s.cut_face, kSkin);
+    fill(surface_, data);
+    data.clear();
+    if (show.tools)
+        for (const ToolView& t : s.tools) triangles(data, t.shape_vertices, t.shape_triangles, nullptr, kTool);
+    fill(shapes_, data);
+    data.clear();
+    if (show.mesh) lines(data, s.mesh_lines, kMesh);
+    if (show.virtuals) lines(data, s.virtual_lines, kVirtual);
+    if (show.quad) lines(data, s.quad_lines, kQuad);
+    double scale = 0.0;  // contact normals and force arrows in proportion to the surface
+    for (const Vec3& p : s.surface) scale = std::max(scale, (p - s.surface.front()).norm());
+    if (show.contacts)
+        for (size_t c = 0; c < s.contact_points.size(); ++c) {
+            const std::vector<Vec3> seg = {s.contact_points[c], s.contact_points[c] + 0.02 * scale * s.contact_normals[c]};
+            lines(data, seg, kContact);
+        }
+    for (const ToolView& t : s.tools) {
+        if (show.tools && t.blade) lines(data, {t.tip, t.heel}, kBlade);
+        const double f = t.force.norm();
+        if (!show.force || !(f > 1e-9)) continue;
+        const Vec3 tip = t.position + 0.1 * scale * std::min(1.0, 0.2 + f) * t.force / f;  // length grows to 1 N
+        const Vec3 side = t.force.unitOrthogonal() * 0.015 * scale, back = tip - 0.03 * scale * t.force / f;
+        lines(data, {t.position, tip, tip, back + side, tip, back - side}, kForce);
+    }
+    fill(lines_, data);
+}
+
+void GlScene::draw(const OrbitCamera& camera, int width, int height) const {
+    glViewport(0, 0, width, height);
+    glClearColor(235 / 255.f, 238 / 255.f, 242 / 255.f, 1.f);  // the renderer's background
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glUseProgram(program_);
+    const Eigen::Matrix4f mvp = camera.projection(double(width) / std::max(height, 1)) * camera.view();
+    glUniformMatrix4fv(mvp_, 1, GL_FALSE, mvp.data());
+    glUniform3f(eye_, float(camera.position.x()), float(camera.position.y()), float(camera.position.z()));
+    const Vec3 light = Vec3(0.4, -0.3, 1.0).normalized();
+    glUniform3f(light_, float(light.x()), float(light.y()), float(light.z()));
+    for (const Batch* b : {&surface_, &shapes_, &lines_}) {
+        if (b->count == 0) continue;
+        glUniform1i(lit_, b->lit ? 1 : 0);
+        glBindVertexArray(b->vao);
+        glDrawArrays(b->mode, 0, b->count);
+    }
+    glBindVertexArray(0);
+}
+
+Image read_framebuffer(int width, int height) {
+    Image img;
+    img.width = width, img.height = height;
+    std::vector<unsigned char> rows(3 * width * height);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rows.data());
+    img.rgb.resize(rows.size());
+    for (int r = 0; r < height; ++r)  // GL's first row is the bottom one
+        std::copy_n(&rows[3 * width * (height - 1 - r)], 3 * width, &img.rgb[3 * width * r]);
+    return img;
+}
+
+}  // namespace xcut::viewer
