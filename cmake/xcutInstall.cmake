@@ -3,6 +3,9 @@
 include(CMakePackageConfigHelpers)
 
 install(TARGETS xcut RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+if(TARGET xcut-igtl-play)
+  install(TARGETS xcut-igtl-play RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endif()
 install(TARGETS xcut_core EXPORT xcutTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})

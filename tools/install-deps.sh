@@ -8,6 +8,7 @@
 # python3-jsonschema checks every scene against docs/scene.schema.json.
 # libglfw3-dev, libimgui-dev, libepoxy-dev: `xcut view` (optional: the build leaves it out without them);
 # xvfb, xauth, libgl1-mesa-dri: its tests open the window on a virtual display with software OpenGL.
+# libopenigtlink-dev: the OpenIGTLink tool device and xcut-igtl-play (optional like the viewer).
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -21,4 +22,4 @@ $SUDO apt-get install -y -q --no-install-recommends \
   zlib1g-dev libpugixml-dev libpng-dev libstb-dev python3 python3-matplotlib \
   libsuitesparse-dev libopenblas0-serial clang-14 libclang-rt-14-dev libomp-14-dev \
   gmsh python3-meshio python3-vtk9 python3-jsonschema \
-  libglfw3-dev libimgui-dev libepoxy-dev xvfb xauth libgl1-mesa-dri
+  libglfw3-dev libimgui-dev libepoxy-dev xvfb xauth libgl1-mesa-dri libopenigtlink-dev

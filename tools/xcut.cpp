@@ -8,6 +8,9 @@
 #include <cstdlib>
 #include <exception>
 
+#ifdef XCUT_HAS_IGTL
+#include "engine/devices/igtl/igtl_device.h"
+#endif
 #include "engine/error.h"
 #include "tools/xcut_commands.h"
 
@@ -44,6 +47,9 @@ void ensure_passive_wait(char** argv) {
 
 int main(int argc, char** argv) {
     xcut::ensure_passive_wait(argv);
+#ifdef XCUT_HAS_IGTL
+    xcut::register_igtl_device();  // tools with "device": {"type": "igtl"}
+#endif
     CLI::App app{"xcut: real-time cutting of soft tissue with the corotational XFEM"};
     app.require_subcommand(1);
     const std::vector<xcut::Command> commands = {

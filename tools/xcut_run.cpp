@@ -66,7 +66,8 @@ int run_scene(const RunOptions& o) {
     const int steps = o.scene.steps >= 0 ? o.scene.steps : scene.steps;
     auto sim = make_simulation(scene, true, o.replay);
     if (!o.record.empty()) sim->recorder = std::make_unique<SessionRecorder>(sim->world, o.record, SessionInfo{o.scene.scene, overrides});
-    std::unique_ptr<HapticLoop> haptics = o.haptics ? start_haptics(*sim) : nullptr;
+    const bool device_force = std::any_of(sim->devices.begin(), sim->devices.end(), [](const auto& d) { return d->wants_force(); });
+    std::unique_ptr<HapticLoop> haptics = o.haptics || device_force ? start_haptics(*sim) : nullptr;
     sim->world.verbose = true;
     const World& w = sim->world;
     const char* wait = std::getenv("OMP_WAIT_POLICY");

@@ -28,6 +28,9 @@ public:
     /// The pose the haptic loop couples to at its tick (haptic thread): the physics' pose at t for a
     /// scripted device, the newest one for a live device (engine/devices/live_device.h).
     virtual Keyframe haptic_pose(double t) { return pose(t); }
+    /// A device that renders force to a person (a network haptic device) wants the haptic loop run
+    /// even when the command line did not ask for it.
+    virtual bool wants_force() const { return false; }
     /// The force and torque the user should feel [N, N m]; called from the haptic thread.
     virtual void render_force(const Vec3& force, const Vec3& torque) = 0;
     virtual const char* kind() const = 0;

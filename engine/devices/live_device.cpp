@@ -43,6 +43,10 @@ bool LiveDevice::live() const {
 
 void LiveDevice::set_target(const Vec3& position, const Eigen::Quaterniond& orientation) {
     std::lock_guard<std::mutex> lock(mutex_);
+    set_target_locked(position, orientation);
+}
+
+void LiveDevice::set_target_locked(const Vec3& position, const Eigen::Quaterniond& orientation) {
     target_.position = position;
     target_.orientation = orientation.normalized();
 }

@@ -33,6 +33,9 @@ public:
     Vec3 last_force() const;
 
 protected:
+    /// With mutex_ held: set_target() and target() for a subclass that holds the lock already.
+    void set_target_locked(const Vec3& position, const Eigen::Quaterniond& orientation);
+    Keyframe target_locked() const { return target_; }
     mutable std::mutex mutex_;
 
 private:

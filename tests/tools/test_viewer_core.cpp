@@ -43,8 +43,12 @@ TEST(ViewerSnapshots, AcquireTakesTheNewestWholeSnapshot) {
         done = true;
     });
     int last = 3, seen = 0;
-    while (!done || b.acquire()) {
-        if (!b.acquire()) continue;
+    for (;;) {
+        const bool finished = done;  // read before acquiring: the last publish is then always taken
+        if (!b.acquire()) {
+            if (finished) break;
+            continue;
+        }
         const Snapshot& s = b.front();
         ASSERT_GT(s.step, last);
         ASSERT_EQ(s.time, 0.5 * s.step);
@@ -54,6 +58,7 @@ TEST(ViewerSnapshots, AcquireTakesTheNewestWholeSnapshot) {
     }
     writer.join();
     EXPECT_GT(seen, 0);
+    EXPECT_EQ(last, 19999) << "the newest one is the last one taken";
 }
 
 TEST(ViewerPhysics, StepsWhenAllowedAndSnapshotsEachStep) {

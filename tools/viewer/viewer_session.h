@@ -41,6 +41,7 @@ public:
     HandSizes sizes;
     std::unique_ptr<Simulation> sim;
     SnapshotBuffer buffer;
+    std::unique_ptr<HapticLoop> haptics;      ///< when a device renders force (OpenIGTLink)
     std::unique_ptr<PhysicsThread> physics;
     std::vector<LiveDevice*> devices;         ///< per tool: its live device (every tool has one)
     std::unique_ptr<MouseScalpel> scalpel;    ///< 3D scenes
