@@ -1,6 +1,10 @@
 #pragma once
 // Small builders shared by the tests.
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <array>
+#include <cstdio>
 
 #include <Eigen/Geometry>
 #include <filesystem>
@@ -15,6 +19,17 @@
 #include "systems/solver_system.h"
 
 namespace xcut::testing {
+
+/// Runs a shell command line; its exit code (-1 if it did not exit), stdout and stderr in `out`.
+inline int run_command(const std::string& cmd, std::string& out) {
+    std::array<char, 4096> buf;
+    FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
+    out.clear();
+    if (!p) return -1;
+    while (size_t n = std::fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
+    const int status = ::pclose(p);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
 
 /// A fresh folder under the system's temporary directory, unique to this process and `tag`.
 inline std::filesystem::path temp_dir(const std::string& tag) {

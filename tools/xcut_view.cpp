@@ -13,7 +13,7 @@ Command add_view_command(CLI::App& app) {
         int width = 1280, height = 800;
         bool paused = false, panels = false;
         std::string record, input, screenshot, reference, bench_csv;
-        double bench = 0.0;
+        double bench = 0.0, fps = 60.0;
     };
     auto o = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand("view", "Open a scene in a window: watch it, cut it with the mouse (docs/viewer.md)");
@@ -28,14 +28,16 @@ Command add_view_command(CLI::App& app) {
     cmd->add_flag("--panels", o->panels, "The screenshot shows the panels too");
     cmd->add_option("--bench", o->bench, "Measure the step rate with and without the window for S seconds each")
         ->check(CLI::PositiveNumber);
+    CLI::Option* fps = cmd->add_option("--fps", o->fps, "Frame cap (default 60, 30 on software OpenGL; 0: none)")
+                           ->check(CLI::NonNegativeNumber);
     cmd->add_option("--bench-csv", o->bench_csv, "Append the benchmark's row to FILE");
-    return {cmd, [o]() -> int {
+    return {cmd, [o, fps]() -> int {
 #ifdef XCUT_HAS_VIEWER
                 viewer::ViewerOptions v;
                 v.scene = o->scene.scene, v.overrides = o->scene.all_overrides(), v.threads = o->scene.threads;
                 v.width = o->width, v.height = o->width * 5 / 8, v.steps = o->scene.steps, v.paused = o->paused;
                 v.record = o->record, v.input = o->input, v.screenshot = o->screenshot, v.reference = o->reference;
-                v.panels = o->panels;
+                v.panels = o->panels, v.fps = o->fps, v.fps_given = fps->count() > 0;
                 v.bench_seconds = o->bench, v.bench_csv = o->bench_csv;
                 if (o->screenshot.empty() && !o->reference.empty())
                     throw InputError("xcut view", "--reference", "needs --screenshot");

@@ -15,13 +15,13 @@ namespace xcut {
 
 Keyframe ScriptedDevice::pose(double t) { return sample_trajectory(keys_, t); }
 
-void ScriptedDevice::render_force(const Vec3& force, const Vec3& torque) {
-    std::lock_guard<std::mutex> lock(mutex_);
+void ForceKeepingDevice::render_force(const Vec3& force, const Vec3& torque) {
+    std::lock_guard<std::mutex> lock(force_mutex_);
     force_ = force, torque_ = torque;
 }
 
-Vec3 ScriptedDevice::last_force() const {
-    std::lock_guard<std::mutex> lock(mutex_);
+Vec3 ForceKeepingDevice::last_force() const {
+    std::lock_guard<std::mutex> lock(force_mutex_);
     return force_;
 }
 

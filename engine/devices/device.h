@@ -36,21 +36,28 @@ public:
     virtual const char* kind() const = 0;
 };
 
+/// A device that keeps the last force rendered to it, for whoever reads it (tests, the viewer).
+class ForceKeepingDevice : public ToolDevice {
+public:
+    void render_force(const Vec3& force, const Vec3& torque) override;
+    Vec3 last_force() const;
+
+private:
+    mutable std::mutex force_mutex_;  ///< the haptic thread writes the force, others read it
+    Vec3 force_ = Vec3::Zero(), torque_ = Vec3::Zero();
+};
+
 /// Keyframes, interpolated (linear position, slerp orientation); the rendered force is kept.
-class ScriptedDevice : public ToolDevice {
+class ScriptedDevice : public ForceKeepingDevice {
 public:
     explicit ScriptedDevice(std::vector<Keyframe> keys, const char* kind = "scripted")
         : keys_(std::move(keys)), kind_(kind) {}
     Keyframe pose(double t) override;
-    void render_force(const Vec3& force, const Vec3& torque) override;
     const char* kind() const override { return kind_; }
-    Vec3 last_force() const;
 
 private:
     std::vector<Keyframe> keys_;
     const char* kind_;
-    mutable std::mutex mutex_;  ///< the haptic thread writes the force, others read it
-    Vec3 force_ = Vec3::Zero(), torque_ = Vec3::Zero();
 };
 
 /// A recorded session: the poses a run's tools had at each step (SessionRecorder's files).

@@ -1,27 +1,6 @@
 #include "engine/devices/live_device.h"
 
-#include <algorithm>
-
 namespace xcut {
-
-Keyframe interpolate_pose(const Keyframe& a, const Keyframe& b, double t) {
-    if (!(b.time > a.time) || t >= b.time) {
-        Keyframe k = b;
-        k.time = t;
-        return k;
-    }
-    if (t <= a.time) {
-        Keyframe k = a;
-        k.time = t;
-        return k;
-    }
-    const double s = (t - a.time) / (b.time - a.time);
-    Keyframe k;
-    k.time = t;
-    k.position = (1.0 - s) * a.position + s * b.position;
-    k.orientation = a.orientation.slerp(s, b.orientation);
-    return k;
-}
 
 LiveDevice::LiveDevice(const Keyframe& start, const char* kind) : kind_(kind), target_(start), from_(start), to_(start) {}
 
@@ -84,14 +63,5 @@ Keyframe LiveDevice::haptic_pose(double t) {
     return k;
 }
 
-void LiveDevice::render_force(const Vec3& force, const Vec3& torque) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    force_ = force, torque_ = torque;
-}
-
-Vec3 LiveDevice::last_force() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return force_;
-}
 
 }  // namespace xcut

@@ -12,7 +12,7 @@
 
 namespace xcut {
 
-class LiveDevice : public ToolDevice {
+class LiveDevice : public ForceKeepingDevice {
 public:
     LiveDevice(const Keyframe& start, const char* kind);
     /// Follows `script` (the tool's scripted trajectory) until take_over() is called.
@@ -28,9 +28,7 @@ public:
     Keyframe pose(double t) override;
     /// Haptic thread: the newest target, where the hand is now.
     Keyframe haptic_pose(double t) override;
-    void render_force(const Vec3& force, const Vec3& torque) override;
     const char* kind() const override { return kind_; }
-    Vec3 last_force() const;
 
 protected:
     /// With mutex_ held: set_target() and target() for a subclass that holds the lock already.
@@ -43,10 +41,7 @@ private:
     Keyframe target_, from_, to_;  ///< newest target; the segment of the current step
     std::vector<Keyframe> script_;  ///< followed while not live
     bool live_ = true, take_over_ = false, started_ = false;
-    Vec3 force_ = Vec3::Zero(), torque_ = Vec3::Zero();
 };
 
-/// Pose on the segment a -> b at time t (clamped): linear position, slerp orientation.
-Keyframe interpolate_pose(const Keyframe& a, const Keyframe& b, double t);
 
 }  // namespace xcut

@@ -1,6 +1,5 @@
 #include "engine/io/render.h"
 
-#include <embree3/rtcore.h>
 #include <png.h>
 
 #include <algorithm>
@@ -9,6 +8,7 @@
 #include <stdexcept>
 
 #include "engine/error.h"
+#include "engine/io/embree_surface.h"
 #include "engine/parallel.h"
 
 namespace xcut {
@@ -28,22 +28,8 @@ Camera frame_surface(const SurfaceMesh& s, int width, int height) {
 }
 
 Image render_surface(const SurfaceMesh& s, const Camera& cam) {
-    RTCDevice device = rtcNewDevice("threads=1");
-    if (!device) throw std::runtime_error("Embree: cannot create a device");
-    RTCScene scene = rtcNewScene(device);
-    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), s.position.size()));
-    for (size_t i = 0; i < s.position.size(); ++i)
-        for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(s.position[i][k]);
-    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                               3 * sizeof(unsigned), s.triangles.size()));
-    for (size_t t = 0; t < s.triangles.size(); ++t)
-        for (int k = 0; k < 3; ++k) idx[3 * t + k] = static_cast<unsigned>(s.triangles[t][k]);
-    rtcCommitGeometry(geom);
-    rtcAttachGeometry(scene, geom);
-    rtcReleaseGeometry(geom);
-    rtcCommitScene(scene);
+    EmbreeSurface embree;
+    embree.build(s.position, s.triangles);
 
     Image img;
     img.width = cam.width, img.height = cam.height;
@@ -54,30 +40,19 @@ Image render_surface(const SurfaceMesh& s, const Camera& cam) {
     const double half_h = std::tan(0.5 * cam.fov_deg * M_PI / 180.0), half_w = half_h * img.width / img.height;
     const Vec3 light = Vec3(0.4, -0.3, 1.0).normalized();
     parallel_for(img.height, [&](int row) {
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
         for (int col = 0; col < img.width; ++col) {
             const double sx = (2.0 * (col + 0.5) / img.width - 1.0) * half_w;
             const double sy = (1.0 - 2.0 * (row + 0.5) / img.height) * half_h;
             const Vec3 d = (forward + sx * right + sy * up).normalized();
-            RTCRayHit rh;
-            rh.ray.org_x = static_cast<float>(cam.position.x()), rh.ray.org_y = static_cast<float>(cam.position.y());
-            rh.ray.org_z = static_cast<float>(cam.position.z());
-            rh.ray.dir_x = static_cast<float>(d.x()), rh.ray.dir_y = static_cast<float>(d.y());
-            rh.ray.dir_z = static_cast<float>(d.z());
-            rh.ray.tnear = 0.0f, rh.ray.tfar = std::numeric_limits<float>::infinity();
-            rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = 0.0f;
-            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-            rtcIntersect1(scene, &ctx, &rh);
+            const std::optional<RayHit> hit = embree.intersect(cam.position, d);
             unsigned char* px = &img.rgb[3 * (row * img.width + col)];
-            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+            if (!hit) {
                 px[0] = 235, px[1] = 238, px[2] = 242;  // background
                 continue;
             }
-            const int t = static_cast<int>(rh.hit.primID);
+            const int t = hit->triangle;
             img.triangle[row * img.width + col] = t;
-            Vec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-            n.normalize();
+            Vec3 n = hit->normal.normalized();
             if (n.dot(d) > 0) n = -n;  // two-sided
             const double shade = 0.25 + 0.75 * std::max(0.0, n.dot(light));
             const bool cut = t < static_cast<int>(s.cut_face.size()) && s.cut_face[t];
@@ -85,8 +60,6 @@ Image render_surface(const SurfaceMesh& s, const Camera& cam) {
             for (int k = 0; k < 3; ++k) px[k] = static_cast<unsigned char>(std::lround(255.0 * base[k] * shade));
         }
     }, 1);
-    rtcReleaseScene(scene);
-    rtcReleaseDevice(device);
     return img;
 }
 

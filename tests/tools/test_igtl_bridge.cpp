@@ -26,15 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-int run(const std::string& cmd, std::string& out) {
-    std::array<char, 4096> buf;
-    FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
-    out.clear();
-    if (!p) return -1;
-    while (size_t n = std::fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-    const int status = ::pclose(p);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 int free_port(int salt) { return 20000 + (::getpid() * 7 + salt) % 20000; }
 
@@ -72,13 +63,13 @@ TEST(IgtlBridge, StreamedTrajectoryCutsAndPressesAsTheSameTrajectoryFromCsv) {
     std::ofstream(dir / "traj.csv") << kTrajectory;
     const int port = free_port(1);
     std::string out_csv, out_igtl, out_client;
-    ASSERT_EQ(run(xcut_run("--steps 80 -o " + (dir / "csv").string() + " " +
+    ASSERT_EQ(testing::run_command(xcut_run("--steps 80 -o " + (dir / "csv").string() + " " +
                            scalpel("\"trajectory_csv\": \"" + (dir / "traj.csv").string() + "\"")), out_csv), 0) << out_csv;
     auto client = std::async(std::launch::async, [&] {
-        return run(std::string(XCUT_IGTL_PLAY) + " " + (dir / "traj.csv").string() + " --port " + std::to_string(port) +
+        return testing::run_command(std::string(XCUT_IGTL_PLAY) + " " + (dir / "traj.csv").string() + " --port " + std::to_string(port) +
                    " --units m --hold 1", out_client);
     });
-    ASSERT_EQ(run(xcut_run("--steps 80 -o " + (dir / "igtl").string() + " " +
+    ASSERT_EQ(testing::run_command(xcut_run("--steps 80 -o " + (dir / "igtl").string() + " " +
                            scalpel("\"device\": {\"type\": \"igtl\", \"port\": " + std::to_string(port) +
                                    ", \"sync\": true, \"units\": \"m\", \"timeout\": 30}")), out_igtl), 0) << out_igtl;
     ASSERT_EQ(client.get(), 0) << out_client;
@@ -114,10 +105,10 @@ TEST(IgtlBridge, MalformedMessageAndLostConnectionHoldTheTool) {
     const int port = free_port(2);
     std::string out, out_client;
     auto client = std::async(std::launch::async, [&] {
-        return run(std::string(XCUT_IGTL_PLAY) + " " + (dir / "traj.csv").string() + " --port " + std::to_string(port) +
+        return testing::run_command(std::string(XCUT_IGTL_PLAY) + " " + (dir / "traj.csv").string() + " --port " + std::to_string(port) +
                    " --units mm --rate 20 --corrupt 1 --close-after 3", out_client);
     });
-    ASSERT_EQ(run(xcut_run("--steps 300 --record " + (dir / "session").string() + " -o " + (dir / "out").string() + " " +
+    ASSERT_EQ(testing::run_command(xcut_run("--steps 300 --record " + (dir / "session").string() + " -o " + (dir / "out").string() + " " +
                            scalpel("\"device\": {\"type\": \"igtl\", \"port\": " + std::to_string(port) + "}")), out), 0) << out;
     ASSERT_EQ(client.get(), 0) << out_client;
     EXPECT_NE(out.find("malformed TRANSFORM"), std::string::npos) << out;

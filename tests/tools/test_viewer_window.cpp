@@ -38,16 +38,6 @@ Rgb read_png(const fs::path& path) {
     return out;
 }
 
-/// Runs a command line; its exit code, stdout in `out`.
-int run(const std::string& cmd, std::string& out) {
-    std::array<char, 4096> buf;
-    FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
-    out.clear();
-    if (!p) return -1;
-    while (size_t n = std::fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-    const int status = ::pclose(p);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 std::string view(const std::string& args) {
     return std::string(XCUT_XVFB_RUN) + " -a -s '-screen 0 1280x1024x24' " + XCUT_BINARY + " view " + XCUT_SOURCE_DIR +
@@ -69,7 +59,7 @@ TEST(ViewerWindow, FrameMatchesTheHeadlessRender) {
     const fs::path dir = testing::temp_dir("viewer_frame");
     std::ofstream(dir / "keys.txt") << "0 key t\n0 key q\n0 key c\n0 key f\n";  // the surface alone
     std::string out;
-    ASSERT_EQ(run(view("--steps 20 --input " + (dir / "keys.txt").string() + " --screenshot " + (dir / "gl.png").string() +
+    ASSERT_EQ(testing::run_command(view("--steps 20 --input " + (dir / "keys.txt").string() + " --screenshot " + (dir / "gl.png").string() +
                        " --reference " + (dir / "embree.png").string()), out), 0) << out;
     const Rgb gl = read_png(dir / "gl.png"), rt = read_png(dir / "embree.png");
     ASSERT_EQ(gl.width, 800);
@@ -100,7 +90,7 @@ TEST(ViewerWindow, MouseDragCutsShowsTheWoundAndReplays) {
     }
     std::string out;
     const std::string no_script = " --set 'tools=[]'";  // the hand scalpel alone
-    ASSERT_EQ(run(view("--steps 60" + no_script + " --input " + (dir / "drag.txt").string() + " --record " +
+    ASSERT_EQ(testing::run_command(view("--steps 60" + no_script + " --input " + (dir / "drag.txt").string() + " --record " +
                        (dir / "session").string() + " --screenshot " + (dir / "cut.png").string()), out), 0) << out;
     const int split = elements_split(out);
     EXPECT_GT(split, 30) << out;
@@ -112,11 +102,11 @@ TEST(ViewerWindow, MouseDragCutsShowsTheWoundAndReplays) {
     EXPECT_GT(wound, 100) << "red wound pixels in the frame";
     // The same window with no drag cuts nothing.
     std::ofstream(dir / "still.txt") << "0 key t\n";
-    ASSERT_EQ(run(view("--steps 10" + no_script + " --input " + (dir / "still.txt").string() + " --screenshot " +
+    ASSERT_EQ(testing::run_command(view("--steps 10" + no_script + " --input " + (dir / "still.txt").string() + " --screenshot " +
                        (dir / "still.png").string()), out), 0) << out;
     EXPECT_EQ(elements_split(out), 0) << out;
     // Headless replay of the recorded session: the same scene (session.json adds the hand tools), the same cut.
-    ASSERT_EQ(run(std::string(XCUT_BINARY) + " run " + XCUT_SOURCE_DIR + "/scenes/skin_slab.json -q --steps 60 " +
+    ASSERT_EQ(testing::run_command(std::string(XCUT_BINARY) + " run " + XCUT_SOURCE_DIR + "/scenes/skin_slab.json -q --steps 60 " +
                   "--set mesh.element_size=0.003" + no_script + " --replay " + (dir / "session").string() + " -o " +
                   (dir / "replay").string(), out), 0) << out;
     std::smatch m;
@@ -127,7 +117,7 @@ TEST(ViewerWindow, MouseDragCutsShowsTheWoundAndReplays) {
 
 TEST(ViewerWindow, NoDisplayIsAClearError) {
     std::string out;
-    EXPECT_EQ(run("env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(XCUT_BINARY) + " view " + XCUT_SOURCE_DIR +
+    EXPECT_EQ(testing::run_command("env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(XCUT_BINARY) + " view " + XCUT_SOURCE_DIR +
                   "/scenes/skin_slab.json", out), 2) << out;
     EXPECT_NE(out.find("no display"), std::string::npos) << out;
 }

@@ -9,19 +9,17 @@ namespace {
 
 const char* kVertex = R"(#version 330 core
 layout(location = 0) in vec3 p;
-layout(location = 1) in vec3 n;
 layout(location = 2) in vec3 c;
 uniform mat4 mvp;
 out vec3 vp;
-out vec3 vn;
 out vec3 vc;
-void main() { vp = p; vn = n; vc = c; gl_Position = mvp * vec4(p, 1.0); }
+void main() { vp = p; vc = c; gl_Position = mvp * vec4(p, 1.0); }
 )";
 
-// engine/io/render.cpp's shading: 0.25 + 0.75 max(0, n.l), n turned towards the eye.
+// engine/io/render.cpp's shading: 0.25 + 0.75 max(0, n.l), with the triangle's own (flat) normal,
+// here from the derivatives of the position across the pixel, turned towards the eye.
 const char* kFragment = R"(#version 330 core
 in vec3 vp;
-in vec3 vn;
 in vec3 vc;
 uniform vec3 eye;
 uniform vec3 light;
@@ -30,7 +28,7 @@ out vec4 colour;
 void main() {
     vec3 c = vc;
     if (lit == 1) {
-        vec3 n = normalize(vn);
+        vec3 n = normalize(cross(dFdx(vp), dFdy(vp)));
         if (dot(n, vp - eye) > 0.0) n = -n;
         c *= 0.25 + 0.75 * max(0.0, dot(n, light));
     }
@@ -54,22 +52,17 @@ GLuint compile(GLenum kind, const char* source) {
 
 constexpr float kSkin[3] = {0.93f, 0.76f, 0.66f}, kWound[3] = {0.80f, 0.12f, 0.12f};
 
-void vertex(std::vector<float>& out, const Vec3& p, const Vec3& n, const float* c) {
-    out.insert(out.end(), {float(p.x()), float(p.y()), float(p.z()), float(n.x()), float(n.y()), float(n.z()), c[0], c[1], c[2]});
+void vertex(std::vector<float>& out, const Vec3& p, const float* c) {
+    out.insert(out.end(), {float(p.x()), float(p.y()), float(p.z()), c[0], c[1], c[2]});
 }
 
 void triangles(std::vector<float>& out, const std::vector<Vec3>& v, const std::vector<std::array<int, 3>>& tris,
-               const std::vector<uint8_t>* cut, const float* colour) {
-    for (size_t t = 0; t < tris.size(); ++t) {
-        const Vec3 &a = v[tris[t][0]], &b = v[tris[t][1]], &c = v[tris[t][2]];
-        const Vec3 n = (b - a).cross(c - a).normalized();  // flat, as Embree's geometric normal
-        const float* col = cut && t < cut->size() && (*cut)[t] ? kWound : colour;
-        vertex(out, a, n, col), vertex(out, b, n, col), vertex(out, c, n, col);
-    }
+               const float* colour) {
+    for (const auto& t : tris) vertex(out, v[t[0]], colour), vertex(out, v[t[1]], colour), vertex(out, v[t[2]], colour);
 }
 
 void lines(std::vector<float>& out, const std::vector<Vec3>& pairs, const float* colour) {
-    for (const Vec3& p : pairs) vertex(out, p, Vec3::UnitZ(), colour);
+    for (const Vec3& p : pairs) vertex(out, p, colour);
 }
 
 }  // namespace
@@ -86,15 +79,20 @@ GlScene::GlScene() {
     eye_ = glGetUniformLocation(program_, "eye");
     light_ = glGetUniformLocation(program_, "light");
     lit_ = glGetUniformLocation(program_, "lit");
+    surface_.indexed = true;
     for (Batch* b : {&surface_, &shapes_, &lines_}) {
         glGenVertexArrays(1, &b->vao);
         glGenBuffers(1, &b->vbo);
         glBindVertexArray(b->vao);
         glBindBuffer(GL_ARRAY_BUFFER, b->vbo);
-        for (GLuint a = 0; a < 3; ++a) {
-            glEnableVertexAttribArray(a);
-            glVertexAttribPointer(a, 3, GL_FLOAT, GL_FALSE, 9 * sizeof(float),
-                                  reinterpret_cast<void*>(static_cast<uintptr_t>(3 * a * sizeof(float))));
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+        if (b->indexed) {  // the colour: a constant attribute, set per run
+            glGenBuffers(1, &b->ebo);
+            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, b->ebo);
+        } else {
+            glEnableVertexAttribArray(2);
+            glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
         }
     }
     glBindVertexArray(0);
@@ -102,14 +100,18 @@ GlScene::GlScene() {
 }
 
 GlScene::~GlScene() {
-    for (Batch* b : {&surface_, &shapes_, &lines_}) glDeleteBuffers(1, &b->vbo), glDeleteVertexArrays(1, &b->vao);
+    for (Batch* b : {&surface_, &shapes_, &lines_}) {
+        glDeleteBuffers(1, &b->vbo);
+        if (b->ebo) glDeleteBuffers(1, &b->ebo);
+        glDeleteVertexArrays(1, &b->vao);
+    }
     glDeleteProgram(program_);
 }
 
 void GlScene::fill(Batch& b, const std::vector<float>& data) {
     glBindBuffer(GL_ARRAY_BUFFER, b.vbo);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data(), GL_STREAM_DRAW);
-    b.count = static_cast<GLsizei>(data.size() / 9);
+    b.count = static_cast<GLsizei>(data.size() / 6);
 }
 
 void GlScene::upload(const Snapshot& s, const Overlays& show) {
@@ -117,12 +119,24 @@ void GlScene::upload(const Snapshot& s, const Overlays& show) {
                            kVirtual[3] = {0.10f, 0.45f, 0.85f}, kQuad[3] = {0.95f, 0.65f, 0.05f},
                            kContact[3] = {0.05f, 0.65f, 0.25f}, kForce[3] = {0.85f, 0.05f, 0.65f},
                            kBlade[3] = {0.10f, 0.10f, 0.12f};
-    std::vector<float> data;
-    triangles(data, s.surface, s.triangles, &s.cut_face, kSkin);
-    fill(surface_, data);
+    vertices_.clear(), indices_.clear();  // the surface: its vertices once, skin triangles first
+    for (const Vec3& p : s.surface) vertex(vertices_, p, kSkin);
+    for (int wound = 0; wound < 2; ++wound) {
+        if (wound == 1) surface_.skin = static_cast<GLsizei>(indices_.size());
+        for (size_t t = 0; t < s.triangles.size(); ++t)
+            if ((t < s.cut_face.size() && s.cut_face[t]) == (wound == 1))
+                for (int k : s.triangles[t]) indices_.push_back(static_cast<unsigned>(k));
+    }
+    glBindVertexArray(surface_.vao);
+    fill(surface_, vertices_);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices_.size() * sizeof(unsigned)), indices_.data(),
+                 GL_STREAM_DRAW);
+    glBindVertexArray(0);
+    surface_.count = static_cast<GLsizei>(indices_.size());
+    std::vector<float>& data = vertices_;
     data.clear();
     if (show.tools)
-        for (const ToolView& t : s.tools) triangles(data, t.shape_vertices, t.shape_triangles, nullptr, kTool);
+        for (const ToolView& t : s.tools) triangles(data, t.shape_vertices, t.shape_triangles, kTool);
     fill(shapes_, data);
     data.clear();
     if (show.mesh) lines(data, s.mesh_lines, kMesh);
@@ -159,9 +173,19 @@ void GlScene::draw(const OrbitCamera& camera, int width, int height) const {
     glUniform3f(light_, float(light.x()), float(light.y()), float(light.z()));
     for (const Batch* b : {&surface_, &shapes_, &lines_}) {
         if (b->count == 0) continue;
+        if (b == &surface_) glEnable(GL_CULL_FACE);  // the surface is closed and outward: its back faces never show
+        else glDisable(GL_CULL_FACE);
         glUniform1i(lit_, b->lit ? 1 : 0);
         glBindVertexArray(b->vao);
-        glDrawArrays(b->mode, 0, b->count);
+        if (!b->indexed) {
+            glDrawArrays(b->mode, 0, b->count);
+            continue;
+        }
+        glVertexAttrib3fv(2, kSkin);
+        glDrawElements(GL_TRIANGLES, b->skin, GL_UNSIGNED_INT, nullptr);
+        glVertexAttrib3fv(2, kWound);
+        glDrawElements(GL_TRIANGLES, b->count - b->skin, GL_UNSIGNED_INT,
+                       reinterpret_cast<void*>(static_cast<uintptr_t>(b->skin) * sizeof(unsigned)));
     }
     glBindVertexArray(0);
 }

@@ -28,16 +28,21 @@ public:
     void draw(const OrbitCamera& camera, int width, int height) const;
 
 private:
+    /// Vertices of 6 floats (position, colour); the surface's are its own, shared by its triangles
+    /// and drawn by index in two runs (skin, then wound), each run in one colour.
     struct Batch {
-        GLuint vao = 0, vbo = 0;
-        GLsizei count = 0;
+        GLuint vao = 0, vbo = 0, ebo = 0;
+        GLsizei count = 0;      ///< vertices, or indices of an indexed batch
+        GLsizei skin = 0;       ///< indexed: the first `skin` indices are skin, the rest wound
         GLenum mode = GL_TRIANGLES;
-        bool lit = true;
+        bool lit = true, indexed = false;
     };
     void fill(Batch& b, const std::vector<float>& data);
     GLuint program_ = 0;
     GLint mvp_ = -1, eye_ = -1, light_ = -1, lit_ = -1;
     Batch surface_, shapes_, lines_;
+    std::vector<float> vertices_;    ///< upload buffers, kept to reuse their memory
+    std::vector<unsigned> indices_;
 };
 
 /// The window's colour buffer as an RGB image, top row first.

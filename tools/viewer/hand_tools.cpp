@@ -3,8 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <limits>
-#include <stdexcept>
 
 namespace xcut::viewer {
 
@@ -35,53 +33,19 @@ std::vector<std::string> hand_tool_overrides(const HandToolSizes& s, bool with_p
     return out;
 }
 
-SurfaceRaycaster::SurfaceRaycaster() {
-    device_ = rtcNewDevice("threads=1");
-    if (!device_) throw std::runtime_error("Embree: cannot create a device");
-}
-
-SurfaceRaycaster::~SurfaceRaycaster() {
-    if (scene_) rtcReleaseScene(scene_);
-    rtcReleaseDevice(device_);
-}
-
 void SurfaceRaycaster::build(const Snapshot& s) {
-    if (scene_) rtcReleaseScene(scene_);
-    scene_ = rtcNewScene(device_);
-    triangles_ = s.triangles, cut_face_ = s.cut_face;
-    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), std::max<size_t>(s.surface.size(), 1)));
-    for (size_t i = 0; i < s.surface.size(); ++i)
-        for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(s.surface[i][k]);
-    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                               3 * sizeof(unsigned), s.triangles.size()));
-    for (size_t t = 0; t < s.triangles.size(); ++t)
-        for (int k = 0; k < 3; ++k) idx[3 * t + k] = static_cast<unsigned>(s.triangles[t][k]);
-    rtcCommitGeometry(geom);
-    rtcAttachGeometry(scene_, geom);
-    rtcReleaseGeometry(geom);
-    rtcCommitScene(scene_);
+    embree_.build(s.surface, s.triangles);
+    cut_face_ = s.cut_face;
+    built_ = !s.triangles.empty();
 }
 
 std::optional<SurfaceHit> SurfaceRaycaster::cast(const Ray& ray) const {
-    if (!scene_ || triangles_.empty()) return std::nullopt;
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    RTCRayHit rh;
-    rh.ray.org_x = static_cast<float>(ray.origin.x()), rh.ray.org_y = static_cast<float>(ray.origin.y());
-    rh.ray.org_z = static_cast<float>(ray.origin.z());
-    rh.ray.dir_x = static_cast<float>(ray.direction.x()), rh.ray.dir_y = static_cast<float>(ray.direction.y());
-    rh.ray.dir_z = static_cast<float>(ray.direction.z());
-    rh.ray.tnear = 0.0f, rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = 0.0f;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene_, &ctx, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    const std::optional<RayHit> hit = built_ ? embree_.intersect(ray.origin, ray.direction) : std::nullopt;
+    if (!hit) return std::nullopt;
     SurfaceHit h;
-    h.triangle = static_cast<int>(rh.hit.primID);
-    h.point = ray.origin + static_cast<double>(rh.ray.tfar) * ray.direction;
-    h.normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+    h.triangle = hit->triangle;
+    h.point = ray.origin + hit->distance * ray.direction;
+    h.normal = hit->normal.normalized();
     if (h.normal.dot(ray.direction) > 0.0) h.normal = -h.normal;
     h.cut_face = h.triangle < static_cast<int>(cut_face_.size()) && cut_face_[h.triangle] != 0;
     return h;

@@ -9,13 +9,12 @@
 // point's normal; a drag moves it at that depth under the cursor; a release lifts it `lift` above
 // the surface, where it hovers after the cursor. Moves between these poses stay above the tissue or
 // along the blade itself, so only a drag cuts.
-#include <embree3/rtcore.h>
-
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "engine/devices/live_device.h"
+#include "engine/io/embree_surface.h"
 #include "tools/viewer/snapshot.h"
 
 namespace xcut::viewer {
@@ -50,17 +49,12 @@ struct SurfaceHit {
 /// Embree ray casts onto a snapshot's visual surface.
 class SurfaceRaycaster {
 public:
-    SurfaceRaycaster();
-    ~SurfaceRaycaster();
-    SurfaceRaycaster(const SurfaceRaycaster&) = delete;
-    SurfaceRaycaster& operator=(const SurfaceRaycaster&) = delete;
     void build(const Snapshot& snapshot);
     std::optional<SurfaceHit> cast(const Ray& ray) const;
 
 private:
-    RTCDevice device_ = nullptr;
-    RTCScene scene_ = nullptr;
-    std::vector<std::array<int, 3>> triangles_;
+    EmbreeSurface embree_;
+    bool built_ = false;
     std::vector<uint8_t> cut_face_;
 };
 

@@ -42,7 +42,7 @@ void overlay_controls(PanelState& st) {
 void tool_controls(const Snapshot& s, PanelState& st) {
     if (st.scalpel) {
         float depth = static_cast<float>(st.scalpel->depth * 1e3);
-        if (ImGui::SliderFloat("blade depth [mm] (shift+wheel)", &depth, 0.f, static_cast<float>(st.scalpel->max_depth * 1e3)))
+        if (ImGui::SliderFloat("blade depth [mm]", &depth, 0.f, static_cast<float>(st.scalpel->max_depth * 1e3)))
             st.scalpel->depth = depth * 1e-3;
     }
     for (size_t i = 0; i < s.tools.size() && i < st.devices.size(); ++i) {
@@ -63,7 +63,7 @@ void tool_controls(const Snapshot& s, PanelState& st) {
         ImGui::Text("|F| %.3f N", t.force.norm());
         ImGui::PopID();
     }
-    ImGui::TextDisabled("keys move the selected tool: arrows, page up/down; g: probe to the cursor");
+    ImGui::TextDisabled("shift+wheel: depth; arrows, page up/down: the selected tool; g: probe here");
 }
 
 void plot(const char* label, const std::deque<float>& values, const char* unit) {
@@ -96,7 +96,7 @@ void readouts(const Snapshot& s, PanelState& st) {
 
 void draw_panels(const Snapshot& snap, PanelState& st) {
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(430, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(470, 0), ImGuiCond_FirstUseEver);
     ImGui::Begin(("xcut: " + st.scene_name).c_str());
     run_controls(snap, st);
     if (ImGui::CollapsingHeader("Overlays", ImGuiTreeNodeFlags_DefaultOpen)) overlay_controls(st);

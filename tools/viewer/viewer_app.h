@@ -20,6 +20,8 @@ struct ViewerOptions {
     std::string screenshot;              ///< once idle: save the 3D view (no panels) and exit
     std::string reference;               ///< with --screenshot: also the headless render of that snapshot
     bool panels = false;                 ///< the screenshot shows the panels too
+    double fps = 60.0;                   ///< frame cap [1/s]; 0: none; halved on software OpenGL
+    bool fps_given = false;              ///< the user set the cap: keep it as given
     double bench_seconds = 0.0;          ///< > 0: measure step rate with and without the window
     std::string bench_csv;               ///< where the benchmark writes its row
 };

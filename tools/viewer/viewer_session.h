@@ -16,6 +16,14 @@
 
 namespace xcut::viewer {
 
+/// `xcut view --bench`: the physics' steps while the window draws and while it does not, in
+/// alternating 1 s phases of one run (so the machine's drift falls on both alike), and frame times.
+struct BenchFigures {
+    long steps_drawing = 0, steps_idle = 0;
+    double seconds_drawing = 0.0, seconds_idle = 0.0;
+    std::vector<double> frame_ms;
+};
+
 struct HandSizes : HandToolSizes {
     double speed = 0.0;  ///< key-driven tool speed [m/s]
 };
@@ -31,7 +39,7 @@ public:
     /// The scene's camera if it gives one, else the headless renderer's framing of the surface.
     OrbitCamera initial_camera(int width, int height) const;
     void save_screenshot(const Image& image, const OrbitCamera& camera, const ViewerOptions& o) const;
-    void report_bench(const std::vector<double>& frame_ms, double seconds) const;
+    void report_bench(const BenchFigures& figures) const;
     /// Prints the outcome; the exit code.
     int finish() const;
 

@@ -225,7 +225,7 @@ Keyframe IgtlDevice::pose(double t) {
 }
 
 void IgtlDevice::render_force(const Vec3& force, const Vec3& torque) {
-    LiveDevice::render_force(force, torque);
+    ForceKeepingDevice::render_force(force, torque);
     const int fd = peer_;
     const double now = wall_now();
     if (fd < 0 || now - last_send_ < 1.0 / force_rate) return;
