@@ -7,7 +7,8 @@
 # gmsh, python3-meshio, python3-vtk9: the tests write mesh files with the real programs and read them;
 # python3-jsonschema checks every scene against docs/scene.schema.json.
 # libglfw3-dev, libimgui-dev, libepoxy-dev: `xcut view` (optional: the build leaves it out without them);
-# xvfb, xauth, libgl1-mesa-dri: its tests open the window on a virtual display with software OpenGL.
+# xvfb, xauth, xdotool, libgl1-mesa-dri: its tests open the window on a virtual display with software
+# OpenGL and drag the mouse on it.
 # libopenigtlink-dev: the OpenIGTLink tool device and xcut-igtl-play (optional like the viewer).
 set -euo pipefail
 SUDO=""
@@ -22,4 +23,4 @@ $SUDO apt-get install -y -q --no-install-recommends \
   zlib1g-dev libpugixml-dev libpng-dev libstb-dev python3 python3-matplotlib \
   libsuitesparse-dev libopenblas0-serial clang-14 libclang-rt-14-dev libomp-14-dev \
   gmsh python3-meshio python3-vtk9 python3-jsonschema \
-  libglfw3-dev libimgui-dev libepoxy-dev xvfb xauth libgl1-mesa-dri libopenigtlink-dev
+  libglfw3-dev libimgui-dev libepoxy-dev xvfb xauth xdotool libgl1-mesa-dri libopenigtlink-dev

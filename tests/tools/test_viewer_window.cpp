@@ -115,6 +115,32 @@ TEST(ViewerWindow, MouseDragCutsShowsTheWoundAndReplays) {
     fs::remove_all(dir);
 }
 
+// The same as a person does it: X input events from xdotool on the window (GLFW's own mouse path,
+// the physics paced to real time): press, drag and release on the skin, right of the panels.
+TEST(ViewerWindow, RealMouseDragFromXdotoolCuts) {
+    const fs::path dir = testing::temp_dir("viewer_xdotool");
+    {
+        std::ofstream sh(dir / "drag.sh");
+        sh << XCUT_BINARY << " view " << XCUT_SOURCE_DIR << "/scenes/skin_slab.json --steps 300 --set 'tools=[]' "
+           << "--screenshot " << (dir / "cut.png").string() << " > " << (dir / "view.log").string() << " 2>&1 & pid=$!\n"
+           << "wid=$(" << XCUT_XDOTOOL << " search --sync --onlyvisible --name 'xcut view')\n"
+           << "sleep 0.5\n"
+           << XCUT_XDOTOOL << " mousemove --window $wid 760 500 mousedown 1\n"
+           << "for i in $(seq 1 30); do " << XCUT_XDOTOOL
+           << " mousemove --window $wid $((760 - i / 2)) $((500 - 8 * i)); sleep 0.02; done\n"
+           << XCUT_XDOTOOL << " mouseup 1\n"
+           << "wait $pid\n";
+    }
+    std::string out;
+    ASSERT_EQ(testing::run_command(std::string(XCUT_XVFB_RUN) + " -a -s '-screen 0 1600x1200x24' bash " +
+                                   (dir / "drag.sh").string(), out), 0) << out;
+    std::ifstream log(dir / "view.log");
+    std::stringstream ss;
+    ss << log.rdbuf();
+    EXPECT_GT(elements_split(ss.str()), 20) << ss.str();
+    fs::remove_all(dir);
+}
+
 TEST(ViewerWindow, NoDisplayIsAClearError) {
     std::string out;
     EXPECT_EQ(testing::run_command("env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(XCUT_BINARY) + " view " + XCUT_SOURCE_DIR +

@@ -173,8 +173,14 @@ void GlScene::draw(const OrbitCamera& camera, int width, int height) const {
     glUniform3f(light_, float(light.x()), float(light.y()), float(light.z()));
     for (const Batch* b : {&surface_, &shapes_, &lines_}) {
         if (b->count == 0) continue;
-        if (b == &surface_) glEnable(GL_CULL_FACE);  // the surface is closed and outward: its back faces never show
-        else glDisable(GL_CULL_FACE);
+        if (b == &surface_) {
+            glEnable(GL_CULL_FACE);  // the surface is closed and outward: its back faces never show
+            glEnable(GL_POLYGON_OFFSET_FILL);  // behind the mesh lines drawn on it, not fighting them
+            glPolygonOffset(1.f, 1.f);
+        } else {
+            glDisable(GL_CULL_FACE);
+            glDisable(GL_POLYGON_OFFSET_FILL);
+        }
         glUniform1i(lit_, b->lit ? 1 : 0);
         glBindVertexArray(b->vao);
         if (!b->indexed) {
