@@ -119,6 +119,7 @@ void GlScene::upload(const Snapshot& s, const Overlays& show) {
                            kVirtual[3] = {0.10f, 0.45f, 0.85f}, kQuad[3] = {0.95f, 0.65f, 0.05f},
                            kContact[3] = {0.05f, 0.65f, 0.25f}, kForce[3] = {0.85f, 0.05f, 0.65f},
                            kBlade[3] = {0.10f, 0.10f, 0.12f};
+    closed_ = s.dim3;
     vertices_.clear(), indices_.clear();  // the surface: its vertices once, skin triangles first
     for (const Vec3& p : s.surface) vertex(vertices_, p, kSkin);
     for (int wound = 0; wound < 2; ++wound) {
@@ -174,7 +175,8 @@ void GlScene::draw(const OrbitCamera& camera, int width, int height) const {
     for (const Batch* b : {&surface_, &shapes_, &lines_}) {
         if (b->count == 0) continue;
         if (b == &surface_) {
-            glEnable(GL_CULL_FACE);  // the surface is closed and outward: its back faces never show
+            if (closed_) glEnable(GL_CULL_FACE);  // a closed outward surface: its back faces never show
+            else glDisable(GL_CULL_FACE);         // a 2D sheet shows both faces
             glEnable(GL_POLYGON_OFFSET_FILL);  // behind the mesh lines drawn on it, not fighting them
             glPolygonOffset(1.f, 1.f);
         } else {

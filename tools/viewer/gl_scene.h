@@ -43,6 +43,7 @@ private:
     Batch surface_, shapes_, lines_;
     std::vector<float> vertices_;    ///< upload buffers, kept to reuse their memory
     std::vector<unsigned> indices_;
+    bool closed_ = true;             ///< the surface is closed (3D): back faces culled
 };
 
 /// The window's colour buffer as an RGB image, top row first.
