@@ -41,6 +41,22 @@ void add_bench_options(CLI::App& cmd, BenchOptions& o) {
     cmd.add_flag("--no-plots", o.accuracy_no_plots, "CSV only (accuracy)");
 }
 
+/// "results/bench_x.csv" -> "results/bench_x_quick.csv": where a quick or partial run (--tiny,
+/// --sizes, --steps, --problems, --threads) writes, so it never overwrites the committed record.
+std::string quick_csv(const std::string& record) {
+    const size_t dot = record.rfind(".csv");
+    return (dot == std::string::npos ? record : record.substr(0, dot)) + "_quick.csv";
+}
+
+/// The CSV a run writes: --csv if given; the record's own name for a full run; else its quick file.
+std::string csv_for(const CLI::App& cmd, const std::string& given, const std::string& record, bool partial) {
+    if (cmd.count("--csv")) return given;
+    if (!partial) return record;
+    const std::string quick = quick_csv(record);
+    fmt::print("a quick or partial run: it writes {}, not the record {}\n", quick, record);
+    return quick;
+}
+
 /// A suite's options with --csv applied when given (each suite has its own default CSV).
 template <class Options>
 Options& with_csv(const CLI::App& cmd, const std::string& csv, Options& options) {
@@ -75,17 +91,21 @@ int run_bench(const CLI::App& cmd, const BenchOptions& o) {
         a.plots = !o.accuracy_no_plots;
         a.progress = true;
         if (cmd.count("--threads")) a.threads = perf.threads.front();
-        return accuracy_bench_command(with_csv(cmd, perf.csv, a));
+        a.csv = csv_for(cmd, perf.csv, a.csv, o.accuracy_tiny || cmd.count("--problems") > 0 || cmd.count("--threads") > 0);
+        return accuracy_bench_command(a);
     }
     if (o.suite == "solver") return run_tiny_or_full<SolverBenchOptions>(cmd, o, solver_bench_command);
     if (o.suite == "mesh_io") return run_tiny_or_full<MeshIoBenchOptions>(cmd, o, mesh_io_bench_command);
     if (o.suite == "cut") {
         CutBenchOptions cut = o.cut;
         cut.sizes = perf.sizes;
-        cut.csv = cmd.count("--csv") ? perf.csv : "results/bench_cut.csv";
+        cut.csv = csv_for(cmd, perf.csv, "results/bench_cut.csv", cmd.count("--sizes") > 0);
         return cut_bench_command(cut);
     }
-    return perf_bench_command(perf);
+    PerfBenchOptions full = perf;
+    full.csv = csv_for(cmd, perf.csv, PerfBenchOptions{}.csv,
+                       cmd.count("--sizes") > 0 || cmd.count("--steps") > 0 || cmd.count("--threads") > 0);
+    return perf_bench_command(full);
 }
 
 }  // namespace

@@ -68,8 +68,56 @@ TEST(AccuracyBench, CsvHasTheColumnsAndFiniteValues) {
     }
     const AccuracyBenchOptions o = AccuracyBenchOptions::tiny();
     EXPECT_EQ(count, o.cantilever_levels.size() + 2 * o.block_levels.size() + 2 * o.plate_levels.size());
-    EXPECT_EQ(comments, 4u) << "problem 3, problem 5, problem 6 twice";
+    // Problem 3; for 5 and 6 each run against the other cutter and who wins where; 6's finest twice.
+    EXPECT_EQ(comments, 1u + (2 * o.block_levels.size() + 1) + (2 * o.plate_levels.size() + 1) + 2u);
     fs::remove(csv);
+}
+
+// Each run against the other cutter's front at its own run time, interpolated log-log; a run
+// outside the other's run-time range is said to be, not scored; no average verdict.
+TEST(AccuracyBench, FrontsAreComparedRunByRunAtEqualTime) {
+    auto row = [](const char* cutter, int level, double run_s, double error) {
+        AccuracyRow r;
+        r.problem = 5, r.cutter = cutter, r.resolution = level, r.run_s = run_s, r.error = error;
+        return r;
+    };
+    const std::vector<AccuracyRow> rows = {row("xfem", 4, 0.1, 0.1), row("xfem", 8, 1.0, 0.02), row("xfem", 16, 10.0, 0.01),
+                                           row("snap", 4, 0.05, 0.3), row("snap", 8, 2.0, 0.01), row("snap", 16, 20.0, 0.001)};
+    const auto cmp = compare_fronts(rows, 5);
+    ASSERT_EQ(cmp.size(), 6u);
+    // xfem at 1 s: snapping between 0.05 s (30 %) and 2 s (1 %), log-log: t = log(20) / log(40).
+    const double t = std::log(20.0) / std::log(40.0);
+    const double snap_at_1s = std::exp((1 - t) * std::log(0.3) + t * std::log(0.01));
+    EXPECT_NEAR(cmp[1].other_error, snap_at_1s, 1e-12);
+    EXPECT_NEAR(cmp[1].ratio, 0.02 / snap_at_1s, 1e-12);
+    EXPECT_GT(cmp[1].ratio, 1.0) << "snapping is the more accurate at 1 s";
+    EXPECT_LT(cmp[0].ratio, 1.0) << "XFEM at 0.1 s beats snapping's 0.05-2 s line there";
+    EXPECT_EQ(cmp[5].ratio, 0.0) << "snapping at 20 s is past XFEM's longest run";
+    const auto lines = accuracy_summary(rows);
+    bool wins = false;
+    for (const std::string& l : lines) {
+        EXPECT_EQ(l.find("mean"), std::string::npos) << l;
+        if (l.find("problem 5: at equal run time XFEM is the more accurate at its levels 4; snapping at its levels 8") !=
+            std::string::npos)
+            wins = true;
+    }
+    EXPECT_TRUE(wins) << "the levels where each cutter wins are stated";
+}
+
+// A quick or partial run writes its own CSV beside the record, never over it.
+TEST(AccuracyBench, AQuickRunNeverOverwritesTheRecord) {
+    const fs::path dir = fs::temp_directory_path() / ("xcut_bench_quick_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string cmd = "cd " + dir.string() + " && " + XCUT_BINARY +
+                            " bench --suite accuracy --tiny --problems 3 --no-plots > out.txt 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    EXPECT_TRUE(fs::exists(dir / "results" / "bench_accuracy_quick.csv"));
+    EXPECT_FALSE(fs::exists(dir / "results" / "bench_accuracy.csv"));
+    std::ifstream out(dir / "out.txt");
+    std::stringstream ss;
+    ss << out.rdbuf();
+    EXPECT_NE(ss.str().find("not the record results/bench_accuracy.csv"), std::string::npos) << ss.str();
+    fs::remove_all(dir);
 }
 
 TEST(AccuracyBench, ErrorDecreasesWithResolutionForBothCutters) {

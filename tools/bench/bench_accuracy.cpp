@@ -2,10 +2,12 @@
 #include "tools/bench/bench_accuracy.h"
 
 #include <algorithm>
+#include <map>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <fmt/os.h>
 #include <stdexcept>
 
@@ -179,27 +181,56 @@ void write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>&
     for (const std::string& line : summary) csv.print("# {}\n", line);
 }
 
-double front_ratio(const std::vector<AccuracyRow>& rows, int problem) {
-    std::vector<const AccuracyRow*> snap;
+std::vector<FrontComparison> compare_fronts(const std::vector<AccuracyRow>& rows, int problem) {
+    std::map<std::string, std::vector<const AccuracyRow*>> front;
     for (const AccuracyRow& r : rows)
-        if (r.problem == problem && r.cutter == "snap") snap.push_back(&r);
-    std::sort(snap.begin(), snap.end(), [](auto* a, auto* b) { return a->run_s < b->run_s; });
-    double log_sum = 0.0;
-    int count = 0;
+        if (r.problem == problem && (r.cutter == "xfem" || r.cutter == "snap")) front[r.cutter].push_back(&r);
+    for (auto& [cutter, runs] : front)
+        std::sort(runs.begin(), runs.end(), [](auto* a, auto* b) { return a->run_s < b->run_s; });
+    std::vector<FrontComparison> out;
     for (const AccuracyRow& x : rows) {
-        if (x.problem != problem || x.cutter != "xfem" || snap.size() < 2) continue;
-        for (size_t k = 1; k < snap.size(); ++k) {
-            const AccuracyRow &a = *snap[k - 1], &b = *snap[k];
+        if (x.problem != problem || (x.cutter != "xfem" && x.cutter != "snap")) continue;
+        FrontComparison c;
+        c.run = &x;
+        const auto& other = front[x.cutter == "xfem" ? "snap" : "xfem"];
+        for (size_t k = 1; k < other.size(); ++k) {
+            const AccuracyRow &a = *other[k - 1], &b = *other[k];
             if (x.run_s < a.run_s || x.run_s > b.run_s || !(b.run_s > a.run_s)) continue;
             const double t = std::log(x.run_s / a.run_s) / std::log(b.run_s / a.run_s);
-            const double log_snap = (1.0 - t) * std::log(a.error) + t * std::log(b.error);
-            log_sum += std::log(x.error) - log_snap;
-            ++count;
+            c.other_error = std::exp((1.0 - t) * std::log(a.error) + t * std::log(b.error));
+            c.ratio = x.error / c.other_error;
             break;
         }
+        out.push_back(c);
     }
-    return count > 0 ? std::exp(log_sum / count) : 0.0;
+    return out;
 }
+
+namespace {
+
+/// Each run of `problem` against the other cutter at equal run time, and who wins where.
+void front_lines(const std::vector<AccuracyRow>& rows, int problem, std::vector<std::string>& out) {
+    std::map<std::string, std::vector<int>> wins;
+    for (const FrontComparison& c : compare_fronts(rows, problem)) {
+        const AccuracyRow& r = *c.run;
+        const std::string other = r.cutter == "xfem" ? "snap" : "xfem";
+        if (c.ratio == 0.0) {
+            out.push_back(fmt::format("problem {} {} level {} ({:.3g} s, error {:.3g} %): outside {}'s run-time range",
+                                      problem, r.cutter, r.resolution, r.run_s, 100 * r.error, other));
+            continue;
+        }
+        const std::string& winner = c.ratio <= 1.0 ? r.cutter : other;
+        if (c.ratio <= 1.0) wins[r.cutter].push_back(r.resolution);
+        out.push_back(fmt::format("problem {} {} level {} ({:.3g} s, error {:.3g} %): {} at equal run time {:.3g} % -> "
+                                  "{:.2f} x: {} more accurate", problem, r.cutter, r.resolution, r.run_s, 100 * r.error,
+                                  other, 100 * c.other_error, c.ratio, winner));
+    }
+    auto list = [&wins](const char* c) { return wins[c].empty() ? std::string("none") : fmt::format("{}", fmt::join(wins[c], ", ")); };
+    out.push_back(fmt::format("problem {}: at equal run time XFEM is the more accurate at its levels {}; snapping at its "
+                              "levels {}", problem, list("xfem"), list("snap")));
+}
+
+}  // namespace
 
 std::vector<std::string> accuracy_summary(const std::vector<AccuracyRow>& rows) {
     std::vector<std::string> out;
@@ -221,13 +252,8 @@ std::vector<std::string> accuracy_summary(const std::vector<AccuracyRow>& rows) 
                                       100 * (f->value / f->reference - 1), 100 * (extrapolated / f->reference - 1)));
         }
     }
-    if (finest(5, "xfem") && finest(5, "snap")) {
-        const double q = front_ratio(rows, 5);
-        out.push_back(q > 0.0 ? fmt::format("problem 5 target, XFEM's error-vs-time front below snapping's: at equal run time "
-                                            "XFEM's error is {:.2f} x snapping's (geometric mean) -> {}",
-                                            q, q < 1.0 ? "met" : "NOT met")
-                              : "problem 5 target: the run-time ranges of the two cutters do not overlap");
-    }
+    for (int problem : {5, 6})
+        if (finest(problem, "xfem") && finest(problem, "snap")) front_lines(rows, problem, out);
     for (const char* c : kCutters)
         if (const AccuracyRow* f = finest(6, c))
             out.push_back(fmt::format("problem 6 ({}): finest CMOD {:.4e} m against Tada-Paris-Irwin {:.4e} m: {:+.2f} % "

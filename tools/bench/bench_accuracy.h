@@ -53,12 +53,18 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& options)
 /// value_m,reference_m,error; then the summary lines, each as a comment ("# ...").
 void write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>& rows,
                         const std::vector<std::string>& summary = {});
-/// XFEM's error over snapping's at equal run time on `problem`: the geometric mean, over the XFEM
-/// runs inside snapping's run-time range, of XFEM's error / snapping's error interpolated
-/// (log-log) at that run time; 0 when the ranges do not overlap. Below 1: XFEM's front is lower.
-double front_ratio(const std::vector<AccuracyRow>& rows, int problem);
-/// The verdicts, one line each: problem 3's finest and Richardson-extrapolated deflection, problem
-/// 5's front ratio against its target (below 1), problem 6's finest CMOD against the 5 % tolerance.
+/// One run of a cutter set against the other cutter's error-against-run-time front.
+struct FrontComparison {
+    const AccuracyRow* run = nullptr;
+    double other_error = 0.0;  ///< the other cutter's error at this run time, interpolated log-log; 0: outside its range
+    double ratio = 0.0;        ///< run's error / other_error (below 1: this run is the more accurate); 0: outside
+};
+/// Every XFEM and snapping run of `problem`, each against the other cutter's front (its runs
+/// sorted by run time, interpolated log-log between the two that bracket this run's time).
+std::vector<FrontComparison> compare_fronts(const std::vector<AccuracyRow>& rows, int problem);
+/// The verdicts, one line each: problem 3's finest and Richardson-extrapolated deflection; for
+/// problems 5 and 6, every run against the other cutter at equal run time, and the levels where
+/// each cutter wins; problem 6's finest CMOD against the 5 % tolerance. No averaged verdict.
 std::vector<std::string> accuracy_summary(const std::vector<AccuracyRow>& rows);
 /// Prints the table and the targets, writes the CSV (and plots); returns 0.
 int accuracy_bench_command(const AccuracyBenchOptions& options);
