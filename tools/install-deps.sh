@@ -10,6 +10,8 @@
 # xvfb, xauth, xdotool, libgl1-mesa-dri: its tests open the window on a virtual display with software
 # OpenGL and drag the mouse on it.
 # libopenigtlink-dev: the OpenIGTLink tool device and xcut-igtl-play (optional like the viewer).
+# calculix-ccx: the accuracy suite's independent references (quadratic elements; optional: without it the
+# suite scores against beam theory, a linear-tet reference and the handbook, and says so).
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -23,4 +25,5 @@ $SUDO apt-get install -y -q --no-install-recommends \
   zlib1g-dev libpugixml-dev libpng-dev libstb-dev python3 python3-matplotlib \
   libsuitesparse-dev libopenblas0-serial clang-14 libclang-rt-14-dev libomp-14-dev \
   gmsh python3-meshio python3-vtk9 python3-jsonschema \
-  libglfw3-dev libimgui-dev libepoxy-dev xvfb xauth xdotool libgl1-mesa-dri libopenigtlink-dev
+  libglfw3-dev libimgui-dev libepoxy-dev xvfb xauth xdotool libgl1-mesa-dri libopenigtlink-dev \
+  calculix-ccx

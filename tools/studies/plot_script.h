@@ -10,4 +10,10 @@ namespace xcut {
 /// optional: when the script, python3 or matplotlib is missing it prints a warning and returns false.
 bool run_plot_script(const std::string& script, const std::string& arguments);
 
+/// The path of tools/<folder>/<script> beside the executable (build tree), under
+/// <prefix>/share/xcut/<folder> (installed), or under the working directory; empty if none.
+std::string find_script(const std::string& folder, const std::string& script);
+/// Debian's /usr/bin/python3 when present (its packages: matplotlib), else python3 from PATH.
+std::string system_python();
+
 }  // namespace xcut
