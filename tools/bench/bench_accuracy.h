@@ -28,6 +28,10 @@ struct AccuracyBenchOptions {
     std::vector<int> cantilever_reference_levels{1, 2, 3, 4};
     std::vector<int> block_reference_levels{8, 16, 32, 64};
     std::vector<int> plate_reference_levels{10, 20, 40, 80};
+    /// Problem 6 also at these a / W, at the finest plate level, against their own references
+    /// (a / W times the finest level must be an integer: the tip on a grid line).
+    std::vector<double> crack_ratios{0.2, 0.3, 0.4, 0.6};
+    std::vector<int> sweep_reference_levels{20, 40, 80, 160};  ///< their references' levels
     std::string csv = "results/bench_accuracy.csv";      ///< PNGs beside it: accuracy_problem<k>.png
     std::string cache_dir;                               ///< default: $XDG_CACHE_HOME/xcut/accuracy (~/.cache/xcut/accuracy)
     /// One thread by default: the suite compares methods, not parallel scaling, and single-thread
