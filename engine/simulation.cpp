@@ -30,6 +30,17 @@ std::unique_ptr<Simulation> build_simulation(const Scene& scene, const Pipeline&
     return sim;
 }
 
+std::unique_ptr<HapticLoop> start_haptics(Simulation& sim, bool asked) {
+    std::vector<ToolDevice*> devices;
+    for (auto& d : sim.devices) devices.push_back(d.get());
+    if (!asked && std::none_of(devices.begin(), devices.end(), [](ToolDevice* d) { return d->wants_force(); }))
+        return nullptr;
+    auto haptics = std::make_unique<HapticLoop>(devices);
+    sim.haptics = haptics.get();
+    haptics->start();
+    return haptics;
+}
+
 void step_simulation(Simulation& sim) {
     SolverSettings& s = sim.world.solver;
     if (!sim.replay_dt.empty()) {  // a recorded session: each step's dt as it was taken

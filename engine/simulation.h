@@ -36,6 +36,10 @@ using Pipeline = std::function<void(const Scene& scene, Scheduler& scheduler, Si
 /// session (engine/devices/device.h) instead of the scene's trajectories.
 std::unique_ptr<Simulation> build_simulation(const Scene& scene, const Pipeline& pipeline, bool with_output = true,
                                              const std::string& replay_directory = "");
+/// Starts the haptic loop over the simulation's devices (published to after each step) when `asked`
+/// or when a device renders force to a person (ToolDevice::wants_force: a network haptic device);
+/// null otherwise. Stop it before the simulation goes.
+std::unique_ptr<HapticLoop> start_haptics(Simulation& sim, bool asked);
 /// One step; in real-time mode, the next dt follows the measured step time (paper §4.3).
 void step_simulation(Simulation& sim);
 /// Runs `steps` steps, with a progress bar on a terminal.

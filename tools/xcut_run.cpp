@@ -20,15 +20,6 @@ struct RunOptions {
     bool haptics = false;        ///< run the 1 kHz haptic loop beside the physics
 };
 
-std::unique_ptr<HapticLoop> start_haptics(Simulation& sim) {
-    std::vector<ToolDevice*> devices;
-    for (auto& d : sim.devices) devices.push_back(d.get());
-    auto haptics = std::make_unique<HapticLoop>(devices);
-    sim.haptics = haptics.get();
-    haptics->start();
-    return haptics;
-}
-
 void print_result(const World& w, int steps, double secs) {
     const StepMetrics& m = w.metrics.current;
     const Metrics& all = w.metrics;
@@ -66,8 +57,7 @@ int run_scene(const RunOptions& o) {
     const int steps = o.scene.steps >= 0 ? o.scene.steps : scene.steps;
     auto sim = make_simulation(scene, true, o.replay);
     if (!o.record.empty()) sim->recorder = std::make_unique<SessionRecorder>(sim->world, o.record, SessionInfo{o.scene.scene, overrides});
-    const bool device_force = std::any_of(sim->devices.begin(), sim->devices.end(), [](const auto& d) { return d->wants_force(); });
-    std::unique_ptr<HapticLoop> haptics = o.haptics || device_force ? start_haptics(*sim) : nullptr;
+    std::unique_ptr<HapticLoop> haptics = start_haptics(*sim, o.haptics);
     sim->world.verbose = true;
     const World& w = sim->world;
     const char* wait = std::getenv("OMP_WAIT_POLICY");

@@ -3,11 +3,8 @@
 // forces match the same trajectory read from CSV; a malformed message and a lost connection hold
 // the tool still and say so; a port already taken is an input error naming the field.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <future>

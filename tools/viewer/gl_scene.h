@@ -14,6 +14,7 @@ namespace xcut::viewer {
 
 struct Overlays {
     bool tools = true, mesh = false, virtuals = false, quad = true, contacts = true, force = true;
+    bool operator==(const Overlays&) const = default;
 };
 
 class GlScene {

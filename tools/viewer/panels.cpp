@@ -36,7 +36,7 @@ void overlay_controls(PanelState& st) {
     ImGui::Checkbox("contacts (c)", &o.contacts);
     ImGui::SameLine();
     ImGui::Checkbox("force (f)", &o.force);
-    st.overlays_changed |= std::memcmp(&before, &o, sizeof(o)) != 0;
+    st.overlays_changed |= !(before == o);
 }
 
 void tool_controls(const Snapshot& s, PanelState& st) {

@@ -83,10 +83,8 @@ bool PhysicsThread::decide_step() {
 void PhysicsThread::step_once() {
     SolverSettings& s = sim_.world.solver;
     if (dt_request_ > 0.0 && !s.realtime) s.dt = dt_request_.exchange(0.0);
-    const double t0 = wall_now();
     step_simulation(sim_);
     const double t1 = wall_now();
-    busy_seconds_ = busy_seconds_ + (t1 - t0);
     ++steps_done_;
     SnapshotOptions options;
     {
@@ -103,8 +101,7 @@ void PhysicsThread::step_once() {
 }
 
 void PhysicsThread::run() {
-    const double wall0 = wall_now(), sim0 = sim_.world.time;
-    double pace_wall = wall0, pace_sim = sim0;  // pacing restarts after a pause
+    double pace_wall = 0.0, pace_sim = 0.0;  // where pacing (re)started: set at the first step after a pause
     bool was_stepping = false;
     while (!quit_) {
         if (!may_step()) {

@@ -41,7 +41,6 @@ public:
     bool idle() const;                ///< paused, at its limit, or failed
     bool failed() const { return failed_; }
     std::string error() const;        ///< why the physics stopped (an InputError, a NumericalError)
-    double busy_seconds() const { return busy_seconds_; }  ///< wall time spent in steps [s]
 
 private:
     void run();
@@ -53,7 +52,7 @@ private:
     std::thread thread_;
     std::atomic<bool> quit_{false}, playing_{true}, paced_{true}, lockstep_{false}, failed_{false}, stepping_{false};
     std::atomic<int> step_requests_{0}, allowed_{0}, step_limit_{-1}, steps_done_{0};
-    std::atomic<double> dt_request_{0.0}, busy_seconds_{0.0};
+    std::atomic<double> dt_request_{0.0};
     mutable std::mutex mutex_;        ///< guards options_ and error_
     std::condition_variable wake_;
     SnapshotOptions options_;

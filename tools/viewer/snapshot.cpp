@@ -6,10 +6,10 @@
 
 namespace xcut::viewer {
 
-std::vector<std::array<int, 2>> element_edges(const Elements& elements, int begin, int end) {
+std::vector<std::array<int, 2>> element_edges(const Elements& elements, const std::vector<int>& which) {
     std::vector<std::array<int, 2>> edges;
     const int corners = elements.dim == 3 ? 4 : 3;
-    for (int e = begin; e < end; ++e)
+    for (int e : which)
         for (int a = 0; a < corners; ++a)
             for (int b = a + 1; b < corners; ++b) {
                 const int i = elements.nodes[e][a], j = elements.nodes[e][b];
@@ -92,21 +92,12 @@ void take_snapshot(const World& w, const SnapshotOptions& options, Snapshot& out
     out.cut_face = w.visual.cut_face;
     out.mesh_lines.clear(), out.virtual_lines.clear();
     if (options.mesh) {  // the mesh elements still whole (a cut one is drawn by its virtual elements)
-        std::vector<std::array<int, 2>> edges;
-        for (int e = 0; e < w.mesh_elements; ++e) {
-            if (e < static_cast<int>(w.cuts.cut_of_element.size()) && w.cuts.cut_of_element[e] >= 0) continue;
-            const auto one = element_edges(w.elements, e, e + 1);
-            edges.insert(edges.end(), one.begin(), one.end());
-        }
-        std::sort(edges.begin(), edges.end());
-        edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-        add_edges(w, edges, out.mesh_lines);
+        std::vector<int> whole;
+        for (int e = 0; e < w.mesh_elements; ++e)
+            if (e >= static_cast<int>(w.cuts.cut_of_element.size()) || w.cuts.cut_of_element[e] < 0) whole.push_back(e);
+        add_edges(w, element_edges(w.elements, whole), out.mesh_lines);
     }
-    if (options.virtuals)
-        for (int v = 0; v < w.virtual_elements.count(); ++v) {
-            const int e = w.virtual_elements.element[v];
-            add_edges(w, element_edges(w.elements, e, e + 1), out.virtual_lines);
-        }
+    if (options.virtuals) add_edges(w, element_edges(w.elements, w.virtual_elements.element), out.virtual_lines);
     out.contact_points.clear(), out.contact_normals.clear();
     for (size_t c = 0; c < w.contacts.vertex.size(); ++c) {
         const int v = w.contacts.vertex[c];
@@ -129,7 +120,6 @@ void SnapshotBuffer::publish() {
     std::lock_guard<std::mutex> lock(mutex_);
     std::swap(back_, ready_);
     fresh_ = true;
-    ++published_;
 }
 
 bool SnapshotBuffer::acquire() {

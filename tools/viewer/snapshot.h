@@ -6,7 +6,6 @@
 // frame, a frame always shows the newest complete step.
 #include <Eigen/Geometry>
 #include <array>
-#include <atomic>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -59,8 +58,8 @@ struct Snapshot {
 /// Copies what `options` asks for from `world` into `out` (its buffers reused).
 void take_snapshot(const World& world, const SnapshotOptions& options, Snapshot& out);
 
-/// The edges of the elements [begin, end) as node pairs, each once.
-std::vector<std::array<int, 2>> element_edges(const Elements& elements, int begin, int end);
+/// The edges of the listed elements as node pairs, each once.
+std::vector<std::array<int, 2>> element_edges(const Elements& elements, const std::vector<int>& which);
 
 class SnapshotBuffer {
 public:
@@ -71,14 +70,12 @@ public:
     /// returns whether it did. front() is then stable until the next acquire().
     bool acquire();
     const Snapshot& front() const { return slots_[front_]; }
-    long published() const { return published_.load(); }
 
 private:
     std::array<Snapshot, 3> slots_;
     int back_ = 0, ready_ = 1, front_ = 2;
     bool fresh_ = false;
     std::mutex mutex_;  ///< guards the three indices and `fresh_` only
-    std::atomic<long> published_{0};
 };
 
 }  // namespace xcut::viewer

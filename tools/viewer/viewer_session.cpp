@@ -56,13 +56,7 @@ ViewerSession::ViewerSession(const ViewerOptions& o) : options(o), overrides(o.o
     }
     if (!o.record.empty())
         sim->recorder = std::make_unique<SessionRecorder>(sim->world, o.record, SessionInfo{o.scene, overrides});
-    std::vector<ToolDevice*> all;
-    for (auto& d : sim->devices) all.push_back(d.get());
-    if (std::any_of(all.begin(), all.end(), [](ToolDevice* d) { return d->wants_force(); })) {
-        haptics = std::make_unique<HapticLoop>(all);  // a network haptic device gets its force at 1 kHz
-        sim->haptics = haptics.get();
-        haptics->start();
-    }
+    haptics = start_haptics(*sim, false);  // a network haptic device gets its force at 1 kHz
     physics = std::make_unique<PhysicsThread>(*sim, buffer);
     fmt::print("view {} ({}): {} nodes, {} elements, {} tools ({}), {} threads\n", scene.name, o.scene,
                sim->world.nodes.count(), sim->world.elements.count(), sim->world.tools.count(),

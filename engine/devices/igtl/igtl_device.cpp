@@ -227,9 +227,10 @@ Keyframe IgtlDevice::pose(double t) {
 void IgtlDevice::render_force(const Vec3& force, const Vec3& torque) {
     ForceKeepingDevice::render_force(force, torque);
     const int fd = peer_;
-    const double now = wall_now();
-    if (fd < 0 || now - last_send_ < 1.0 / force_rate) return;
+    if (fd < 0) return;
     std::lock_guard<std::mutex> lock(send_mutex_);
+    const double now = wall_now();
+    if (now - last_send_ < 1.0 / force_rate) return;
     last_send_ = now;
     double values[6] = {force.x(), force.y(), force.z(), torque.x(), torque.y(), torque.z()};
     igtl::Array<igtlFloat64> array;
