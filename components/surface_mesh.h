@@ -41,6 +41,9 @@ struct SurfaceMesh {
     /// {side, node, node, 0} (side 0 while some whole element still holds the edge: the crack
     /// front, where both lips are one vertex); any other point {side + 4, quantized rest position}.
     std::map<std::array<int64_t, 4>, int> cut_point;
+    /// Front points split since the surface was last made: {vertex, node a, node b} (a == b for a
+    /// node). The pieces still using such a vertex are made again (systems/surface_cut.cpp).
+    std::vector<std::array<int, 3>> opened;
     int cuts_mapped = 0;                     ///< cut elements already mapped (CutElements index)
     int last_rebound = 0;                    ///< vertices re-bound by the last mapping update
 

@@ -16,22 +16,19 @@ namespace {
 using namespace surface_cut_detail;
 
 /// A whole element's pieces: its skin triangles, each split at the crack-front points on its
-/// edges. Triangle a-b-c with the front point P inside a-b becomes a-Pa-c, Pa-Pb-c, Pb-b-c, with Pa
-/// and Pb the copies of P on a's and b's side of the cut: both are bound to this whole element, so
-/// the middle triangle has no area until the front moves on and the lips part.
+/// edges. Triangle a-b-c with the front point P inside a-b becomes a-P-c and P-b-c: P is one vertex
+/// for both lips while this whole element holds its edge (surface_point).
 void whole_element_pieces(World& w, SurfaceMesh& s, int e) {
     if (s.base_of[e].empty()) return;
     const auto& en = w.elements.nodes[e];
-    struct FrontPoint { int i, j, vi, vj; double t; };  // vi: the copy on node i's side
+    struct FrontPoint { int i, j, v; double t; };
     std::vector<FrontPoint> front;
     for (int k = 0; k < edge_count(w); ++k) {
         const int i = local_edge(w, k)[0], j = local_edge(w, k)[1];
         const double t = edge_crossing(w, en[i], en[j]);
         if (!(t > 0.0 && t < 1.0)) continue;
-        int hi = w.enriched.sign[en[i]] >= 0 ? 1 : -1, hj = w.enriched.sign[en[j]] >= 0 ? 1 : -1;
-        if (!skin_cut_along(w, en[i], en[j])) hi = hj = (en[i] < en[j] ? hi : hj);
-        const Eigen::Vector4d b = on_edge(i, j, t);
-        front.push_back({i, j, surface_point(w, s, e, hi, b), surface_point(w, s, e, hj, b), t});
+        const int hi = w.enriched.sign[en[i]] >= 0 ? 1 : -1;
+        front.push_back({i, j, surface_point(w, s, e, hi, on_edge(i, j, t)), t});
     }
     std::vector<std::array<int, 3>> pieces;
     for (int bt : s.base_of[e]) {
@@ -40,18 +37,15 @@ void whole_element_pieces(World& w, SurfaceMesh& s, int e) {
             for (size_t q = 0; q < pieces.size(); ++q) {
                 const auto tri = pieces[q];
                 int split = -1;
-                double ta = 0.0;
                 for (int k = 0; k < 3 && split < 0; ++k) {
                     const Eigen::Vector4d ba = local_bary(w, s, e, tri[k]), bb = local_bary(w, s, e, tri[(k + 1) % 3]);
                     const bool on_ij = std::abs(ba[p.i] + ba[p.j] - 1.0) < 1e-12 && std::abs(bb[p.i] + bb[p.j] - 1.0) < 1e-12;
-                    if (on_ij && (ba[p.j] - p.t) * (bb[p.j] - p.t) < 0.0) split = k, ta = ba[p.j];
+                    if (on_ij && (ba[p.j] - p.t) * (bb[p.j] - p.t) < 0.0) split = k;
                 }
                 if (split < 0) continue;
                 const int a = tri[split], b = tri[(split + 1) % 3], c = tri[(split + 2) % 3];
-                const int pa = ta < p.t ? p.vi : p.vj, pb = ta < p.t ? p.vj : p.vi;
-                pieces[q] = {a, pa, c};
-                if (pa != pb) pieces.push_back({pa, pb, c});
-                pieces.push_back({pb, b, c});
+                pieces[q] = {a, p.v, c};
+                pieces.push_back({p.v, b, c});
                 break;
             }
         for (const auto& t : pieces) add_piece(s, t, e, false);
@@ -91,19 +85,39 @@ void cut_element_pieces(World& w, SurfaceMesh& s, int c) {
         const int sl = side[lone], sm = -sl;
         const int x1l = surface_point(w, s, e, sl, b1), x2l = surface_point(w, s, e, sl, b2);
         const int x1m = surface_point(w, s, e, sm, b1), x2m = surface_point(w, s, e, sm, b2);
-        add_piece(s, {L, x1l, x2l}, e, false);
-        add_piece(s, {x1m, M1, M2}, e, false);
-        add_piece(s, {x1m, M2, x2m}, e, false);
+        const bool pinned = x1l == x1m && x2l == x2m;  // both ends on the front
+        const int pl = pinned ? parting_point(w, s, e, sl, x1l, x2l, true) : -1;
+        if (pl < 0) {
+            add_piece(s, {L, x1l, x2l}, e, false);
+            add_piece(s, {x1m, M1, M2}, e, false);
+            add_piece(s, {x1m, M2, x2m}, e, false);
+        } else {  // the incision parts between two front points: x1 -> parting point -> x2 on each side
+            const int pm = parting_point(w, s, e, sm, x1m, x2m, true);
+            add_piece(s, {L, x1l, pl}, e, false);
+            add_piece(s, {L, pl, x2l}, e, false);
+            add_piece(s, {pm, x1m, M1}, e, false);
+            add_piece(s, {pm, M1, M2}, e, false);
+            add_piece(s, {pm, M2, x2m}, e, false);
+        }
     }
     if (w.elements.dim == 3) cut_faces(w, s, c, cp, rim);  // in 2D the surface is the sheet itself: the gap is the cut
+}
+
+/// Makes the pieces of `elements` (sorted, unique) again.
+void remake_pieces(World& w, SurfaceMesh& s, const std::vector<int>& elements) {
+    remove_pieces(s, elements);
+    for (int e : elements) {
+        if (is_cut(w, e)) cut_element_pieces(w, s, w.cuts.cut_of_element[e]);
+        else whole_element_pieces(w, s, e);
+    }
 }
 
 }  // namespace
 
 void cut_surface(World& w, SurfaceMesh& s, int first_cut) {
     // Elements whose pieces change: the new cut elements and, around each of their crossed edges,
-    // the cut ones (a seam toward a newly cut neighbour goes; points on an edge that has just opened
-    // are bound anew) and the whole ones showing skin (a new crack-front point splits it).
+    // the cut ones (points on an edge that has just opened are bound anew) and the whole ones
+    // showing skin (a new crack-front point splits it).
     std::vector<int> touched;
     for (int c = first_cut; c < w.cuts.count(); ++c) {
         const int e = w.cuts.element[c];
@@ -111,18 +125,34 @@ void cut_surface(World& w, SurfaceMesh& s, int first_cut) {
         for (int k = 0; k < 4; ++k) {
             if (w.cuts.point_edge[c][k] < 0) continue;
             const int* ed = local_edge(w, w.cuts.point_edge[c][k]);
-            const std::array<int, 4> ends = {w.elements.nodes[e][ed[0]], w.elements.nodes[e][ed[1]], 0, 0};
-            for_elements_around(w, ends[0], ends[1], [&](int f) {
+            for_elements_around(w, w.elements.nodes[e][ed[0]], w.elements.nodes[e][ed[1]], [&](int f) {
                 if (is_cut(w, f) || !s.base_of[f].empty()) touched.push_back(f);
             });
         }
     }
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-    remove_pieces(s, touched);
-    for (int e : touched) {
-        if (is_cut(w, e)) cut_element_pieces(w, s, w.cuts.cut_of_element[e]);
-        else whole_element_pieces(w, s, e);
+    s.opened.clear();
+    remake_pieces(w, s, touched);
+    // A front point that opened is now one side's copy: every piece still using it (an element
+    // around its edge that the pass above did not make) is made again, until none is left.
+    while (!s.opened.empty()) {
+        const std::vector<std::array<int, 3>> opened = std::move(s.opened);
+        s.opened.clear();
+        std::vector<int> again;
+        for (const auto& [v, a, b] : opened)
+            for_elements_around(w, a, b, [&](int f) {
+                for (int t : s.pieces_of[f]) {
+                    const auto& tri = s.triangles[t];
+                    if (tri[0] == v || tri[1] == v || tri[2] == v) {
+                        again.push_back(f);
+                        return;
+                    }
+                }
+            });
+        std::sort(again.begin(), again.end());
+        again.erase(std::unique(again.begin(), again.end()), again.end());
+        remake_pieces(w, s, again);
     }
 }
 

@@ -1,6 +1,7 @@
 // The wound's closing faces inside a cut element: the cut face as one polygon per side over the
-// element's edge points and the skin's crossings, oriented outward, and the seams that join the two
-// lips along the crack front (paper §3.4, Fig. 6; systems/surface_cut_parts.h).
+// element's edge points and the skin's crossings, oriented outward (paper §3.4, Fig. 6;
+// systems/surface_cut_parts.h). Along the crack front the two polygons share their points (one
+// vertex per front point, surface_points.cpp): the lips meet there, with no seam between them.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -12,9 +13,11 @@ namespace {
 
 /// Triangulates one side's cut polygon `loop` (outward order) of cut element e: three points give
 /// one triangle, four give two split along the diagonal the Delaunay criterion picks (the angles
-/// facing it sum to less than pi), more (skin crossing points on the rim) a fan around the centre.
+/// facing it sum to less than pi) unless it joins two front points, more (skin crossing points on
+/// the rim, parting points) a fan around the centre.
+template <class Shared>
 void close_polygon(World& w, SurfaceMesh& s, int e, int side, const std::vector<int>& loop,
-                   const Eigen::Vector4d& centre) {
+                   const Eigen::Vector4d& centre, const Shared& shared) {
     if (loop.size() == 3) {
         add_piece(s, {loop[0], loop[1], loop[2]}, e, true);
         return;
@@ -26,7 +29,10 @@ void close_polygon(World& w, SurfaceMesh& s, int e, int side, const std::vector<
             return std::atan2(a.cross(b).norm(), a.dot(b));
         };
         const auto& l = loop;
-        if (angle(l[1], l[0], l[2]) + angle(l[3], l[2], l[0]) <= M_PI) {  // diagonal 0-2
+        // A diagonal between two front points would be an edge of both lips: the other one.
+        const bool pinned02 = shared(l[0]) && shared(l[2]), pinned13 = shared(l[1]) && shared(l[3]);
+        const bool delaunay02 = angle(l[1], l[0], l[2]) + angle(l[3], l[2], l[0]) <= M_PI;
+        if (pinned13 || (delaunay02 && !pinned02)) {  // diagonal 0-2
             add_piece(s, {l[0], l[1], l[2]}, e, true);
             add_piece(s, {l[0], l[2], l[3]}, e, true);
         } else {  // diagonal 1-3
@@ -37,41 +43,6 @@ void close_polygon(World& w, SurfaceMesh& s, int e, int side, const std::vector<
     }
     const int hub = surface_point(w, s, e, side, centre);
     for (size_t k = 0; k < loop.size(); ++k) add_piece(s, {hub, loop[k], loop[(k + 1) % loop.size()]}, e, true);
-}
-
-/// Outward faces of a positively oriented tetrahedron, as local node triples.
-constexpr int kTetFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-
-/// Closes the two lips of cut element e along its crack front: on each face of e toward a whole
-/// element, the cut's segment P-Q exists once per side (P+ Q+ in the fan above, P- Q- below); a
-/// seam quad Q+ P+ P- Q- joins them, oriented against the fans' directed edges. It has no area
-/// while the front holds (both copies bound to the whole neighbour).
-void front_seams(World& w, SurfaceMesh& s, int c, const std::vector<std::pair<int, int>>& fan_edges,
-                 const std::vector<Eigen::Vector4d>& edge_points, const std::vector<int>& point_edge) {
-    const int e = w.cuts.element[c];
-    const auto& en = w.elements.nodes[e];
-    for (const auto& face : kTetFaces) {
-        std::vector<int> on_face;
-        for (size_t k = 0; k < point_edge.size(); ++k) {
-            const int* ed = kTetEdges[point_edge[k]];
-            const bool inside = std::count(face, face + 3, ed[0]) && std::count(face, face + 3, ed[1]);
-            if (inside) on_face.push_back(static_cast<int>(k));
-        }
-        if (on_face.size() != 2) continue;
-        const int f = element_across(w, e, en[face[0]], en[face[1]], en[face[2]]);
-        if (f < 0 || is_cut(w, f)) continue;
-        int pp = surface_point(w, s, e, 1, edge_points[on_face[0]]);
-        int qp = surface_point(w, s, e, 1, edge_points[on_face[1]]);
-        int pm = surface_point(w, s, e, -1, edge_points[on_face[0]]);
-        int qm = surface_point(w, s, e, -1, edge_points[on_face[1]]);
-        if (std::find(fan_edges.begin(), fan_edges.end(), std::make_pair(qp, pp)) != fan_edges.end()) {
-            std::swap(pp, qp);
-            std::swap(pm, qm);
-        }
-        // Now the fan above holds P+ -> Q+ and the one below Q- -> P-.
-        add_piece(s, {qp, pp, pm}, e, true);
-        add_piece(s, {qp, pm, qm}, e, true);
-    }
 }
 
 }  // namespace
@@ -85,27 +56,44 @@ void cut_faces(World& w, SurfaceMesh& s, int c, const CutPlaneInfo& cp, const st
         const Vec3 Xi = w.nodes.rest[nodes[ed[0]]], Xj = w.nodes.rest[nodes[ed[1]]];
         edge_points.push_back(on_edge(ed[0], ed[1], (cp.points[k] - Xi).dot(Xj - Xi) / (Xj - Xi).squaredNorm()));
     }
-    std::vector<std::pair<int, int>> fan_edges;  // directed loop edges of both fans
     Eigen::Vector4d centre = Eigen::Vector4d::Zero();
     for (const RimPoint& r : rim) centre += r.b / static_cast<double>(rim.size() + edge_points.size());
     for (const auto& b : edge_points) centre += b / static_cast<double>(rim.size() + edge_points.size());
     const std::vector<Eigen::Vector4d> around = cut_rim_loop(w, e, cp, edge_points, rim);
-    for (int side : {1, -1}) {
-        std::vector<int> loop;
+    std::array<std::vector<int>, 2> loops;  // the + side's and the - side's, in `around`'s order
+    for (int k = 0; k < 2; ++k)
         for (const Eigen::Vector4d& b : around) {
-            const int id = surface_point(w, s, e, side, b);
+            const int id = surface_point(w, s, e, k == 0 ? 1 : -1, b);
             // Each point once: a rim point at an edge point's place (the skin's crossing on a
             // crossed element edge) is that point.
-            if (std::find(loop.begin(), loop.end(), id) == loop.end()) loop.push_back(id);
+            if (std::find(loops[k].begin(), loops[k].end(), id) == loops[k].end()) loops[k].push_back(id);
         }
+    // Points of both loops are on the crack front: one vertex where the lips meet.
+    std::vector<int> shared;
+    for (int v : loops[0])
+        if (std::find(loops[1].begin(), loops[1].end(), v) != loops[1].end()) shared.push_back(v);
+    const auto is_shared = [&](int v) { return std::find(shared.begin(), shared.end(), v) != shared.end(); };
+    // Where both ends of an edge of a loop are front points but the lips part between them, the
+    // loop goes through its side's parting point.
+    for (int k = 0; k < 2; ++k) {
+        std::vector<int>& loop = loops[k];
+        for (size_t q = 0; q < loop.size(); ++q) {
+            const int u = loop[q], v = loop[(q + 1) % loop.size()];
+            const int mid = is_shared(u) && is_shared(v) ? parting_point(w, s, e, k == 0 ? 1 : -1, u, v, false) : -1;
+            if (mid >= 0) loop.insert(loop.begin() + static_cast<std::ptrdiff_t>(++q), mid);
+        }
+    }
+    // Every point and edge on the front: the lips meet all round and cannot part; no faces.
+    if (std::all_of(loops[0].begin(), loops[0].end(), is_shared) && loops[0].size() == loops[1].size()) return;
+    for (int k = 0; k < 2; ++k) {
+        const int side = k == 0 ? 1 : -1;
+        std::vector<int>& loop = loops[k];
         if (loop.size() < 3) continue;
         // The loop runs counter-clockwise about the cut's normal; outward for this side's piece is
         // away from its own material, toward the other side.
         if (side * cp.orient > 0) std::reverse(loop.begin(), loop.end());
-        for (size_t k = 0; k < loop.size(); ++k) fan_edges.emplace_back(loop[k], loop[(k + 1) % loop.size()]);
-        close_polygon(w, s, e, side, loop, centre);
+        close_polygon(w, s, e, side, loop, centre, is_shared);
     }
-    front_seams(w, s, c, fan_edges, edge_points, cp.point_edge);
 }
 
 }  // namespace xcut::surface_cut_detail

@@ -2,7 +2,7 @@
 // The parts of the surface cut (systems/surface_cut.h) shared by its files:
 //  - surface_points.cpp: the mesh around a cut element, and the surface's points bound to a side;
 //  - surface_rim.cpp: the cut's plane and trace in an element, and its rim ordered around the cut;
-//  - surface_cut_faces.cpp: the cut-face polygons that close the wound, and the seams at the front;
+//  - surface_cut_faces.cpp: the cut-face polygons that close the wound;
 //  - surface_cut.cpp: the skin subdivided along the cut, and the regeneration of an element's pieces.
 // Internal to those files; nothing else includes it.
 #include <Eigen/Core>
@@ -26,11 +26,16 @@ Vec3 vertex_rest(const World& w, const SurfaceMesh& s, int v);
 double surface_edge_param(int a, int b, double t);
 double edge_crossing(const World& w, int a, int b);
 int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector4d& b_in);
+/// The point where the lips part between surface vertices u and v of cut element e, on `side`
+/// (their midpoint, one per side), where u and v are each one vertex of both lips (on the crack
+/// front) but the lips are apart between them: a skin crossing (`skin`), or a cut-face edge not on
+/// a face toward a whole element. Else -1: u-v is one edge of both lips. Without this point two
+/// lips with both ends on the front would share that edge with the lips of the next element (an
+/// edge of four triangles).
+int parting_point(World& w, SurfaceMesh& s, int e, int side, int u, int v, bool skin);
 void add_piece(SurfaceMesh& s, const std::array<int, 3>& t, int owner, bool cut);
 void remove_pieces(SurfaceMesh& s, const std::vector<int>& elements);
 Eigen::Vector4d on_edge(int i, int j, double t);
-int element_across(const World& w, int e, int a, int b, int c);
-bool skin_cut_along(const World& w, int a, int b);
 
 /// Calls f(element) for every mesh element holding both nodes a and b (incidence order).
 template <class F>
@@ -59,7 +64,7 @@ std::vector<Eigen::Vector4d> cut_rim_loop(const World& w, int e, const CutPlaneI
 
 // --- surface_cut_faces.cpp ---
 /// Closes the wound inside cut c (3D): the cut face, one polygon per side over its edge points and
-/// the skin crossings `rim`, oriented outward, and the seams toward whole neighbours.
+/// the skin crossings `rim`, oriented outward.
 void cut_faces(World& w, SurfaceMesh& s, int c, const CutPlaneInfo& cp, const std::vector<RimPoint>& rim);
 
 }  // namespace xcut::surface_cut_detail

@@ -104,8 +104,11 @@ double edge_crossing(const World& w, int a, int b) {
 
 /// The surface vertex at barycentric b of mesh element e on `side` of the cut, made once per side
 /// and place (see SurfaceMesh::cut_point). A point on a mesh edge that a whole element still holds
-/// (the crack front) is bound, for both sides, to that element: the lips meet there. Otherwise it
-/// is bound to the virtual element of cut element e on its side.
+/// (the crack front) is one vertex for both sides (side 0), bound to that element: the lips meet
+/// there. Once no whole element holds the edge, that vertex becomes the copy of the first side
+/// asked for, the other side gets its own, and the split is listed in SurfaceMesh::opened so that
+/// every piece still using the shared vertex is made again. Otherwise a point is bound to the
+/// virtual element of cut element e on its side.
 int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector4d& b_in) {
     const int npe = w.elements.nodes_per_element();
     // Weights below 1e-12 are round-off of re-expressing a point in another element: a point on an
@@ -118,27 +121,40 @@ int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector
     int n = 0;
     for (int a = 0; a < npe; ++a)
         if (b[a] != 0.0) support[n++] = w.elements.nodes[e][a];
-    // A cut through a node: on the node's own side the point is the node's base vertex.
-    if (n == 1 && w.enriched.sign[support[0]] == side && s.node_vertex[support[0]] >= 0) return s.node_vertex[support[0]];
+    // A cut through a node: on the node's own side the point is the node's base vertex, and on both
+    // while a whole element holds the node (the lips meet there).
+    if (n == 1 && s.node_vertex[support[0]] >= 0 &&
+        (w.enriched.sign[support[0]] == side || whole_element_holding(w, support, 1) >= 0))
+        return s.node_vertex[support[0]];
     // A cut through any other skin vertex (a subdivision point): that vertex, on its own side, or on
     // both while it is bound to a whole element (the crack front, where the lips meet).
     const std::array<int64_t, 3> place = surface_place(rest_of(w, e, b));
     if (const auto base = s.base_vertex_at.find(place);
         base != s.base_vertex_at.end() && (s.side[base->second] == side || s.side[base->second] == 0))
         return base->second;
-    std::array<int64_t, 4> key;
-    if (n <= 2)
-        key = {side, std::min(support[0], support[n - 1]), std::max(support[0], support[n - 1]), 0};
-    else
-        key = {side + 4, place[0], place[1], place[2]};
-    auto [it, fresh] = s.cut_point.emplace(key, s.vertex_count());
-    if (fresh) {
+    const int whole = n <= 2 ? whole_element_holding(w, support, n) : -1;
+    const int key_side = whole >= 0 ? 0 : side;
+    const int64_t lo = std::min(support[0], support[n - 1]), hi = std::max(support[0], support[n - 1]);
+    const std::array<int64_t, 4> key =
+        n <= 2 ? std::array<int64_t, 4>{key_side, lo, hi, 0} : std::array<int64_t, 4>{side + 4, place[0], place[1], place[2]};
+    auto it = s.cut_point.find(key);
+    if (it == s.cut_point.end() && n <= 2 && whole < 0) {
+        if (const auto front = s.cut_point.find({0, lo, hi, 0}); front != s.cut_point.end()) {  // the front passed
+            const int v = front->second;
+            s.cut_point.erase(front);
+            it = s.cut_point.emplace(key, v).first;
+            s.side[v] = static_cast<int8_t>(side);
+            s.opened.push_back({v, static_cast<int>(lo), static_cast<int>(hi)});
+        }
+    }
+    if (it == s.cut_point.end()) {
+        it = s.cut_point.emplace(key, s.vertex_count()).first;
         s.position.push_back(rest_of(w, e, b));
         s.element.push_back(-1);
         s.bary.emplace_back();
-        s.side.push_back(static_cast<int8_t>(side));
+        s.side.push_back(static_cast<int8_t>(key_side));
     }
-    bind(w, s, it->second, e, side, b, n <= 2 ? whole_element_holding(w, support, n) : -1);
+    bind(w, s, it->second, e, side, b, whole);
     return it->second;
 }
 
@@ -183,32 +199,35 @@ Eigen::Vector4d on_edge(int i, int j, double t) {
     return b;
 }
 
-/// The mesh element other than e holding nodes a, b, c, or -1 (a face on the body's boundary).
-int element_across(const World& w, int e, int a, int b, int c) {
-    for (int k = w.incidence.offset[a]; k < w.incidence.offset[a + 1]; ++k) {
+/// The mesh element other than e holding the nodes of e's face opposite local node o (in 2D its
+/// edge), or -1 (a face on the body's boundary).
+int element_across(const World& w, int e, int o) {
+    const int npe = w.elements.nodes_per_element();
+    const auto& en = w.elements.nodes[e];
+    std::array<int, 3> face{};
+    for (int a = 0, m = 0; a < npe; ++a)
+        if (a != o) face[m++] = en[a];
+    for (int k = w.incidence.offset[face[0]]; k < w.incidence.offset[face[0] + 1]; ++k) {
         const int f = w.incidence.entry[k] >> 2;
-        if (f != e && holds(w, f, b) && holds(w, f, c)) return f;
+        bool all = f != e;
+        for (int m = 1; m < npe - 1; ++m) all = all && holds(w, f, face[m]);
+        if (all) return f;
     }
     return -1;
 }
 
-/// Whether a cut element shows skin on a face along mesh edge a-b: the incision reaches the body's
-/// surface there. Otherwise the cut touches the edge inside the body only (the crack meets the
-/// surface in one point) and the skin on both sides of the edge keeps one copy of the point: the
-/// crack's two lips meet it through the seams (front_seams), which then close the crack by
-/// themselves, and the skin stays one sheet (a zero-length edge shared by four triangles
-/// otherwise).
-bool skin_cut_along(const World& w, int a, int b) {
-    bool cut_skin = false;
-    for_elements_around(w, a, b, [&](int f) {
-        if (cut_skin || !is_cut(w, f)) return;
-        for (int k = 0; k < w.elements.nodes_per_element(); ++k) {
-            const int third = w.elements.nodes[f][k];
-            if (third == a || third == b) continue;
-            if (w.elements.dim == 2 || element_across(w, f, a, b, third) < 0) cut_skin = true;
-        }
-    });
-    return cut_skin;
+int parting_point(World& w, SurfaceMesh& s, int e, int side, int u, int v, bool skin) {
+    if (u == v) return -1;
+    const Eigen::Vector4d bu = local_bary(w, s, e, u), bv = local_bary(w, s, e, v);
+    if (!skin) {  // a cut face's edge: on the front when it lies on a face of e toward a whole element
+        for (int o = 0; o < w.elements.nodes_per_element(); ++o)
+            if (std::abs(bu[o]) < 1e-9 && std::abs(bv[o]) < 1e-9) {
+                const int f = element_across(w, e, o);
+                if (f >= 0 && !is_cut(w, f)) return -1;
+            }
+    }
+    const int mid = surface_point(w, s, e, side, 0.5 * (bu + bv));
+    return s.side[mid] == 0 ? -1 : mid;  // the midpoint is on the front too (u-v along a mesh edge)
 }
 
 }  // namespace surface_cut_detail

@@ -12,7 +12,10 @@ Command add_stress_command(CLI::App& app) {
     cmd->add_option("--budget", o->budget_s, "Wall-time budget for problem 8 [s]")->check(CLI::PositiveNumber);
     cmd->add_option("--seed", o->seed, "Random seed (reproducible)");
     cmd->add_option("--csv", o->csv, "CSV of every case");
-    return {cmd, [o] { return stress_command(*o); }};
+    return {cmd, [o, cmd] {
+                o->csv_given = cmd->count("--csv") > 0;
+                return stress_command(*o);
+            }};
 }
 
 }  // namespace xcut
