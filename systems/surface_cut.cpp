@@ -114,6 +114,16 @@ void remake_pieces(World& w, SurfaceMesh& s, const std::vector<int>& elements) {
 
 }  // namespace
 
+int zero_area_triangles(const SurfaceMesh& s) {
+    int zero = 0;
+    for (const auto& t : s.triangles) {
+        const Vec3 a = s.position[t[1]] - s.position[t[0]], b = s.position[t[2]] - s.position[t[0]];
+        const double longest = std::max({a.squaredNorm(), b.squaredNorm(), (b - a).squaredNorm()});
+        zero += !(a.cross(b).norm() > 1e-12 * longest);
+    }
+    return zero;
+}
+
 void cut_surface(World& w, SurfaceMesh& s, int first_cut) {
     // Elements whose pieces change: the new cut elements and, around each of their crossed edges,
     // the cut ones (points on an edge that has just opened are bound anew) and the whole ones

@@ -10,6 +10,7 @@
 
 #include "components/cut_elements.h"
 #include "systems/pipeline.h"
+#include "systems/surface_cut.h"
 #include "tools/studies/stress.h"
 #include "tests/surface_checks.h"
 
@@ -92,6 +93,8 @@ void expect_closed_after_trajectory(int index, unsigned seed = 1) {
     EXPECT_GT(shared, 0) << "cut elements share crossed edges";
     testing::check_closed_oriented(w.visual);
     testing::check_closed_oriented(w.collision);
+    EXPECT_EQ(zero_area_triangles(w.visual), 0);
+    EXPECT_EQ(zero_area_triangles(w.collision), 0);
 }
 
 TEST(Stress, CutPointOnASkinSubdivisionVertexLeavesClosedSurfaces) { expect_closed_after_trajectory(1); }
@@ -103,6 +106,11 @@ TEST(Stress, CutPointOnASkinSubdivisionVertexLeavesClosedSurfaces) { expect_clos
 class GapTrajectory : public ::testing::TestWithParam<int> {};
 TEST_P(GapTrajectory, LeavesClosedSurfaces) { expect_closed_after_trajectory(GetParam()); }
 INSTANTIATE_TEST_SUITE_P(Stress, GapTrajectory, ::testing::Values(5, 56, 60));
+
+// Trajectories 19, 37 and 45 of seed 1: two crack sheets ending on one mesh edge, or the two lips
+// of an element with both ends of an edge on the front, shared a surface edge with the lips of the
+// next element (pinched: four triangles on one edge), and the seams at the front had no area.
+INSTANTIATE_TEST_SUITE_P(Pinched, GapTrajectory, ::testing::Values(19, 37, 45));
 
 // Trajectory 626 of seed 2: a mesh edge was crossed by a later blade pass at another point than the
 // cut element already holding it (a fallback midpoint), so the crack had two points on one edge

@@ -11,6 +11,7 @@
 #include "engine/io/output.h"
 #include "systems/pipeline.h"
 #include "systems/force_system.h"
+#include "systems/surface_cut.h"
 
 namespace xcut {
 namespace {
@@ -55,20 +56,6 @@ EdgeDefects edge_defects(const SurfaceMesh& s) {
         }
     }
     return d;
-}
-
-/// Triangles of `s` with no area: twice the area below 1e-12 of the longest edge squared (a height
-/// under 2e-12 of the longest edge: zero up to the round-off of positions bound in different
-/// elements), at the current positions, as drawn. A cut at 1e-9 of an edge from a node (problem 7)
-/// leaves real triangles 1e-9 of an edge high: those have area.
-int zero_area_triangles(const SurfaceMesh& s) {
-    int zero = 0;
-    for (const auto& t : s.triangles) {
-        const Vec3 a = s.position[t[1]] - s.position[t[0]], b = s.position[t[2]] - s.position[t[0]];
-        const double longest = std::max({a.squaredNorm(), b.squaredNorm(), (b - a).squaredNorm()});
-        zero += !(a.cross(b).norm() > 1e-12 * longest);
-    }
-    return zero;
 }
 
 /// Steps `sim` `steps` times, recording CG iterations, NaNs and the energy ratio against `work`
