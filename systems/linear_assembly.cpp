@@ -157,15 +157,19 @@ void assemble_step_matrix(World& w, double mass_scale, double stiff_scale) {
     filter_held_axes(w, A);
 }
 
-void linear_multiply(const LinearSystem& A, const Eigen::VectorXd& x, Eigen::VectorXd& y) {
-    y.resize(3 * A.rows());
-    parallel_for(A.rows(), [&](int i) {
+void linear_multiply_rows(const LinearSystem& A, int lo, int hi, const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+    for (int i = lo; i < hi; ++i) {
         Eigen::Vector3d s = Eigen::Vector3d::Zero();
         for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b)
             s += Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(A.value.data() + 9 * b) *
                  x.segment<3>(3 * A.column[b]);
         y.segment<3>(3 * i) = s;
-    }, 2048);
+    }
+}
+
+void linear_multiply(const LinearSystem& A, const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+    y.resize(3 * A.rows());
+    parallel_for(A.rows(), [&](int i) { linear_multiply_rows(A, i, i + 1, x, y); }, 2048);
 }
 
 void block_diagonal_inverse(const LinearSystem& A, std::vector<double>& inverse) {

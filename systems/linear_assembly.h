@@ -24,6 +24,8 @@ void assemble_step_matrix(World& world, double mass_scale, double stiff_scale);
 
 /// y = A x for the assembled A (3 entries per DOF node).
 void linear_multiply(const LinearSystem& A, const Eigen::VectorXd& x, Eigen::VectorXd& y);
+/// The block rows [lo, hi) of y = A x (y sized by the caller), on the calling thread.
+void linear_multiply_rows(const LinearSystem& A, int lo, int hi, const Eigen::VectorXd& x, Eigen::VectorXd& y);
 
 /// The inverses of A's 3x3 diagonal blocks, 9 per node (row-major): the block Jacobi preconditioner.
 void block_diagonal_inverse(const LinearSystem& A, std::vector<double>& inverse);

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "systems/kernels/conjugate_gradient.h"
+#include "systems/kernels/team_cg.h"
 #include "systems/linear_assembly.h"
 
 namespace xcut {
@@ -136,18 +137,26 @@ LinearSolve solve_linear(World& w, const std::function<void(const Eigen::VectorX
     }
     const bool new_pattern = ensure_linear_pattern(w);
     assemble_step_matrix(w, mass_scale, stiff_scale);
-    const auto product = [&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { linear_multiply(A, p, q); };
+    // CG runs as one team per solve (systems/kernels/team_cg.h): the product and the block Jacobi
+    // preconditioner by rows, the Cholesky solve by one thread of the team.
+    const auto product_rows = [&](int lo, int hi, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+        linear_multiply_rows(A, lo, hi, v, out);
+    };
     std::vector<double> block_inverse;
-    const auto block_jacobi = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+    const auto block_jacobi_rows = [&](int lo, int hi, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+        for (int i = lo; i < hi; ++i)
+            z.segment<3>(3 * i) =
+                Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(block_inverse.data() + 9 * i) * r.segment<3>(3 * i);
+    };
+    const auto no_rows = [](int, int, const Eigen::VectorXd&, Eigen::VectorXd&) {};
+    const auto no_whole = [](const Eigen::VectorXd&, Eigen::VectorXd&) {};
+    const auto block_jacobi_cg = [&] {
         if (block_inverse.empty()) block_diagonal_inverse(A, block_inverse);
-        z.resize(r.size());
-        parallel_for(A.rows(), [&](int i) {
-            z.segment<3>(3 * i) = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(block_inverse.data() + 9 * i) *
-                                  r.segment<3>(3 * i);
-        }, 4096);
+        return team_cg(A.rows(), product_rows, true, block_jacobi_rows, no_whole, b, mask, s.cg_tolerance,
+                       s.cg_max_iterations, x);
     };
     if (A.method == "block_jacobi") {
-        accept(preconditioned_cg(product, block_jacobi, b, mask, s.cg_tolerance, s.cg_max_iterations, x));
+        accept(block_jacobi_cg());
         return out;
     }
     // cholesky / direct: a factor, renewed as the policy says; a failed factorization (not SPD)
@@ -160,8 +169,11 @@ LinearSolve solve_linear(World& w, const std::function<void(const Eigen::VectorX
     const auto cholesky = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
         without_library_threads([&] { z = f->llt.solve(r); });
     };
+    const auto cholesky_cg = [&] {
+        return team_cg(A.rows(), product_rows, false, no_rows, cholesky, b, mask, s.cg_tolerance, s.cg_max_iterations, x);
+    };
     const Eigen::VectorXd x0 = x;
-    if (f->ok && accept(preconditioned_cg(product, cholesky, b, mask, s.cg_tolerance, s.cg_max_iterations, x))) {
+    if (f->ok && accept(cholesky_cg())) {
         f->last_iterations = out.cg.iterations;
         ++A.factor_age;
         return out;
@@ -170,7 +182,7 @@ LinearSolve solve_linear(World& w, const std::function<void(const Eigen::VectorX
         x = x0;
         out.refactored = true;
         const int spent = out.cg.iterations;
-        accept(preconditioned_cg(product, cholesky, b, mask, s.cg_tolerance, s.cg_max_iterations, x));
+        accept(cholesky_cg());
         out.cg.iterations += spent;
         f->last_iterations = out.cg.iterations - spent;
         ++A.factor_age;
@@ -179,7 +191,7 @@ LinearSolve solve_linear(World& w, const std::function<void(const Eigen::VectorX
     if (!A.factor->ok) {  // CHOLMOD: not positive definite; block Jacobi still may converge
         x = x0;
         const int spent = out.cg.iterations;
-        accept(preconditioned_cg(product, block_jacobi, b, mask, s.cg_tolerance, s.cg_max_iterations, x));
+        accept(block_jacobi_cg());
         out.cg.iterations += spent;
     }
     return out;

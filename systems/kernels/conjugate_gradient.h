@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "engine/parallel.h"
+#include "systems/solver_system.h"
 
 namespace xcut {
 

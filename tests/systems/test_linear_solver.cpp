@@ -9,6 +9,8 @@
 
 #include "engine/error.h"
 #include "systems/force_system.h"
+#include "systems/kernels/conjugate_gradient.h"
+#include "systems/kernels/team_cg.h"
 #include "systems/linear_assembly.h"
 #include "systems/linear_solver.h"
 #include "systems/pipeline.h"
@@ -22,9 +24,9 @@ using testing::world_from_mesh;
 
 /// A jittered, deformed body with its left face held: rotations and forces as the ForceSystem
 /// leaves them.
-World deformed(bool plate) {
+World deformed(bool plate, const Eigen::Vector3i& cells = Eigen::Vector3i(6, 4, 2)) {
     World w = world_from_mesh(plate ? generate_plate(grid({0.03, 0.02, 0}, {6, 4, 1}, 0.2))
-                                    : generate_box(grid({0.03, 0.02, 0.01}, {6, 4, 2}, 0.2)));
+                                    : generate_box(grid({0.03, 0.02, 0.01}, {cells.x(), cells.y(), cells.z()}, 0.2)));
     w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
     apply_constraints(w);
     std::mt19937_64 rng(3);
@@ -209,6 +211,56 @@ TEST(Watchdog, NonFiniteStateStopsTheRun) {
     auto sim = make_simulation(scene, false);
     EXPECT_THROW(
         for (int i = 0; i < 5; ++i) step_simulation(*sim), NumericalError);
+}
+
+// The team CG (one OpenMP team per solve, Chronopoulos & Gear's single-reduction iteration) on a
+// block large enough for a 2-thread team: 1 and 2 threads give the same bits, it reaches the
+// tolerance in the true residual, and it agrees with textbook PCG (Saad alg. 9.1) to the tolerance.
+TEST(TeamCg, MatchesPcgAndIsThreadIndependent) {
+    World w = deformed(false, Eigen::Vector3i(20, 12, 10));
+    const int n3 = 3 * w.nodes.count();
+    ASSERT_GE(n3, kParallelMin) << "large enough for a team of two";
+    ensure_linear_pattern(w);
+    assemble_step_matrix(w, 1.0, 1e-4);
+    const Eigen::VectorXd mask = free_mask(w);
+    const Eigen::VectorXd b = (w.forces.force + Eigen::VectorXd::Constant(n3, 1e-3)).cwiseProduct(mask);
+    std::vector<double> inverse;
+    block_diagonal_inverse(w.linear, inverse);
+    const auto rows = [&](int lo, int hi, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+        linear_multiply_rows(w.linear, lo, hi, v, out);
+    };
+    const auto jacobi_rows = [&](int lo, int hi, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+        for (int i = lo; i < hi; ++i)
+            z.segment<3>(3 * i) = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(inverse.data() + 9 * i) *
+                                  r.segment<3>(3 * i);
+    };
+    const auto none = [](const Eigen::VectorXd&, Eigen::VectorXd&) {};
+    const double tol = 1e-10;
+    auto solve = [&](int threads, CgResult& result) {
+        set_thread_count(threads);
+        Eigen::VectorXd x = Eigen::VectorXd::Zero(n3);
+        result = team_cg(w.linear.rows(), rows, true, jacobi_rows, none, b, mask, tol, 2000, x);
+        return x;
+    };
+    CgResult one, two;
+    const Eigen::VectorXd x1 = solve(1, one), x2 = solve(2, two);
+    set_thread_count(2);
+    EXPECT_EQ(one.iterations, two.iterations);
+    EXPECT_TRUE(x1 == x2) << "bit-identical for 1 and 2 threads";
+    ASSERT_LE(two.relative_residual, tol);
+    Eigen::VectorXd ax;
+    linear_multiply(w.linear, x2, ax);
+    EXPECT_LE((b - ax).cwiseProduct(mask).norm() / b.norm(), 10 * tol) << "the recurrence residual is the true one";
+    // Textbook PCG with the same preconditioner.
+    Eigen::VectorXd xp = Eigen::VectorXd::Zero(n3);
+    const auto product = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) { linear_multiply(w.linear, v, out); };
+    const auto jacobi = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+        z.resize(r.size());
+        jacobi_rows(0, w.linear.rows(), r, z);
+    };
+    const CgResult pcg = preconditioned_cg(product, jacobi, b, mask, tol, 2000, xp);
+    EXPECT_NEAR(two.iterations, pcg.iterations, 2) << "the same iteration in exact arithmetic";
+    EXPECT_LE((x2 - xp).norm(), 1e-8 * xp.norm());
 }
 
 // With a fixed thread count the cholesky method replays bit for bit; 1 and 2 threads agree to the

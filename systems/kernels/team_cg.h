@@ -1,0 +1,146 @@
+#pragma once
+// Preconditioned conjugate gradients for the assembled linear methods (systems/linear_solver.h) with
+// one synchronisation structure for the whole solve: a single OpenMP team, opened once per solve,
+// runs every iteration, which is one product, one preconditioner application, one fused reduction
+// and the vector updates, separated by barriers (two a iteration with a row-wise preconditioner,
+// three with a serial one). No parallel region is opened inside the iterations, so a descheduled
+// thread costs one wait per barrier, not one per loop (docs/architecture.md, threads).
+//
+// The iteration is Chronopoulos & Gear's single-reduction form of PCG (Chronopoulos & Gear, "s-step
+// iterative methods for symmetric linear systems", J. Comput. Appl. Math. 25, 1989; as written in
+// Ghysels & Vanroose, "Hiding global synchronization latency in the preconditioned conjugate
+// gradient algorithm", Parallel Computing 40, 2014, alg. 2): with u = M^-1 r and w = A u carried
+// along, gamma = (r, u), delta = (w, u) and |r|^2 are summed in one pass, and s = A p is updated by
+// recurrence, so an iteration needs one product and one reduction. In exact arithmetic it is PCG.
+//
+// Reductions are summed in 64 fixed blocks of rows, each block by one thread, the block sums in
+// order by every thread: bit-identical results for any thread count, no atomics. Held entries
+// (mask 0) are projected out of r, u and w. Stops at |r| <= tol |b| or max_iterations.
+#include <omp.h>
+
+#include <Eigen/Core>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "engine/parallel.h"
+#include "systems/solver_system.h"
+
+namespace xcut {
+
+/// `product_rows(lo, hi, v, out)`: out = A v on the block rows [lo, hi) (3 entries each), reading
+/// all of v. `precondition_rows(lo, hi, r, z)`: z = M^-1 r on those rows, when `rowwise`; else
+/// `precondition_all(r, z)` on the whole vector, run by one thread of the team.
+template <class ProductRows, class PreconditionRows, class PreconditionAll>
+CgResult team_cg(int block_rows, ProductRows&& product_rows, bool rowwise, PreconditionRows&& precondition_rows,
+                 PreconditionAll&& precondition_all, const Eigen::VectorXd& b, const Eigen::VectorXd& mask, double tol,
+                 int max_iterations, Eigen::VectorXd& x) {
+    constexpr int kBlocks = 64;
+    const int n = 3 * block_rows;
+    const int per = (block_rows + kBlocks - 1) / kBlocks;
+    Eigen::VectorXd r(n), u(n), w(n), p = Eigen::VectorXd::Zero(n), s = Eigen::VectorXd::Zero(n);
+    // Two sets of block sums, used in turn: a thread may start the next reduction while another
+    // still sums the last one; the one before it is past the barrier between them.
+    std::array<std::array<std::array<double, 3>, kBlocks>, 2> partial{};
+    CgResult result;
+    const int threads = n >= kParallelMin ? thread_count() : 1;
+#pragma omp parallel num_threads(threads)
+    {
+        int reductions = 0;  // the same count in every thread
+        // Row phase: body(lo, hi, acc) over the fixed blocks, then the barrier that ends the loop.
+        // A reducing phase returns the block sums summed in order, the same in every thread.
+        const auto rows = [&](auto&& body, bool reduce = false) {
+            auto& sums = partial[reductions % 2];
+#pragma omp for schedule(static)
+            for (int k = 0; k < kBlocks; ++k) {
+                std::array<double, 3> acc{};
+                const int lo = k * per, hi = std::min(block_rows, lo + per);
+                if (lo < hi) body(lo, hi, acc);
+                if (reduce) sums[k] = acc;
+            }
+            std::array<double, 3> t{};
+            if (!reduce) return t;
+            ++reductions;
+            for (const auto& q : sums)
+                for (int k = 0; k < 3; ++k) t[k] += q[k];
+            return t;
+        };
+        const auto precondition = [&] {  // u = mask M^-1 r, for a serial preconditioner
+            if (rowwise) return;
+#pragma omp single
+            {
+                precondition_all(r, u);
+                u = u.cwiseProduct(mask);
+            }
+        };
+        // The residual's start: x projected, r = mask (b - A x), u = mask M^-1 r, |b|.
+        rows([&](int lo, int hi, auto&) {
+            for (int i = 3 * lo; i < 3 * hi; ++i) x[i] *= mask[i];
+        });
+        const double bnorm = std::sqrt(rows([&](int lo, int hi, auto& acc) {
+            product_rows(lo, hi, x, w);
+            for (int i = 3 * lo; i < 3 * hi; ++i) {
+                r[i] = mask[i] * (b[i] - w[i]);
+                acc[0] += mask[i] * b[i] * b[i];
+            }
+            if (rowwise) {
+                precondition_rows(lo, hi, r, u);
+                for (int i = 3 * lo; i < 3 * hi; ++i) u[i] *= mask[i];
+            }
+        }, true)[0]);
+        precondition();
+        // w = mask A u and the fused reduction: gamma = (r, u), delta = (w, u), |r|^2.
+        const auto product_and_reduce = [&] {
+            return rows([&](int lo, int hi, auto& acc) {
+                product_rows(lo, hi, u, w);
+                for (int i = 3 * lo; i < 3 * hi; ++i) {
+                    w[i] *= mask[i];
+                    acc[0] += r[i] * u[i];
+                    acc[1] += w[i] * u[i];
+                    acc[2] += r[i] * r[i];
+                }
+            }, true);
+        };
+        if (std::isfinite(bnorm) && bnorm > 0.0) {
+            auto [gamma, delta, rr] = product_and_reduce();
+            double alpha = gamma / delta, beta = 0.0;
+            int iterations = 0;
+            while (std::sqrt(rr) > tol * bnorm && iterations < max_iterations && std::isfinite(rr)) {
+                if (!(alpha > 0.0)) break;  // zero or negative curvature: the matrix is not SPD here
+                rows([&](int lo, int hi, auto&) {
+                    for (int i = 3 * lo; i < 3 * hi; ++i) {
+                        p[i] = u[i] + beta * p[i];
+                        s[i] = w[i] + beta * s[i];
+                        x[i] += alpha * p[i];
+                        r[i] -= alpha * s[i];
+                    }
+                    if (rowwise) {
+                        precondition_rows(lo, hi, r, u);
+                        for (int i = 3 * lo; i < 3 * hi; ++i) u[i] *= mask[i];
+                    }
+                });
+                precondition();
+                ++iterations;
+                const auto [gamma_new, delta_new, rr_new] = product_and_reduce();
+                rr = rr_new;
+                beta = gamma_new / gamma;
+                alpha = gamma_new / (delta_new - beta * gamma_new / alpha);
+                gamma = gamma_new;
+            }
+#pragma omp single
+            {
+                result.iterations = iterations;
+                result.relative_residual = std::sqrt(rr) / bnorm;
+            }
+        } else {
+#pragma omp single
+            {
+                if (bnorm == 0.0) x.setZero();  // b = 0: x = 0, converged
+                else result.relative_residual = std::numeric_limits<double>::quiet_NaN();  // NaN or inf forces
+            }
+        }
+    }
+    return result;
+}
+
+}  // namespace xcut
