@@ -33,15 +33,26 @@ template <int D>
 void update_rotations_dim(World& world) {
     Elements& el = world.elements;
     const Vec3* x = world.nodes.position.data();
-    for_each_element<D>(world, [&](int e, const MatD<D>& dm_inv) {
-        const MatD<D> F = edge_matrix<D>(gather_vectors(el.nodes[e], D + 1, x)) * dm_inv;
-        if constexpr (D == 3) {
-            el.rotation[e] = extract_rotation(F, el.rotation[e]);
-        } else {
+    if constexpr (D == 3) {  // four tetrahedra at a time (extract_rotations4); a short last group is padded
+        const int count = el.count(), groups = (count + 3) / 4;
+        parallel_for(groups, [&](int g) {
+            std::array<Mat3, 4> F, warm, R;
+            const int first = 4 * g, n = std::min(4, count - first);
+            for (int k = 0; k < 4; ++k) {
+                const int e = first + std::min(k, n - 1);
+                F[k] = edge_matrix<3>(gather_vectors(el.nodes[e], 4, x)) * el.dm_inv[e];
+                warm[k] = el.rotation[e];
+            }
+            extract_rotations4(F, warm, R);
+            for (int k = 0; k < n; ++k) el.rotation[first + k] = R[k];
+        }, kParallelMin / 4);
+    } else {
+        for_each_element<D>(world, [&](int e, const MatD<D>& dm_inv) {
+            const MatD<D> F = edge_matrix<D>(gather_vectors(el.nodes[e], D + 1, x)) * dm_inv;
             el.rotation[e].setIdentity();
             el.rotation[e].template topLeftCorner<2, 2>() = extract_rotation(F);
-        }
-    });
+        });
+    }
 }
 
 template <int D>

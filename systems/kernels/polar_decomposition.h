@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <array>
 #include <cmath>
 
 namespace xcut {
@@ -55,6 +56,57 @@ inline Eigen::Matrix3d extract_rotation(const Eigen::Matrix3d& F, const Eigen::M
         if (change <= 1e-15 * 1.7320508075688772) break;  // |X|_F = sqrt(3) at convergence
     }
     return X;
+}
+
+/// The polar rotations of four deformation gradients at once (the force pass processes tetrahedra
+/// in fours): the same scaled Newton iteration as extract_rotation, written on 4-wide arrays, one
+/// lane per matrix, so the compiler vectorises it (two SSE2 or one AVX2 instruction an operation).
+/// X^-T is the cofactor matrix over det X. A lane stops changing once its update is below the same
+/// 1e-15 (Frobenius, relative); the loop ends when all four have, or after 30 iterations. A lane
+/// with det F <= 1e-12 |F|^3 (inverted or flat) takes the robust iteration, warm-started from its
+/// `warm_start`, as extract_rotation does. The result agrees with extract_rotation to round-off.
+inline void extract_rotations4(const std::array<Eigen::Matrix3d, 4>& F, const std::array<Eigen::Matrix3d, 4>& warm_start,
+                               std::array<Eigen::Matrix3d, 4>& R) {
+    using A4 = Eigen::Array4d;
+    std::array<A4, 9> X;  // X[3 r + c], lane k: entry (r, c) of matrix k
+    for (int k = 0; k < 4; ++k)
+        for (int i = 0; i < 9; ++i) X[i][k] = F[k](i / 3, i % 3);
+    const auto cofactors = [](const std::array<A4, 9>& m, std::array<A4, 9>& c) {
+        c[0] = m[4] * m[8] - m[5] * m[7], c[1] = m[5] * m[6] - m[3] * m[8], c[2] = m[3] * m[7] - m[4] * m[6];
+        c[3] = m[2] * m[7] - m[1] * m[8], c[4] = m[0] * m[8] - m[2] * m[6], c[5] = m[1] * m[6] - m[0] * m[7];
+        c[6] = m[1] * m[5] - m[2] * m[4], c[7] = m[2] * m[3] - m[0] * m[5], c[8] = m[0] * m[4] - m[1] * m[3];
+    };
+    const auto squared_norm = [](const std::array<A4, 9>& m) {
+        A4 n = A4::Zero();
+        for (const A4& v : m) n += v * v;
+        return n;
+    };
+    std::array<A4, 9> C;
+    cofactors(X, C);
+    const A4 det = X[0] * C[0] + X[1] * C[1] + X[2] * C[2];
+    const A4 norm_f = squared_norm(X).sqrt();
+    const Eigen::Array<bool, 4, 1> robust = !(det > 1e-12 * norm_f * norm_f * norm_f);  // NaN lanes too
+    Eigen::Array<bool, 4, 1> done = robust;
+    for (int it = 0; it < 30 && !done.all(); ++it) {
+        if (it > 0) cofactors(X, C);
+        const A4 d = X[0] * C[0] + X[1] * C[1] + X[2] * C[2];
+        const A4 g = ((squared_norm(C).sqrt() / d.abs()) / squared_norm(X).sqrt()).sqrt();  // Frobenius scaling
+        A4 change = A4::Zero();
+        std::array<A4, 9> next;
+        for (int i = 0; i < 9; ++i) {
+            next[i] = 0.5 * (g * X[i] + C[i] / (d * g));  // X^-T = C / det
+            change += (next[i] - X[i]).square();
+        }
+        for (int i = 0; i < 9; ++i) X[i] = done.select(X[i], next[i]);
+        done = done || (change.sqrt() <= 1e-15 * 1.7320508075688772);
+    }
+    for (int k = 0; k < 4; ++k) {
+        if (robust[k]) {
+            R[k] = extract_rotation_robust(F[k], warm_start[k]);
+            continue;
+        }
+        for (int i = 0; i < 9; ++i) R[k](i / 3, i % 3) = X[i][k];
+    }
 }
 
 inline Eigen::Matrix2d extract_rotation(const Eigen::Matrix2d& F) {

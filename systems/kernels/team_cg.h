@@ -28,6 +28,42 @@
 
 namespace xcut {
 
+namespace team_cg_detail {
+
+constexpr int kBlocks = 64;
+
+/// What the team shares: the vectors, and two sets of block sums used in turn (a thread may start
+/// the next reduction while another still sums the last one; the one before it is past the barrier
+/// between them).
+struct Shared {
+    int block_rows = 0, per = 0;
+    Eigen::VectorXd r, u, w, p, s;
+    std::array<std::array<std::array<double, 3>, kBlocks>, 2> partial{};
+};
+
+/// A row phase, called by every thread of the team: body(lo, hi, acc) over the 64 fixed blocks of
+/// block rows (omp for: the barrier ends it). A reducing phase returns the block sums summed in
+/// order, the same in every thread; `reductions` counts them (the same count in every thread).
+template <class Body>
+std::array<double, 3> rows(Shared& sh, int& reductions, Body&& body, bool reduce) {
+    auto& sums = sh.partial[reductions % 2];
+#pragma omp for schedule(static)
+    for (int k = 0; k < kBlocks; ++k) {
+        std::array<double, 3> acc{};
+        const int lo = k * sh.per, hi = std::min(sh.block_rows, lo + sh.per);
+        if (lo < hi) body(lo, hi, acc);
+        if (reduce) sums[k] = acc;
+    }
+    std::array<double, 3> t{};
+    if (!reduce) return t;
+    ++reductions;
+    for (const auto& q : sums)
+        for (int k = 0; k < 3; ++k) t[k] += q[k];
+    return t;
+}
+
+}  // namespace team_cg_detail
+
 /// `product_rows(lo, hi, v, out)`: out = A v on the block rows [lo, hi) (3 entries each), reading
 /// all of v. `precondition_rows(lo, hi, r, z)`: z = M^-1 r on those rows, when `rowwise`; else
 /// `precondition_all(r, z)` on the whole vector, run by one thread of the team.
@@ -35,37 +71,22 @@ template <class ProductRows, class PreconditionRows, class PreconditionAll>
 CgResult team_cg(int block_rows, ProductRows&& product_rows, bool rowwise, PreconditionRows&& precondition_rows,
                  PreconditionAll&& precondition_all, const Eigen::VectorXd& b, const Eigen::VectorXd& mask, double tol,
                  int max_iterations, Eigen::VectorXd& x) {
-    constexpr int kBlocks = 64;
+    using team_cg_detail::rows;
     const int n = 3 * block_rows;
-    const int per = (block_rows + kBlocks - 1) / kBlocks;
-    Eigen::VectorXd r(n), u(n), w(n), p = Eigen::VectorXd::Zero(n), s = Eigen::VectorXd::Zero(n);
-    // Two sets of block sums, used in turn: a thread may start the next reduction while another
-    // still sums the last one; the one before it is past the barrier between them.
-    std::array<std::array<std::array<double, 3>, kBlocks>, 2> partial{};
+    team_cg_detail::Shared sh;
+    sh.block_rows = block_rows, sh.per = (block_rows + team_cg_detail::kBlocks - 1) / team_cg_detail::kBlocks;
+    sh.r.resize(n), sh.u.resize(n), sh.w.resize(n), sh.p.setZero(n), sh.s.setZero(n);
+    Eigen::VectorXd &r = sh.r, &u = sh.u, &w = sh.w, &p = sh.p, &s = sh.s;
     CgResult result;
-    const int threads = n >= kParallelMin ? thread_count() : 1;
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(n >= kParallelMin ? thread_count() : 1)
     {
-        int reductions = 0;  // the same count in every thread
-        // Row phase: body(lo, hi, acc) over the fixed blocks, then the barrier that ends the loop.
-        // A reducing phase returns the block sums summed in order, the same in every thread.
-        const auto rows = [&](auto&& body, bool reduce = false) {
-            auto& sums = partial[reductions % 2];
-#pragma omp for schedule(static)
-            for (int k = 0; k < kBlocks; ++k) {
-                std::array<double, 3> acc{};
-                const int lo = k * per, hi = std::min(block_rows, lo + per);
-                if (lo < hi) body(lo, hi, acc);
-                if (reduce) sums[k] = acc;
-            }
-            std::array<double, 3> t{};
-            if (!reduce) return t;
-            ++reductions;
-            for (const auto& q : sums)
-                for (int k = 0; k < 3; ++k) t[k] += q[k];
-            return t;
+        int reductions = 0;
+        const auto precondition = [&](int lo, int hi) {  // u = mask M^-1 r on rows, if row-wise
+            if (!rowwise) return;
+            precondition_rows(lo, hi, r, u);
+            for (int i = 3 * lo; i < 3 * hi; ++i) u[i] *= mask[i];
         };
-        const auto precondition = [&] {  // u = mask M^-1 r, for a serial preconditioner
+        const auto precondition_serial = [&] {  // the same for a serial preconditioner
             if (rowwise) return;
 #pragma omp single
             {
@@ -73,71 +94,52 @@ CgResult team_cg(int block_rows, ProductRows&& product_rows, bool rowwise, Preco
                 u = u.cwiseProduct(mask);
             }
         };
-        // The residual's start: x projected, r = mask (b - A x), u = mask M^-1 r, |b|.
-        rows([&](int lo, int hi, auto&) {
+        // The start: x projected, r = mask (b - A x), u = mask M^-1 r, |b|.
+        rows(sh, reductions, [&](int lo, int hi, auto&) {
             for (int i = 3 * lo; i < 3 * hi; ++i) x[i] *= mask[i];
-        });
-        const double bnorm = std::sqrt(rows([&](int lo, int hi, auto& acc) {
+        }, false);
+        const double bnorm = std::sqrt(rows(sh, reductions, [&](int lo, int hi, auto& acc) {
             product_rows(lo, hi, x, w);
-            for (int i = 3 * lo; i < 3 * hi; ++i) {
-                r[i] = mask[i] * (b[i] - w[i]);
-                acc[0] += mask[i] * b[i] * b[i];
-            }
-            if (rowwise) {
-                precondition_rows(lo, hi, r, u);
-                for (int i = 3 * lo; i < 3 * hi; ++i) u[i] *= mask[i];
-            }
+            for (int i = 3 * lo; i < 3 * hi; ++i) r[i] = mask[i] * (b[i] - w[i]), acc[0] += mask[i] * b[i] * b[i];
+            precondition(lo, hi);
         }, true)[0]);
-        precondition();
+        precondition_serial();
         // w = mask A u and the fused reduction: gamma = (r, u), delta = (w, u), |r|^2.
         const auto product_and_reduce = [&] {
-            return rows([&](int lo, int hi, auto& acc) {
+            return rows(sh, reductions, [&](int lo, int hi, auto& acc) {
                 product_rows(lo, hi, u, w);
                 for (int i = 3 * lo; i < 3 * hi; ++i) {
                     w[i] *= mask[i];
-                    acc[0] += r[i] * u[i];
-                    acc[1] += w[i] * u[i];
-                    acc[2] += r[i] * r[i];
+                    acc[0] += r[i] * u[i], acc[1] += w[i] * u[i], acc[2] += r[i] * r[i];
                 }
             }, true);
         };
-        if (std::isfinite(bnorm) && bnorm > 0.0) {
-            auto [gamma, delta, rr] = product_and_reduce();
-            double alpha = gamma / delta, beta = 0.0;
-            int iterations = 0;
-            while (std::sqrt(rr) > tol * bnorm && iterations < max_iterations && std::isfinite(rr)) {
-                if (!(alpha > 0.0)) break;  // zero or negative curvature: the matrix is not SPD here
-                rows([&](int lo, int hi, auto&) {
-                    for (int i = 3 * lo; i < 3 * hi; ++i) {
-                        p[i] = u[i] + beta * p[i];
-                        s[i] = w[i] + beta * s[i];
-                        x[i] += alpha * p[i];
-                        r[i] -= alpha * s[i];
-                    }
-                    if (rowwise) {
-                        precondition_rows(lo, hi, r, u);
-                        for (int i = 3 * lo; i < 3 * hi; ++i) u[i] *= mask[i];
-                    }
-                });
-                precondition();
-                ++iterations;
-                const auto [gamma_new, delta_new, rr_new] = product_and_reduce();
-                rr = rr_new;
-                beta = gamma_new / gamma;
-                alpha = gamma_new / (delta_new - beta * gamma_new / alpha);
-                gamma = gamma_new;
-            }
+        const bool start = std::isfinite(bnorm) && bnorm > 0.0;
+        auto [gamma, delta, rr] = start ? product_and_reduce() : std::array<double, 3>{};
+        double alpha = gamma / delta, beta = 0.0;
+        int iterations = 0;
+        while (start && std::sqrt(rr) > tol * bnorm && iterations < max_iterations && std::isfinite(rr)) {
+            if (!(alpha > 0.0)) break;  // zero or negative curvature: the matrix is not SPD here
+            rows(sh, reductions, [&](int lo, int hi, auto&) {
+                for (int i = 3 * lo; i < 3 * hi; ++i) {
+                    p[i] = u[i] + beta * p[i], s[i] = w[i] + beta * s[i];
+                    x[i] += alpha * p[i], r[i] -= alpha * s[i];
+                }
+                precondition(lo, hi);
+            }, false);
+            precondition_serial();
+            ++iterations;
+            const auto [gamma_new, delta_new, rr_new] = product_and_reduce();
+            rr = rr_new, beta = gamma_new / gamma;
+            alpha = gamma_new / (delta_new - beta * gamma_new / alpha);
+            gamma = gamma_new;
+        }
 #pragma omp single
-            {
-                result.iterations = iterations;
-                result.relative_residual = std::sqrt(rr) / bnorm;
-            }
-        } else {
-#pragma omp single
-            {
-                if (bnorm == 0.0) x.setZero();  // b = 0: x = 0, converged
-                else result.relative_residual = std::numeric_limits<double>::quiet_NaN();  // NaN or inf forces
-            }
+        {
+            result.iterations = iterations;
+            if (start) result.relative_residual = std::sqrt(rr) / bnorm;
+            else if (bnorm == 0.0) x.setZero();  // b = 0: x = 0, converged
+            else result.relative_residual = std::numeric_limits<double>::quiet_NaN();  // NaN or inf forces
         }
     }
     return result;

@@ -27,6 +27,30 @@ TEST(PolarDecomposition, RecoversRotationOfStretchedRotation) {
     }
 }
 
+// Four at a time (the force pass's batches): each lane agrees with the one-at-a-time iteration to
+// round-off, lanes converging after different counts, an inverted lane taking the robust path.
+TEST(PolarDecomposition, FourAtATimeAgreesWithOneAtATime) {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int trial = 0; trial < 50; ++trial) {
+        std::array<Mat3, 4> F, warm, R;
+        for (int k = 0; k < 4; ++k) {  // F = Q P diag(s) P^T, stretches growing by lane
+            const Mat3 P = random_rotation(rng);
+            const double spread = 0.3 * (k + 1);
+            const Vec3 s(std::exp(spread * u(rng)), std::exp(spread * u(rng)), std::exp(spread * u(rng)));
+            F[k] = random_rotation(rng) * P * s.asDiagonal() * P.transpose();
+            warm[k] = Mat3::Identity();
+        }
+        if (trial % 5 == 0) F[trial % 4].col(2) *= -1.0;  // an inverted lane: det F < 0
+        extract_rotations4(F, warm, R);
+        for (int k = 0; k < 4; ++k) {
+            const Mat3 one = extract_rotation(F[k], warm[k]);
+            EXPECT_LT((R[k] - one).norm(), 1e-13) << "trial " << trial << " lane " << k;
+            EXPECT_NEAR(R[k].determinant(), 1.0, 1e-12);
+        }
+    }
+}
+
 TEST(PolarDecomposition, TwoDimensionalIsExact) {
     const double t = 0.7;
     Eigen::Matrix2d R;
