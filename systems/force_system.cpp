@@ -159,6 +159,10 @@ void compute_forces(World& world) {
     const Nodes& nodes = world.nodes;
     parallel_for(nodes.count(), [&](int i) { fs.force.segment<3>(3 * i) += nodes.mass[i] * world.gravity; });
 
+    // The diagonal is the matrix-free method's preconditioner (and static_solve's); the assembled
+    // methods take theirs from the matrix, so a step using one does not make it.
+    const std::string& method = world.linear.method;
+    if (!method.empty() && method != "jacobi") return;
     if (world.elements.dim == 3) {
         stiffness_diagonal_dim<3>(world);
     } else {

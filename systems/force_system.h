@@ -15,7 +15,8 @@ namespace xcut {
 LameParameters lame_of(const Material& material, int dim);
 /// R of every element from the current positions (warm-started from the previous R).
 void update_rotations(World& world);
-/// world.forces.{force, stiffness_diagonal, elastic_energy} from positions, rotations and gravity.
+/// world.forces.{force, stiffness_diagonal, elastic_energy} from positions, rotations and gravity
+/// (stiffness_diagonal only for the matrix-free jacobi method, or before a method is chosen).
 void compute_forces(World& world);
 /// Strain energy [J] at the current positions, each element's rotation extracted from them (the
 /// stored rotations, forces and energy are those of the step's start and are left untouched).

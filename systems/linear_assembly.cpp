@@ -42,7 +42,7 @@ Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> block_at(LinearSystem& 
 
 /// Per element, what its stiffness blocks are made of: the rotated shape gradients r_j = R g_j [1/m]
 /// and stiff_scale V lambda, stiff_scale V mu. Since R is a rotation, g_j . g_k = r_j . r_k, so a
-/// block needs nothing else (corotational_stiffness_block).
+/// block needs nothing else (add_corotational_stiffness_block).
 struct ElementTerms {
     std::array<Vec3, 4> r;
     double lambda_v = 0.0, mu_v = 0.0;
@@ -66,12 +66,12 @@ void element_terms(const World& w, double scale, std::vector<ElementTerms>& term
     }, 2048);
 }
 
-/// Adds row a of element e's stiffness (its terms `t`) to the blocks `slot` of row node a.
+/// Adds row a of element e's stiffness (its terms `t`) to the blocks `slot` of row node a
+/// (add_corotational_stiffness_block, the scales folded into r_a once per row).
 void add_element_row(const ElementTerms& t, int a, int npe, int dim, const std::array<int, 4>& slot, LinearSystem& A) {
     if (t.lambda_v == 0.0 && t.mu_v == 0.0) return;
-    const LameParameters lame{t.lambda_v, t.mu_v};
-    for (int b = 0; b < npe; ++b)
-        block_at(A, slot[b]) += corotational_stiffness_block(t.r[a], t.r[b], t.r[a].dot(t.r[b]), 1.0, lame, dim);
+    const Vec3 lambda_ra = t.lambda_v * t.r[a], mu_ra = t.mu_v * t.r[a];
+    for (int b = 0; b < npe; ++b) add_corotational_stiffness_block(lambda_ra, mu_ra, t.r[b], dim, A.value.data() + 9 * slot[b]);
 }
 
 void add_contacts(const World& w, double scale, LinearSystem& A) {
