@@ -317,6 +317,13 @@ def accuracy_section(d, plt, plots):
         out += ["### Error against run time", ""]
         out += [f"![problem {p}: error against run time]({rel}/{name})\n" for p, name in plot_accuracy.plot(
             plt, rows, plots, plot_accuracy.bands(os.path.join(d, "bench_accuracy.csv")))]
+    elif plots:  # no new plots (--no-plots, no matplotlib): the ones already drawn stay linked
+        rel = os.path.relpath(plots, os.path.dirname(ARGS.doc))
+        drawn = [(p, f"accuracy_problem{p}.png") for p in sorted({r["problem"] for r in rows})]
+        drawn = [(p, name) for p, name in drawn if os.path.exists(os.path.join(plots, name))]
+        if drawn:
+            out += ["### Error against run time", ""]
+            out += [f"![problem {p}: error against run time]({rel}/{name})\n" for p, name in drawn]
     return "\n".join(out).rstrip()
 
 
