@@ -79,17 +79,32 @@ void stiffness_diagonal_dim(World& world) {
     });
 }
 
+/// Element e's part of K p, into its buffer.
+template <int D>
+void stiffness_product_element(World& world, const Vec3* pv, int e) {
+    Elements& el = world.elements;
+    const MatD<D> dm_inv = el.dm_inv[e].template topLeftCorner<D, D>();
+    const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
+    corotational_stiffness_product<D>(gather_vectors(el.nodes[e], D + 1, pv), dm_inv, R, el.rest_volume[e] * el.weight[e],
+                                      lame_of(world.materials.list[el.material[e]], D), world.forces.element_buffer[e]);
+}
+
 template <int D>
 void stiffness_product_dim(World& world, const Eigen::VectorXd& p) {
-    Elements& el = world.elements;
-    auto& buf = world.forces.element_buffer;
     const Vec3* pv = reinterpret_cast<const Vec3*>(p.data());
-    for_each_element<D>(world, [&](int e, const MatD<D>& dm_inv) {
-        const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
-        corotational_stiffness_product<D>(gather_vectors(el.nodes[e], D + 1, pv), dm_inv, R,
-                                          el.rest_volume[e] * el.weight[e],
-                                          lame_of(world.materials.list[el.material[e]], D), buf[e]);
-    });
+    parallel_for(world.elements.count(), [&](int e) { stiffness_product_element<D>(world, pv, e); });
+}
+
+/// Node i's sum of its elements' terms, in incidence order.
+Vec3 gathered(const World& world, int i) {
+    const Incidence& mesh = world.incidence;
+    const Incidence& virt = world.virtual_incidence;
+    const auto& buf = world.forces.element_buffer;
+    Vec3 s = Vec3::Zero();
+    if (i < world.mesh_nodes)
+        for (int k = mesh.offset[i]; k < mesh.offset[i + 1]; ++k) s += buf[mesh.entry[k] >> 2][mesh.entry[k] & 3];
+    for (int k = virt.offset[i]; k < virt.offset[i + 1]; ++k) s += buf[virt.entry[k] >> 2][virt.entry[k] & 3];
+    return s;
 }
 
 template <int D>
@@ -123,18 +138,8 @@ void ensure_buffers(World& world) {
 }  // namespace
 
 void gather_element_terms(const World& world, Eigen::VectorXd& out) {
-    const Incidence& mesh = world.incidence;
-    const Incidence& virt = world.virtual_incidence;
-    const auto& buf = world.forces.element_buffer;
-    const int mesh_nodes = world.mesh_nodes;
     out.resize(3 * world.nodes.count());
-    parallel_for(world.nodes.count(), [&](int i) {
-        Vec3 s = Vec3::Zero();
-        if (i < mesh_nodes)
-            for (int k = mesh.offset[i]; k < mesh.offset[i + 1]; ++k) s += buf[mesh.entry[k] >> 2][mesh.entry[k] & 3];
-        for (int k = virt.offset[i]; k < virt.offset[i + 1]; ++k) s += buf[virt.entry[k] >> 2][virt.entry[k] & 3];
-        out.segment<3>(3 * i) = s;
-    });
+    parallel_for(world.nodes.count(), [&](int i) { out.segment<3>(3 * i) = gathered(world, i); });
 }
 
 void update_rotations(World& world) {
@@ -184,6 +189,27 @@ void stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& 
     }
     gather_element_terms(world, out);
     if (world.contacts.count() > 0) add_contact_stiffness_product(world, p, out);
+}
+
+void prepare_stiffness_product(World& world, Eigen::VectorXd& out) {
+    ensure_buffers(world);
+    out.resize(3 * world.nodes.count());
+}
+
+void stiffness_product_in_team(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) {
+    const Vec3* pv = reinterpret_cast<const Vec3*>(p.data());
+    const int elements = world.elements.count(), nodes = world.nodes.count();
+#pragma omp for schedule(static)
+    for (int e = 0; e < elements; ++e) {
+        if (world.elements.dim == 3) stiffness_product_element<3>(world, pv, e);
+        else stiffness_product_element<2>(world, pv, e);
+    }
+#pragma omp for schedule(static)
+    for (int i = 0; i < nodes; ++i) out.segment<3>(3 * i) = gathered(world, i);
+    if (world.contacts.count() > 0) {
+#pragma omp single
+        add_contact_stiffness_product(world, p, out);
+    }
 }
 
 SystemDesc force_system() {

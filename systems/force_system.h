@@ -23,6 +23,12 @@ void compute_forces(World& world);
 double elastic_energy_now(const World& world);
 /// out = K p (K = -df/dx with rotations frozen, positive semi-definite), 3 entries per node.
 void stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out);
+/// stiffness_product for the threads of an OpenMP team, each calling it (systems/kernels/team_cg.h):
+/// the element pass and the gather are worksharing loops (a barrier after each), the contacts one
+/// thread's. Same sums in the same order: the same bits as stiffness_product. Before the team,
+/// prepare_stiffness_product sizes the buffers and `out`.
+void stiffness_product_in_team(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out);
+void prepare_stiffness_product(World& world, Eigen::VectorXd& out);
 /// Sums per-element nodal terms into per-node entries in a fixed order (node -> element incidence).
 void gather_element_terms(const World& world, Eigen::VectorXd& out);
 

@@ -9,7 +9,7 @@
 #include <exception>
 #include <fmt/format.h>
 
-#include "systems/kernels/conjugate_gradient.h"
+#include "systems/force_system.h"
 #include "systems/kernels/team_cg.h"
 #include "systems/linear_assembly.h"
 
@@ -119,9 +119,33 @@ std::string resolve_linear_method(const World& w, std::string* why) {
     return fits ? "cholesky" : "block_jacobi";
 }
 
-LinearSolve solve_linear(World& w, const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& apply,
-                         const std::function<Eigen::VectorXd()>& inverse_diagonal, double mass_scale, double stiff_scale,
-                         const Eigen::VectorXd& b, const Eigen::VectorXd& mask, Eigen::VectorXd& x) {
+namespace {
+
+/// The jacobi method: matrix-free, A p = mass_scale M p + stiff_scale K p (stiffness_product_in_team),
+/// preconditioned by diag(A)^-1 (the paper's solver).
+CgResult jacobi_cg(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b, const Eigen::VectorXd& mask,
+                   Eigen::VectorXd& x) {
+    const int nodes = w.nodes.count();
+    Eigen::VectorXd inverse(3 * nodes), scratch;
+    for (int i = 0; i < 3 * nodes; ++i)
+        inverse[i] = 1.0 / (mass_scale * w.nodes.mass[i / 3] + stiff_scale * w.forces.stiffness_diagonal[i]);
+    prepare_stiffness_product(w, scratch);
+    const auto product = [&](const Eigen::VectorXd& p, Eigen::VectorXd& q) {
+        stiffness_product_in_team(w, p, q);
+#pragma omp for schedule(static)
+        for (int i = 0; i < 3 * nodes; ++i) q[i] = mass_scale * w.nodes.mass[i / 3] * p[i] + stiff_scale * q[i];
+    };
+    const auto jacobi_rows = [&](int lo, int hi, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+        for (int i = 3 * lo; i < 3 * hi; ++i) z[i] = r[i] * inverse[i];
+    };
+    const auto no_whole = [](const Eigen::VectorXd&, Eigen::VectorXd&) {};
+    return team_cg(nodes, product, true, jacobi_rows, no_whole, b, mask, w.solver.cg_tolerance, w.solver.cg_max_iterations, x);
+}
+
+}  // namespace
+
+LinearSolve solve_linear(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
+                         const Eigen::VectorXd& mask, Eigen::VectorXd& x) {
     const SolverSettings& s = w.solver;
     LinearSystem& A = w.linear;
     if (A.method.empty()) A.method = resolve_linear_method(w);
@@ -131,16 +155,19 @@ LinearSolve solve_linear(World& w, const std::function<void(const Eigen::VectorX
         out.converged = cg.relative_residual <= s.cg_tolerance;
         return out.converged;
     };
+    const auto no_whole = [](const Eigen::VectorXd&, Eigen::VectorXd&) {};
+    const int nodes = w.nodes.count();
     if (A.method == "jacobi") {
-        accept(conjugate_gradient(apply, b, inverse_diagonal(), mask, s.cg_tolerance, s.cg_max_iterations, x));
+        accept(jacobi_cg(w, mass_scale, stiff_scale, b, mask, x));
         return out;
     }
     const bool new_pattern = ensure_linear_pattern(w);
     assemble_step_matrix(w, mass_scale, stiff_scale);
     // CG runs as one team per solve (systems/kernels/team_cg.h): the product and the block Jacobi
     // preconditioner by rows, the Cholesky solve by one thread of the team.
-    const auto product_rows = [&](int lo, int hi, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
-        linear_multiply_rows(A, lo, hi, v, out);
+    const auto product = [&](const Eigen::VectorXd& v, Eigen::VectorXd& q) {
+#pragma omp for schedule(static)
+        for (int i = 0; i < nodes; ++i) linear_multiply_rows(A, i, i + 1, v, q);
     };
     std::vector<double> block_inverse;
     const auto block_jacobi_rows = [&](int lo, int hi, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
@@ -149,10 +176,9 @@ LinearSolve solve_linear(World& w, const std::function<void(const Eigen::VectorX
                 Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(block_inverse.data() + 9 * i) * r.segment<3>(3 * i);
     };
     const auto no_rows = [](int, int, const Eigen::VectorXd&, Eigen::VectorXd&) {};
-    const auto no_whole = [](const Eigen::VectorXd&, Eigen::VectorXd&) {};
     const auto block_jacobi_cg = [&] {
         if (block_inverse.empty()) block_diagonal_inverse(A, block_inverse);
-        return team_cg(A.rows(), product_rows, true, block_jacobi_rows, no_whole, b, mask, s.cg_tolerance,
+        return team_cg(A.rows(), product, true, block_jacobi_rows, no_whole, b, mask, s.cg_tolerance,
                        s.cg_max_iterations, x);
     };
     if (A.method == "block_jacobi") {
@@ -170,7 +196,7 @@ LinearSolve solve_linear(World& w, const std::function<void(const Eigen::VectorX
         without_library_threads([&] { z = f->llt.solve(r); });
     };
     const auto cholesky_cg = [&] {
-        return team_cg(A.rows(), product_rows, false, no_rows, cholesky, b, mask, s.cg_tolerance, s.cg_max_iterations, x);
+        return team_cg(A.rows(), product, false, no_rows, cholesky, b, mask, s.cg_tolerance, s.cg_max_iterations, x);
     };
     const Eigen::VectorXd x0 = x;
     if (f->ok && accept(cholesky_cg())) {

@@ -14,7 +14,6 @@
 //  - "auto": cholesky while its factor's estimated memory fits in a quarter of the machine's,
 //    block_jacobi beyond.
 #include <Eigen/Core>
-#include <functional>
 #include <string>
 
 #include "engine/world.h"
@@ -31,12 +30,12 @@ struct LinearSolve {
     bool refactored = false; ///< a stale factor was renewed to reach it
 };
 
-/// A x = b for the step: the jacobi method multiplies matrix-free through `apply` with the diagonal
-/// inverse `inverse_diagonal()` (called only by that method); the others assemble A (mass_scale, stiff_scale) into world.linear first.
-/// `x` holds the first guess. A solve above tolerance with a factor older than this step is retried
-/// once with a fresh factor.
-LinearSolve solve_linear(World& world, const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& apply,
-                         const std::function<Eigen::VectorXd()>& inverse_diagonal, double mass_scale, double stiff_scale,
-                         const Eigen::VectorXd& b, const Eigen::VectorXd& mask, Eigen::VectorXd& x);
+/// A x = b for the step, A = mass_scale M + stiff_scale (K + K_c): the jacobi method multiplies
+/// matrix-free (systems/force_system.h) with diag(A)^-1 from world.forces.stiffness_diagonal; the
+/// others assemble A into world.linear first. Every method runs CG as one OpenMP team
+/// (systems/kernels/team_cg.h). `x` holds the first guess. A solve above tolerance with a factor
+/// older than this step is retried once with a fresh factor.
+LinearSolve solve_linear(World& world, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
+                         const Eigen::VectorXd& mask, Eigen::VectorXd& x);
 
 }  // namespace xcut

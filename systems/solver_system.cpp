@@ -74,15 +74,8 @@ LinearSolve euler_substep(World& world, double h, const Eigen::VectorXd& m3, con
     Eigen::VectorXd kv;
     stiffness_product(world, v, kv);
     Eigen::VectorXd b = h * world.forces.force - stiff_scale * kv - h * s.damping_mass * m3.cwiseProduct(v);
-    const auto inverse_diagonal = [&] {  // the jacobi method's preconditioner, made only if it runs
-        return (mass_scale * m3 + stiff_scale * world.forces.stiffness_diagonal).cwiseInverse().eval();
-    };
-    auto apply = [&](const Eigen::VectorXd& p, Eigen::VectorXd& out) {
-        stiffness_product(world, p, out);
-        parallel_for(n3, [&](int i) { out[i] = mass_scale * m3[i] * p[i] + stiff_scale * out[i]; });
-    };
     Eigen::VectorXd dv = world.forces.last_dv.size() == n3 ? world.forces.last_dv : Eigen::VectorXd::Zero(n3);
-    LinearSolve total = solve_linear(world, apply, inverse_diagonal, mass_scale, stiff_scale, b, mask, dv);
+    LinearSolve total = solve_linear(world, mass_scale, stiff_scale, b, mask, dv);
     int newton = 1;
     if (total.converged && s.newton_iterations > 1) {
         // Newton on the nonlinear step (rotations, forces and K re-evaluated at x_n + h v_k) until
@@ -102,7 +95,7 @@ LinearSolve euler_substep(World& world, double h, const Eigen::VectorXd& m3, con
             const double r = std::sqrt(deterministic_dot(b.cwiseProduct(mask), b.cwiseProduct(mask)));
             if (!(r > s.newton_tolerance * r0)) break;
             Eigen::VectorXd delta = Eigen::VectorXd::Zero(n3);
-            const LinearSolve step = solve_linear(world, apply, inverse_diagonal, mass_scale, stiff_scale, b, mask, delta);
+            const LinearSolve step = solve_linear(world, mass_scale, stiff_scale, b, mask, delta);
             total.cg.iterations += step.cg.iterations;
             total.cg.relative_residual = step.cg.relative_residual;
             total.converged = step.converged;

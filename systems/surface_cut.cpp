@@ -150,8 +150,9 @@ void cut_surface(World& w, SurfaceMesh& s, int first_cut) {
         const std::vector<std::array<int, 3>> opened = std::move(s.opened);
         s.opened.clear();
         std::vector<int> again;
-        for (const auto& [v, a, b] : opened)
-            for_elements_around(w, a, b, [&](int f) {
+        for (const auto& point : opened) {
+            const int v = point[0];
+            for_elements_around(w, point[1], point[2], [&](int f) {
                 for (int t : s.pieces_of[f]) {
                     const auto& tri = s.triangles[t];
                     if (tri[0] == v || tri[1] == v || tri[2] == v) {
@@ -160,6 +161,7 @@ void cut_surface(World& w, SurfaceMesh& s, int first_cut) {
                     }
                 }
             });
+        }
         std::sort(again.begin(), again.end());
         again.erase(std::unique(again.begin(), again.end()), again.end());
         remake_pieces(w, s, again);

@@ -1,10 +1,10 @@
 #pragma once
-// Preconditioned conjugate gradients for the assembled linear methods (systems/linear_solver.h) with
+// Preconditioned conjugate gradients for every linear method (systems/linear_solver.h) with
 // one synchronisation structure for the whole solve: a single OpenMP team, opened once per solve,
 // runs every iteration, which is one product, one preconditioner application, one fused reduction
-// and the vector updates, separated by barriers (two a iteration with a row-wise preconditioner,
-// three with a serial one). No parallel region is opened inside the iterations, so a descheduled
-// thread costs one wait per barrier, not one per loop (docs/architecture.md, threads).
+// and the vector updates, separated by barriers (three an iteration with the assembled product and
+// a row-wise preconditioner; the matrix-free product adds its gather's). No parallel region is
+// opened inside the iterations (docs/architecture.md, parallelism).
 //
 // The iteration is Chronopoulos & Gear's single-reduction form of PCG (Chronopoulos & Gear, "s-step
 // iterative methods for symmetric linear systems", J. Comput. Appl. Math. 25, 1989; as written in
@@ -64,11 +64,12 @@ std::array<double, 3> rows(Shared& sh, int& reductions, Body&& body, bool reduce
 
 }  // namespace team_cg_detail
 
-/// `product_rows(lo, hi, v, out)`: out = A v on the block rows [lo, hi) (3 entries each), reading
-/// all of v. `precondition_rows(lo, hi, r, z)`: z = M^-1 r on those rows, when `rowwise`; else
+/// `product(v, out)`: out = A v, called by every thread of the team; its loops are worksharing
+/// loops (`omp for`, a barrier at their end), so `out` is whole when it returns (out is sized).
+/// `precondition_rows(lo, hi, r, z)`: z = M^-1 r on the block rows [lo, hi), when `rowwise`; else
 /// `precondition_all(r, z)` on the whole vector, run by one thread of the team.
-template <class ProductRows, class PreconditionRows, class PreconditionAll>
-CgResult team_cg(int block_rows, ProductRows&& product_rows, bool rowwise, PreconditionRows&& precondition_rows,
+template <class Product, class PreconditionRows, class PreconditionAll>
+CgResult team_cg(int block_rows, Product&& product, bool rowwise, PreconditionRows&& precondition_rows,
                  PreconditionAll&& precondition_all, const Eigen::VectorXd& b, const Eigen::VectorXd& mask, double tol,
                  int max_iterations, Eigen::VectorXd& x) {
     using team_cg_detail::rows;
@@ -98,16 +99,16 @@ CgResult team_cg(int block_rows, ProductRows&& product_rows, bool rowwise, Preco
         rows(sh, reductions, [&](int lo, int hi, auto&) {
             for (int i = 3 * lo; i < 3 * hi; ++i) x[i] *= mask[i];
         }, false);
+        product(x, w);
         const double bnorm = std::sqrt(rows(sh, reductions, [&](int lo, int hi, auto& acc) {
-            product_rows(lo, hi, x, w);
             for (int i = 3 * lo; i < 3 * hi; ++i) r[i] = mask[i] * (b[i] - w[i]), acc[0] += mask[i] * b[i] * b[i];
             precondition(lo, hi);
         }, true)[0]);
         precondition_serial();
         // w = mask A u and the fused reduction: gamma = (r, u), delta = (w, u), |r|^2.
         const auto product_and_reduce = [&] {
+            product(u, w);
             return rows(sh, reductions, [&](int lo, int hi, auto& acc) {
-                product_rows(lo, hi, u, w);
                 for (int i = 3 * lo; i < 3 * hi; ++i) {
                     w[i] *= mask[i];
                     acc[0] += r[i] * u[i], acc[1] += w[i] * u[i], acc[2] += r[i] * r[i];
@@ -115,8 +116,11 @@ CgResult team_cg(int block_rows, ProductRows&& product_rows, bool rowwise, Preco
             }, true);
         };
         const bool start = std::isfinite(bnorm) && bnorm > 0.0;
-        auto [gamma, delta, rr] = start ? product_and_reduce() : std::array<double, 3>{};
-        double alpha = gamma / delta, beta = 0.0;
+        // Plain scalars (no structured bindings: an OpenMP construct below reads them, which
+        // clang does not allow of a binding).
+        const std::array<double, 3> first = start ? product_and_reduce() : std::array<double, 3>{};
+        double gamma = first[0], rr = first[2];
+        double alpha = gamma / first[1], beta = 0.0;
         int iterations = 0;
         while (start && std::sqrt(rr) > tol * bnorm && iterations < max_iterations && std::isfinite(rr)) {
             if (!(alpha > 0.0)) break;  // zero or negative curvature: the matrix is not SPD here
@@ -129,10 +133,10 @@ CgResult team_cg(int block_rows, ProductRows&& product_rows, bool rowwise, Preco
             }, false);
             precondition_serial();
             ++iterations;
-            const auto [gamma_new, delta_new, rr_new] = product_and_reduce();
-            rr = rr_new, beta = gamma_new / gamma;
-            alpha = gamma_new / (delta_new - beta * gamma_new / alpha);
-            gamma = gamma_new;
+            const std::array<double, 3> next = product_and_reduce();  // gamma, delta, |r|^2
+            rr = next[2], beta = next[0] / gamma;
+            alpha = next[0] / (next[1] - beta * next[0] / alpha);
+            gamma = next[0];
         }
 #pragma omp single
         {
