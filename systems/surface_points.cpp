@@ -148,6 +148,10 @@ int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector
         }
     }
     if (it == s.cut_point.end()) {
+        // A node's copy for the side across from its own: pieces made while the lips met at the
+        // node's base vertex (a whole element held it) are made again.
+        if (n == 1 && s.node_vertex[support[0]] >= 0)
+            s.opened.push_back({s.node_vertex[support[0]], support[0], support[0]});
         it = s.cut_point.emplace(key, s.vertex_count()).first;
         s.position.push_back(rest_of(w, e, b));
         s.element.push_back(-1);
