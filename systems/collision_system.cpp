@@ -10,6 +10,7 @@
 #include <fcl/narrowphase/detail/traversal/collision/mesh_shape_collision_traversal_node.h>
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 
+#include "systems/force_system.h"
 #include "systems/mapping_system.h"
 #include "systems/kernels/tool_shape_depth.h"
 
@@ -160,6 +161,7 @@ void apply_contact_forces(World& w) {
     tb.reaction_torque.assign(tb.count(), Vec3::Zero());
     Eigen::VectorXd& f = w.forces.force;
     Eigen::VectorXd& diag = w.forces.stiffness_diagonal;
+    const bool diagonal = stiffness_diagonal_used(w);  // else it is not made this step: nothing to add to
     const int npe = w.elements.nodes_per_element();
     for (int k = 0; k < c.count(); ++k) {  // serial, in contact order: deterministic sums
         const int i = c.tool[k];
@@ -172,7 +174,7 @@ void apply_contact_forces(World& w) {
         for (int a = 0; a < npe; ++a) {
             const double wa = c.bary[k][a];
             f.segment<3>(3 * nodes[a]) += wa * c.force[k];
-            diag.segment<3>(3 * nodes[a]) += wa * wa * c.stiffness[k] * n.cwiseProduct(n);
+            if (diagonal) diag.segment<3>(3 * nodes[a]) += wa * wa * c.stiffness[k] * n.cwiseProduct(n);
         }
         tb.reaction_force[i] -= c.force[k];
         tb.reaction_torque[i] -= (w.collision.position[c.vertex[k]] - tb.position[i]).cross(c.force[k]);

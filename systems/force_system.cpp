@@ -164,16 +164,22 @@ void compute_forces(World& world) {
     const Nodes& nodes = world.nodes;
     parallel_for(nodes.count(), [&](int i) { fs.force.segment<3>(3 * i) += nodes.mass[i] * world.gravity; });
 
-    // The diagonal is the matrix-free method's preconditioner (and static_solve's); the assembled
-    // methods take theirs from the matrix, so a step using one does not make it.
+    if (stiffness_diagonal_used(world)) compute_stiffness_diagonal(world);
+}
+
+bool stiffness_diagonal_used(const World& world) {
     const std::string& method = world.linear.method;
-    if (!method.empty() && method != "jacobi") return;
+    return method.empty() || method == "jacobi";
+}
+
+void compute_stiffness_diagonal(World& world) {
+    ensure_buffers(world);
     if (world.elements.dim == 3) {
         stiffness_diagonal_dim<3>(world);
     } else {
         stiffness_diagonal_dim<2>(world);
     }
-    gather_element_terms(world, fs.stiffness_diagonal);
+    gather_element_terms(world, world.forces.stiffness_diagonal);
 }
 
 double elastic_energy_now(const World& world) {
@@ -191,10 +197,7 @@ void stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& 
     if (world.contacts.count() > 0) add_contact_stiffness_product(world, p, out);
 }
 
-void prepare_stiffness_product(World& world, Eigen::VectorXd& out) {
-    ensure_buffers(world);
-    out.resize(3 * world.nodes.count());
-}
+void prepare_stiffness_product(World& world) { ensure_buffers(world); }
 
 void stiffness_product_in_team(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) {
     const Vec3* pv = reinterpret_cast<const Vec3*>(p.data());

@@ -121,15 +121,19 @@ std::string resolve_linear_method(const World& w, std::string* why) {
 
 namespace {
 
+/// The preconditioner a team_cg call does not use: the row-wise one, or the whole-vector one.
+void no_rows(int, int, const Eigen::VectorXd&, Eigen::VectorXd&) {}
+void no_whole(const Eigen::VectorXd&, Eigen::VectorXd&) {}
+
 /// The jacobi method: matrix-free, A p = mass_scale M p + stiff_scale K p (stiffness_product_in_team),
 /// preconditioned by diag(A)^-1 (the paper's solver).
 CgResult jacobi_cg(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b, const Eigen::VectorXd& mask,
                    Eigen::VectorXd& x) {
     const int nodes = w.nodes.count();
-    Eigen::VectorXd inverse(3 * nodes), scratch;
+    Eigen::VectorXd inverse(3 * nodes);
     for (int i = 0; i < 3 * nodes; ++i)
         inverse[i] = 1.0 / (mass_scale * w.nodes.mass[i / 3] + stiff_scale * w.forces.stiffness_diagonal[i]);
-    prepare_stiffness_product(w, scratch);
+    prepare_stiffness_product(w);
     const auto product = [&](const Eigen::VectorXd& p, Eigen::VectorXd& q) {
         stiffness_product_in_team(w, p, q);
 #pragma omp for schedule(static)
@@ -138,7 +142,6 @@ CgResult jacobi_cg(World& w, double mass_scale, double stiff_scale, const Eigen:
     const auto jacobi_rows = [&](int lo, int hi, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
         for (int i = 3 * lo; i < 3 * hi; ++i) z[i] = r[i] * inverse[i];
     };
-    const auto no_whole = [](const Eigen::VectorXd&, Eigen::VectorXd&) {};
     return team_cg(nodes, product, true, jacobi_rows, no_whole, b, mask, w.solver.cg_tolerance, w.solver.cg_max_iterations, x);
 }
 
@@ -155,7 +158,6 @@ LinearSolve solve_linear(World& w, double mass_scale, double stiff_scale, const 
         out.converged = cg.relative_residual <= s.cg_tolerance;
         return out.converged;
     };
-    const auto no_whole = [](const Eigen::VectorXd&, Eigen::VectorXd&) {};
     const int nodes = w.nodes.count();
     if (A.method == "jacobi") {
         accept(jacobi_cg(w, mass_scale, stiff_scale, b, mask, x));
@@ -175,7 +177,6 @@ LinearSolve solve_linear(World& w, double mass_scale, double stiff_scale, const 
             z.segment<3>(3 * i) =
                 Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(block_inverse.data() + 9 * i) * r.segment<3>(3 * i);
     };
-    const auto no_rows = [](int, int, const Eigen::VectorXd&, Eigen::VectorXd&) {};
     const auto block_jacobi_cg = [&] {
         if (block_inverse.empty()) block_diagonal_inverse(A, block_inverse);
         return team_cg(A.rows(), product, true, block_jacobi_rows, no_whole, b, mask, s.cg_tolerance,

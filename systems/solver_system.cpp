@@ -239,6 +239,7 @@ StaticResult static_solve(World& world, double tolerance, int max_newton, double
     for (; result.newton_iterations < max_newton; ++result.newton_iterations) {
         update_rotations(world);
         compute_forces(world);
+        if (!stiffness_diagonal_used(world)) compute_stiffness_diagonal(world);  // its Jacobi CG's, whatever the step uses
         if (load.size() > 0) world.forces.force += load;
         const Eigen::VectorXd f = world.forces.force.cwiseProduct(mask);
         const double fnorm = std::sqrt(deterministic_dot(f, f));

@@ -271,7 +271,8 @@ TEST(TeamCg, MatrixFreeProductInTeamMatchesTheProduct) {
     const int n3 = 3 * w.nodes.count();
     Eigen::VectorXd p = Eigen::VectorXd::LinSpaced(n3, -1.0, 1.0), reference, in_team;
     stiffness_product(w, p, reference);
-    prepare_stiffness_product(w, in_team);
+    prepare_stiffness_product(w);
+    in_team.resize(n3);
 #pragma omp parallel num_threads(2)
     stiffness_product_in_team(w, p, in_team);
     EXPECT_TRUE(in_team == reference);
