@@ -19,6 +19,8 @@ namespace xcut {
 
 /// A factor the solver keeps between steps (CHOLMOD's supernodal Cholesky); opaque here.
 struct LinearFactor;
+/// The smoothed-aggregation hierarchy the amg method keeps (systems/kernels/amg.h); opaque here.
+struct AmgHierarchy;
 
 struct LinearSystem {
     // Pattern: block rows are DOF nodes; columns the nodes they share an element with.
@@ -38,11 +40,12 @@ struct LinearSystem {
 
     // The solver's state between steps.
     std::shared_ptr<LinearFactor> factor;  ///< the preconditioner factor, if the method keeps one
+    std::shared_ptr<AmgHierarchy> amg;     ///< the multigrid hierarchy, if the method is amg
     int factor_age = 0;                    ///< steps since the factor was computed
-    int factorizations = 0;                ///< numeric factorizations so far (for metrics)
+    int factorizations = 0;                ///< numeric factorizations (or amg hierarchies built) so far
     int symbolic_factorizations = 0;       ///< symbolic (pattern) analyses so far
-    double factor_nonzeros = 0.0;          ///< non-zeros of the Cholesky factor L (8 bytes each, plus indices)
-    std::string method;                    ///< the method in use: jacobi, block_jacobi, cholesky, direct
+    double factor_nonzeros = 0.0;          ///< non-zeros of the Cholesky factor L or the amg hierarchy (12 bytes each)
+    std::string method;                    ///< the method in use: jacobi, block_jacobi, amg, cholesky, direct
 };
 
 }  // namespace xcut

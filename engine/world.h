@@ -57,8 +57,9 @@ struct SolverSettings {
     int newton_iterations = 1;       ///< "newton.iterations": 1 = the once-linearized step (paper)
     double newton_tolerance = 1e-6;  ///< "newton.tolerance": residual relative to the first [-]
     /// "linear": how the step's system is solved (systems/linear_solver.h): "auto", "jacobi"
-    /// (matrix-free Jacobi CG), "block_jacobi" (assembled, 3x3 block Jacobi CG), "cholesky" (CG
-    /// preconditioned by a kept Cholesky factor), "direct" (factor and solve every step).
+    /// (matrix-free Jacobi CG), "block_jacobi" (assembled, 3x3 block Jacobi CG), "amg" (CG
+    /// preconditioned by a kept smoothed-aggregation multigrid), "cholesky" (CG preconditioned by a
+    /// kept Cholesky factor), "direct" (factor and solve every step).
     std::string linear = "auto";
     int refactor_iterations = 8;     ///< "refactor_iterations": cholesky refactors when CG needs more [-]
     int refactor_every = 200;        ///< "refactor_every": ... or when the factor is this many steps old

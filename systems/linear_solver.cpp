@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "systems/force_system.h"
+#include "systems/kernels/amg.h"
 #include "systems/kernels/team_cg.h"
 #include "systems/linear_assembly.h"
 
@@ -43,35 +44,6 @@ void without_library_threads(F&& f) {
     omp_set_max_active_levels(levels);
 }
 
-/// The scalar matrix of A: row 3i + r holds, block by block in column order, entries 3j + c.
-void copy_to_scalar(const LinearSystem& A, Eigen::SparseMatrix<double>& S, bool structure) {
-    const int n = A.rows();
-    if (structure) {
-        S.resize(3 * n, 3 * n);
-        S.resizeNonZeros(9 * A.blocks());
-        int* outer = S.outerIndexPtr();
-        int* inner = S.innerIndexPtr();
-        outer[0] = 0;
-        for (int i = 0; i < n; ++i) {
-            const int width = 3 * (A.row_offset[i + 1] - A.row_offset[i]);
-            for (int r = 0; r < 3; ++r) {
-                int at = outer[3 * i + r];
-                for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b)
-                    for (int c = 0; c < 3; ++c) inner[at++] = 3 * A.column[b] + c;
-                outer[3 * i + r + 1] = outer[3 * i + r] + width;
-            }
-        }
-    }
-    double* value = S.valuePtr();
-    const int* outer = S.outerIndexPtr();
-    for (int i = 0; i < n; ++i)
-        for (int r = 0; r < 3; ++r) {
-            int at = outer[3 * i + r];
-            for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b)
-                for (int c = 0; c < 3; ++c) value[at++] = A.value[9 * b + 3 * r + c];
-        }
-}
-
 /// Factors A (symbolically too when the pattern changed). False if CHOLMOD found it not SPD.
 bool factorize(World& w) {
     LinearSystem& A = w.linear;
@@ -94,6 +66,8 @@ bool factorize(World& w) {
     return f.ok;
 }
 
+constexpr int kAutoCholeskyDofs = 10000;  // auto: cholesky up to this many DOFs, amg beyond
+
 double physical_memory_bytes() {
     const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
     return pages > 0 && size > 0 ? double(pages) * double(size) : 8e9;
@@ -107,16 +81,21 @@ std::string resolve_linear_method(const World& w, std::string* why) {
         if (why) *why = "set in the scene";
         return asked;
     }
-    // Supernodal Cholesky fill of a 3D tet mesh under nested dissection grows like n^(4/3): about
-    // 17 n^(4/3) non-zeros for n DOFs, fitted on blocks of 2k-53k tets (15 M at 53k), 12 bytes each.
+    // Up to kAutoCholeskyDofs the kept factor's 1-5 iterations win; past it the triangular solves
+    // grow like the fill and the multigrid cycle wins (xcut bench --suite solver: 2 threads, the
+    // 24k-tet block with 13k DOFs ran 32 steps/s with amg against 20 with cholesky; the default
+    // scene, 3.9k DOFs, 210 with cholesky against 130). Supernodal Cholesky fill of a 3D tet mesh
+    // under nested dissection grows like n^(4/3): about 17 n^(4/3) non-zeros for n DOFs, fitted on
+    // blocks of 2k-53k tets (15 M at 53k), 12 bytes each; it must fit in a quarter of memory.
     const double dofs = 3.0 * w.nodes.count();
     const double bytes = 12.0 * 17.0 * std::pow(dofs, w.elements.dim == 3 ? 4.0 / 3.0 : 1.1);
     const double budget = 0.25 * physical_memory_bytes();
-    const bool fits = bytes <= budget;
+    const bool small = dofs <= kAutoCholeskyDofs, fits = bytes <= budget;
     if (why)
-        *why = fmt::format("auto: factor ~{:.0f} MB {} a quarter of memory ({:.0f} MB)", bytes / 1e6,
-                           fits ? "within" : "beyond", budget / 1e6);
-    return fits ? "cholesky" : "block_jacobi";
+        *why = !small ? fmt::format("auto: {:.0f} DOFs, over {}", dofs, kAutoCholeskyDofs)
+                      : fmt::format("auto: factor ~{:.0f} MB {} a quarter of memory ({:.0f} MB)", bytes / 1e6,
+                                    fits ? "within" : "beyond", budget / 1e6);
+    return small && fits ? "cholesky" : "amg";
 }
 
 namespace {
@@ -142,85 +121,148 @@ CgResult jacobi_cg(World& w, double mass_scale, double stiff_scale, const Eigen:
     const auto jacobi_rows = [&](int lo, int hi, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
         for (int i = 3 * lo; i < 3 * hi; ++i) z[i] = r[i] * inverse[i];
     };
-    return team_cg(nodes, product, true, jacobi_rows, no_whole, b, mask, w.solver.cg_tolerance, w.solver.cg_max_iterations, x);
+    return team_cg(nodes, product, Preconditioning::kRows, jacobi_rows, no_whole, b, mask, w.solver.cg_tolerance, w.solver.cg_max_iterations, x);
 }
+
+/// One solve with an assembled method: A filled for this step, CG as one team per solve
+/// (systems/kernels/team_cg.h) with the product by rows.
+class AssembledSolve {
+public:
+    AssembledSolve(World& w, const Eigen::VectorXd& b, const Eigen::VectorXd& mask, Eigen::VectorXd& x, LinearSolve& out)
+        : w_(w), A_(w.linear), b_(b), mask_(mask), x_(x), x0_(x), out_(out) {}
+
+    bool accept(const CgResult& cg) {
+        out_.cg = cg;
+        out_.converged = cg.relative_residual <= w_.solver.cg_tolerance;
+        return out_.converged;
+    }
+
+    /// CG with the preconditioner given as team_cg takes it.
+    template <class Rows, class Whole>
+    CgResult cg(Preconditioning mode, Rows&& rows, Whole&& whole) {
+        const LinearSystem& A = A_;
+        const auto product = [&](const Eigen::VectorXd& v, Eigen::VectorXd& q) {
+#pragma omp for schedule(static)
+            for (int i = 0; i < A.rows(); ++i) linear_multiply_rows(A, i, i + 1, v, q);
+        };
+        return team_cg(A.rows(), product, mode, rows, whole, b_, mask_, w_.solver.cg_tolerance,
+                       w_.solver.cg_max_iterations, x_);
+    }
+
+    CgResult block_jacobi() {
+        std::vector<double> inverse;
+        block_diagonal_inverse(A_, inverse);
+        const auto rows = [&](int lo, int hi, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+            for (int i = lo; i < hi; ++i)
+                z.segment<3>(3 * i) =
+                    Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(inverse.data() + 9 * i) * r.segment<3>(3 * i);
+        };
+        return cg(Preconditioning::kRows, rows, no_whole);
+    }
+
+    /// A kept preconditioner (a factor, a hierarchy), renewed as the policy says; a solve above
+    /// tolerance with an old one renews it and retries; one that cannot be made (not SPD) falls
+    /// back to block Jacobi for this solve. solved(iterations) keeps its bookkeeping.
+    template <class Renew, class Ok, class Solve, class Solved>
+    void with_kept(bool stale, Renew&& renew, Ok&& ok, Solve&& solve, Solved&& solved) {
+        const bool fresh = stale && renew();
+        if (ok() && accept(solve())) return solved(out_.cg.iterations);
+        if (!fresh && renew()) {
+            x_ = x0_;
+            out_.refactored = true;
+            const int spent = out_.cg.iterations;
+            accept(solve());
+            solved(out_.cg.iterations - spent);
+            out_.cg.iterations += spent;
+            if (out_.converged) return;
+        }
+        if (!ok()) {
+            x_ = x0_;
+            const int spent = out_.cg.iterations;
+            accept(block_jacobi());
+            out_.cg.iterations += spent;
+        }
+    }
+
+    /// The amg method; `ratio` = stiff_scale / mass_scale of this step's A.
+    void amg(bool new_pattern, double ratio) {
+        const SolverSettings& s = w_.solver;
+        AmgHierarchy* h = A_.amg.get();
+        const bool stale = !h || new_pattern || !h->ok || h->topology != A_.topology || h->age >= s.refactor_every ||
+                           h->last_iterations > kAmgRenewGrowth * h->first_iterations + kAmgRenewSlack ||
+                           ratio > (1.0 + 1e-9) * h->stiffness_ratio;
+        const auto renew = [&] {
+            if (!A_.amg) A_.amg = std::make_shared<AmgHierarchy>();
+            h = A_.amg.get();
+            build_amg(A_, w_.nodes.position, mask_, *h);
+            h->stiffness_ratio = ratio;
+            ++A_.factorizations;
+            A_.factor_nonzeros = amg_nonzeros(*h);
+            return h->ok;
+        };
+        const auto cycle = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) { amg_cycle_in_team(*h, A_, r, z); };
+        const auto solve = [&] {
+            amg_update_finest(*h, A_);
+            return cg(Preconditioning::kTeam, no_rows, cycle);
+        };
+        const auto solved = [&](int iterations) {
+            if (h->age++ == 0) h->first_iterations = iterations;
+            h->last_iterations = iterations;
+        };
+        with_kept(stale, renew, [&] { return h && h->ok; }, solve, solved);
+    }
+
+    /// cholesky / direct: CG preconditioned by CHOLMOD's factor, solved on one thread of the team.
+    void cholesky(bool new_pattern) {
+        const SolverSettings& s = w_.solver;
+        LinearFactor* f = A_.factor.get();
+        const bool stale = !f || new_pattern || !f->ok || A_.method == "direct" || A_.factor_age >= s.refactor_every ||
+                           f->last_iterations > s.refactor_iterations;
+        const auto solve_factor = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+            without_library_threads([&] { z = f->llt.solve(r); });
+        };
+        const auto renew = [&] {
+            const bool ok = factorize(w_);
+            f = A_.factor.get();
+            return ok;
+        };
+        const auto solved = [&](int iterations) {
+            f->last_iterations = iterations;
+            ++A_.factor_age;
+        };
+        with_kept(stale, renew, [&] { return f && f->ok; },
+                  [&] { return cg(Preconditioning::kSingle, no_rows, solve_factor); }, solved);
+    }
+
+private:
+    World& w_;
+    LinearSystem& A_;
+    const Eigen::VectorXd& b_;
+    const Eigen::VectorXd& mask_;
+    Eigen::VectorXd& x_;
+    const Eigen::VectorXd x0_;
+    LinearSolve& out_;
+};
 
 }  // namespace
 
 LinearSolve solve_linear(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
                          const Eigen::VectorXd& mask, Eigen::VectorXd& x) {
-    const SolverSettings& s = w.solver;
     LinearSystem& A = w.linear;
     if (A.method.empty()) A.method = resolve_linear_method(w);
     LinearSolve out;
-    const auto accept = [&](const CgResult& cg) {
-        out.cg = cg;
-        out.converged = cg.relative_residual <= s.cg_tolerance;
-        return out.converged;
-    };
-    const int nodes = w.nodes.count();
     if (A.method == "jacobi") {
-        accept(jacobi_cg(w, mass_scale, stiff_scale, b, mask, x));
+        const CgResult cg = jacobi_cg(w, mass_scale, stiff_scale, b, mask, x);
+        out.cg = cg;
+        out.converged = cg.relative_residual <= w.solver.cg_tolerance;
         return out;
     }
     const bool new_pattern = ensure_linear_pattern(w);
     assemble_step_matrix(w, mass_scale, stiff_scale);
-    // CG runs as one team per solve (systems/kernels/team_cg.h): the product and the block Jacobi
-    // preconditioner by rows, the Cholesky solve by one thread of the team.
-    const auto product = [&](const Eigen::VectorXd& v, Eigen::VectorXd& q) {
-#pragma omp for schedule(static)
-        for (int i = 0; i < nodes; ++i) linear_multiply_rows(A, i, i + 1, v, q);
-    };
-    std::vector<double> block_inverse;
-    const auto block_jacobi_rows = [&](int lo, int hi, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-        for (int i = lo; i < hi; ++i)
-            z.segment<3>(3 * i) =
-                Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(block_inverse.data() + 9 * i) * r.segment<3>(3 * i);
-    };
-    const auto block_jacobi_cg = [&] {
-        if (block_inverse.empty()) block_diagonal_inverse(A, block_inverse);
-        return team_cg(A.rows(), product, true, block_jacobi_rows, no_whole, b, mask, s.cg_tolerance,
-                       s.cg_max_iterations, x);
-    };
-    if (A.method == "block_jacobi") {
-        accept(block_jacobi_cg());
-        return out;
-    }
-    // cholesky / direct: a factor, renewed as the policy says; a failed factorization (not SPD)
-    // falls back to block Jacobi for this solve.
-    LinearFactor* f = A.factor.get();
-    const bool stale = !f || new_pattern || !f->ok || A.method == "direct" || A.factor_age >= s.refactor_every ||
-                       f->last_iterations > s.refactor_iterations;
-    bool fresh = false;
-    if (stale) fresh = factorize(w), f = A.factor.get();
-    const auto cholesky = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-        without_library_threads([&] { z = f->llt.solve(r); });
-    };
-    const auto cholesky_cg = [&] {
-        return team_cg(A.rows(), product, false, no_rows, cholesky, b, mask, s.cg_tolerance, s.cg_max_iterations, x);
-    };
-    const Eigen::VectorXd x0 = x;
-    if (f->ok && accept(cholesky_cg())) {
-        f->last_iterations = out.cg.iterations;
-        ++A.factor_age;
-        return out;
-    }
-    if (!fresh && factorize(w)) {  // an old factor that no longer preconditions: renew it, retry
-        x = x0;
-        out.refactored = true;
-        const int spent = out.cg.iterations;
-        accept(cholesky_cg());
-        out.cg.iterations += spent;
-        f->last_iterations = out.cg.iterations - spent;
-        ++A.factor_age;
-        if (out.converged) return out;
-    }
-    if (!A.factor->ok) {  // CHOLMOD: not positive definite; block Jacobi still may converge
-        x = x0;
-        const int spent = out.cg.iterations;
-        accept(block_jacobi_cg());
-        out.cg.iterations += spent;
-    }
+    AssembledSolve solve(w, b, mask, x, out);
+    if (A.method == "block_jacobi") solve.accept(solve.block_jacobi());
+    else if (A.method == "amg") solve.amg(new_pattern, stiff_scale / mass_scale);
+    else solve.cholesky(new_pattern);
     return out;
 }
 

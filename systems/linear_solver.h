@@ -3,7 +3,7 @@
 // by `solver.linear` (SOFA's split of a linear system from its solver, without its machinery):
 //  - "jacobi": matrix-free CG with the diagonal of A (the paper's setting; no assembly, least memory);
 //  - "block_jacobi": CG on the assembled A (systems/linear_assembly.h) with its 3x3 diagonal blocks
-//    inverted: cheap per iteration, scales to any size;
+//    inverted: cheap per iteration, least memory of the assembled methods;
 //  - "cholesky": CG preconditioned by a CHOLMOD supernodal Cholesky factor of an earlier step's A
 //    (Chen, Davis, Hager & Rajamanickam, ACM TOMS 35(3), 2008). Rotations change slowly, so an old
 //    factor stays a near-exact inverse: 1-5 iterations. Refactored numerically when CG needs more
@@ -11,8 +11,11 @@
 //    symbolically and numerically when the topology changes (a cut). The step at which a new factor
 //    is taken depends only on the iteration counts, never on timing: replays stay bit-identical;
 //  - "direct": the same factor computed every step (CG then converges in one or two iterations);
-//  - "auto": cholesky while its factor's estimated memory fits in a quarter of the machine's,
-//    block_jacobi beyond.
+//  - "amg": CG preconditioned by a smoothed-aggregation multigrid V-cycle (systems/kernels/amg.h),
+//    10-20 iterations at any size; the hierarchy is kept and renewed like the factor (at a cut, when
+//    CG needs twice its first count, or when the step's stiffness weight grows);
+//  - "auto": cholesky up to 10,000 DOFs while its factor's estimated memory fits in a quarter of
+//    the machine's, amg beyond.
 #include <Eigen/Core>
 #include <string>
 

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdio>
+#include <random>
 
 #include <Eigen/Geometry>
 #include <filesystem>
@@ -53,6 +54,24 @@ inline GridSpec grid(const Eigen::Vector3d& size, const Eigen::Vector3i& cells, 
     g.jitter = jitter;
     g.seed = seed;
     return g;
+}
+
+/// A jittered, deformed body with its left face held: rotations and forces as the ForceSystem
+/// leaves them.
+inline World deformed(bool plate, const Eigen::Vector3i& cells = Eigen::Vector3i(6, 4, 2)) {
+    World w = world_from_mesh(plate ? generate_plate(grid({0.03, 0.02, 0}, {6, 4, 1}, 0.2))
+                                    : generate_box(grid({0.03, 0.02, 0.01}, {cells.x(), cells.y(), cells.z()}, 0.2)));
+    w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
+    apply_constraints(w);
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+    for (int i = 0; i < w.nodes.count(); ++i) {
+        const Vec3 d(u(rng), u(rng), plate ? 0.0 : u(rng));
+        w.nodes.position[i] += d;
+    }
+    update_rotations(w);
+    compute_forces(w);
+    return w;
 }
 
 /// One step of the pipeline without a scheduler: pending cuts, forces, implicit Euler.

@@ -347,7 +347,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     newton.allow_only({"iterations", "tolerance"});
     s.newton_iterations = newton.integer("iterations", 1, 1, 1000);
     s.newton_tolerance = newton.number("tolerance", 1e-6, 1e-16, 1.0);
-    s.linear = sol.choice("linear", "auto", {"auto", "jacobi", "block_jacobi", "cholesky", "direct"});
+    s.linear = sol.choice("linear", "auto", {"auto", "jacobi", "block_jacobi", "amg", "cholesky", "direct"});
     s.refactor_iterations = sol.integer("refactor_iterations", 8, 1, 1000000);
     s.refactor_every = sol.integer("refactor_every", 200, 1, 1000000);
     s.max_substeps = sol.integer("max_substeps", 16, 1, 1024);

@@ -64,12 +64,15 @@ std::array<double, 3> rows(Shared& sh, int& reductions, Body&& body, bool reduce
 
 }  // namespace team_cg_detail
 
+enum class Preconditioning { kRows, kSingle, kTeam };
+
 /// `product(v, out)`: out = A v, called by every thread of the team; its loops are worksharing
 /// loops (`omp for`, a barrier at their end), so `out` is whole when it returns (out is sized).
-/// `precondition_rows(lo, hi, r, z)`: z = M^-1 r on the block rows [lo, hi), when `rowwise`; else
-/// `precondition_all(r, z)` on the whole vector, run by one thread of the team.
+/// The preconditioner, by `mode`: kRows, `precondition_rows(lo, hi, r, z)`: z = M^-1 r on the block
+/// rows [lo, hi); kSingle, `precondition_all(r, z)` on the whole vector, run by one thread of the
+/// team; kTeam, `precondition_all(r, z)` called by every thread, its loops worksharing (as product).
 template <class Product, class PreconditionRows, class PreconditionAll>
-CgResult team_cg(int block_rows, Product&& product, bool rowwise, PreconditionRows&& precondition_rows,
+CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, PreconditionRows&& precondition_rows,
                  PreconditionAll&& precondition_all, const Eigen::VectorXd& b, const Eigen::VectorXd& mask, double tol,
                  int max_iterations, Eigen::VectorXd& x) {
     using team_cg_detail::rows;
@@ -83,17 +86,18 @@ CgResult team_cg(int block_rows, Product&& product, bool rowwise, PreconditionRo
     {
         int reductions = 0;
         const auto precondition = [&](int lo, int hi) {  // u = mask M^-1 r on rows, if row-wise
-            if (!rowwise) return;
+            if (mode != Preconditioning::kRows) return;
             precondition_rows(lo, hi, r, u);
             for (int i = 3 * lo; i < 3 * hi; ++i) u[i] *= mask[i];
         };
-        const auto precondition_serial = [&] {  // the same for a serial preconditioner
-            if (rowwise) return;
+        const auto precondition_serial = [&] {  // the same for a whole-vector preconditioner
+            if (mode == Preconditioning::kRows) return;
+            if (mode == Preconditioning::kTeam) precondition_all(r, u);
 #pragma omp single
-            {
-                precondition_all(r, u);
-                u = u.cwiseProduct(mask);
-            }
+            if (mode == Preconditioning::kSingle) precondition_all(r, u);
+            rows(sh, reductions, [&](int lo, int hi, auto&) {
+                for (int i = 3 * lo; i < 3 * hi; ++i) u[i] *= mask[i];
+            }, false);
         };
         // The start: x projected, r = mask (b - A x), u = mask M^-1 r, |b|.
         rows(sh, reductions, [&](int lo, int hi, auto&) {

@@ -19,26 +19,7 @@
 namespace xcut {
 namespace {
 
-using testing::grid;
-using testing::world_from_mesh;
-
-/// A jittered, deformed body with its left face held: rotations and forces as the ForceSystem
-/// leaves them.
-World deformed(bool plate, const Eigen::Vector3i& cells = Eigen::Vector3i(6, 4, 2)) {
-    World w = world_from_mesh(plate ? generate_plate(grid({0.03, 0.02, 0}, {6, 4, 1}, 0.2))
-                                    : generate_box(grid({0.03, 0.02, 0.01}, {cells.x(), cells.y(), cells.z()}, 0.2)));
-    w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
-    apply_constraints(w);
-    std::mt19937_64 rng(3);
-    std::uniform_real_distribution<double> u(-1e-3, 1e-3);
-    for (int i = 0; i < w.nodes.count(); ++i) {
-        const Vec3 d(u(rng), u(rng), plate ? 0.0 : u(rng));
-        w.nodes.position[i] += d;
-    }
-    update_rotations(w);
-    compute_forces(w);
-    return w;
-}
+using testing::deformed;
 
 /// max |A p - (mass_scale M p + stiff_scale K p)| over the free entries, relative to the largest.
 double assembled_error(World& w) {
@@ -108,7 +89,7 @@ double run_skin(const std::string& method, int steps, int cap = 400) {
 }
 
 TEST(LinearSolver, EveryMethodReachesTheTolerance) {
-    for (const char* method : {"jacobi", "block_jacobi", "cholesky", "direct"}) {
+    for (const char* method : {"jacobi", "block_jacobi", "amg", "cholesky", "direct"}) {
         SCOPED_TRACE(method);
         EXPECT_LE(run_skin(method, 60), 1e-6);
     }
@@ -121,7 +102,7 @@ TEST(LinearSolver, EveryMethodConvergesOnEveryShippedScene) {
     for (const auto& entry : std::filesystem::directory_iterator(std::string(XCUT_SOURCE_DIR) + "/scenes")) {
         if (entry.path().extension() != ".json") continue;
         ++scenes;
-        for (const char* method : {"jacobi", "block_jacobi", "cholesky", "direct"}) {
+        for (const char* method : {"jacobi", "block_jacobi", "amg", "cholesky", "direct"}) {
             SCOPED_TRACE(entry.path().filename().string() + " " + method);
             Scene scene = load_scene(entry.path().string());
             scene.solver.linear = method;
@@ -136,13 +117,16 @@ TEST(LinearSolver, EveryMethodConvergesOnEveryShippedScene) {
     EXPECT_GE(scenes, 7);
 }
 
-TEST(LinearSolver, AutoPicksCholeskyWhenItFits) {
+TEST(LinearSolver, AutoPicksCholeskyWhenSmallAndAmgBeyond) {
     World w = deformed(false);
     std::string why;
     EXPECT_EQ(resolve_linear_method(w, &why), "cholesky");
     EXPECT_NE(why.find("auto"), std::string::npos) << why;
     w.solver.linear = "block_jacobi";
     EXPECT_EQ(resolve_linear_method(w), "block_jacobi");
+    World large = deformed(false, Eigen::Vector3i(24, 14, 12));  // 14,625 DOFs: past 10,000
+    EXPECT_EQ(resolve_linear_method(large, &why), "amg");
+    EXPECT_NE(why.find("DOFs"), std::string::npos) << why;
 }
 
 // A cut changes the pattern: the factor is analysed and computed again, and CG still converges in
@@ -240,7 +224,7 @@ TEST(TeamCg, MatchesPcgAndIsThreadIndependent) {
     auto solve = [&](int threads, CgResult& result) {
         set_thread_count(threads);
         Eigen::VectorXd x = Eigen::VectorXd::Zero(n3);
-        result = team_cg(w.linear.rows(), product_in_team, true, jacobi_rows, none, b, mask, tol, 2000, x);
+        result = team_cg(w.linear.rows(), product_in_team, Preconditioning::kRows, jacobi_rows, none, b, mask, tol, 2000, x);
         return x;
     };
     CgResult one, two;

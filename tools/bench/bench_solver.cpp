@@ -39,7 +39,7 @@ Scene thin_membrane(bool tiny) {
 }
 
 std::vector<Case> cases(bool tiny) {
-    const std::vector<std::string> all = {"jacobi", "block_jacobi", "cholesky", "direct"};
+    const std::vector<std::string> all = {"jacobi", "block_jacobi", "amg", "cholesky", "direct"};
     std::vector<Case> out;
     Scene skin = load_scene("scenes/skin_slab.json");
     skin.visual_subdivisions = skin.collision_subdivisions = -1;
@@ -47,14 +47,14 @@ std::vector<Case> cases(bool tiny) {
     if (!tiny) {
         Scene hand = load_scene("scenes/hand_dorsum.json");
         hand.visual_subdivisions = hand.collision_subdivisions = -1;
-        out.push_back({"hand_dorsum", hand, 30, {"jacobi", "block_jacobi", "cholesky"}});
+        out.push_back({"hand_dorsum", hand, 30, {"jacobi", "block_jacobi", "amg", "cholesky"}});
     }
     out.push_back({"block_2k", sized_scene("scenes/tissue_block.json", 2000), tiny ? 10 : 100, all});
     if (!tiny) {
         out.push_back({"block_53k", sized_scene("scenes/tissue_block.json", 53000), 20,
-                       {"jacobi", "block_jacobi", "cholesky"}});
+                       {"jacobi", "block_jacobi", "amg", "cholesky"}});
         out.push_back({"block_200k", sized_scene("scenes/tissue_block.json", 200000), 5,
-                       {"jacobi", "block_jacobi", "cholesky"}});
+                       {"jacobi", "block_jacobi", "amg", "cholesky"}});
     }
     out.push_back({"thin_membrane", thin_membrane(tiny), tiny ? 20 : 100, all});
     return out;
