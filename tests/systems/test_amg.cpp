@@ -2,17 +2,15 @@
 // method: the V-cycle is a symmetric positive definite operator, the same bits on 1 and 2 threads;
 // its Chebyshev bound lies above the spectrum; CG with it converges in a few tens of iterations where
 // block Jacobi needs hundreds; the hierarchy is renewed at a cut and when the step's stiffness weight
-// grows, and kept otherwise.
+// grows, and kept otherwise. At a cut: LinearSolver.PreconditionerIsRenewedAtACut; replays:
+// LinearSolver.KeptPreconditionersAreDeterministic.
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "engine/parallel.h"
-#include "engine/io/scene.h"
 #include "systems/kernels/amg.h"
 #include "systems/linear_assembly.h"
 #include "systems/linear_solver.h"
-#include "systems/pipeline.h"
 #include "tests/test_helpers.h"
 
 namespace xcut {
@@ -122,42 +120,6 @@ TEST(Amg, HierarchyIsRenewedWhenTheStiffnessWeightGrows) {
     EXPECT_EQ(solve(kStiffScale), 1) << "kept";
     EXPECT_EQ(solve(kStiffScale / 4), 1) << "a substep keeps it";
     EXPECT_EQ(solve(kStiffScale * 4), 2) << "a longer step renews it";
-}
-
-// A cut adds DOFs: the hierarchy is built again for the new pattern and CG converges right after.
-TEST(Amg, HierarchyIsRenewedAtACut) {
-    Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json");
-    scene.visual_subdivisions = -1;
-    scene.solver.linear = "amg";
-    auto sim = make_simulation(scene, false);
-    const World& w = sim->world;
-    for (int i = 0; i < 15; ++i) step_simulation(*sim);  // before the blade moves (t < 0.2 s)
-    ASSERT_EQ(w.cuts.count(), 0);
-    ASSERT_GE(w.linear.amg->levels.size(), 2u);
-    const int built = w.linear.factorizations;
-    while (w.cuts.count() == 0 && w.time < 1.0) step_simulation(*sim);
-    ASSERT_GT(w.cuts.count(), 0);
-    EXPECT_GT(w.linear.factorizations, built);
-    EXPECT_EQ(w.linear.amg->topology, w.linear.topology);
-    EXPECT_LE(w.metrics.current.cg_residual, 1e-6);
-}
-
-// A replay with the amg method gives the same bits on a fixed thread count, and 1 vs 2 threads too
-// (every loop of the cycle writes each row from one thread; its sums have a fixed order).
-TEST(Amg, IsDeterministic) {
-    auto run = [](int threads) {
-        set_thread_count(threads);
-        Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json");
-        scene.visual_subdivisions = -1;
-        scene.solver.linear = "amg";
-        auto sim = make_simulation(scene, false);
-        for (int i = 0; i < 40; ++i) step_simulation(*sim);
-        return sim->world.nodes.position;
-    };
-    const auto a = run(2), b = run(2), c = run(1);
-    set_thread_count(2);
-    EXPECT_EQ(a, b);
-    EXPECT_EQ(a, c);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include "engine/error.h"
 #include "systems/force_system.h"
+#include "systems/kernels/amg.h"
 #include "systems/kernels/conjugate_gradient.h"
 #include "systems/kernels/team_cg.h"
 #include "systems/linear_assembly.h"
@@ -129,27 +130,31 @@ TEST(LinearSolver, AutoPicksCholeskyWhenSmallAndAmgBeyond) {
     EXPECT_NE(why.find("DOFs"), std::string::npos) << why;
 }
 
-// A cut changes the pattern: the factor is analysed and computed again, and CG still converges in
-// a few iterations right after.
-TEST(LinearSolver, FactorIsRenewedAtACut) {
-    Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json");
-    scene.mesh.grid.cells = Eigen::Vector3i(15, 10, 1);
-    scene.visual_subdivisions = -1;
-    scene.solver.linear = "cholesky";
-    auto sim = make_simulation(scene, false);
-    const World& w = sim->world;
-    for (int i = 0; i < 15; ++i) step_simulation(*sim);  // before the blade moves (t < 0.2 s)
-    ASSERT_EQ(w.cuts.count(), 0);
-    const int symbolic = w.linear.symbolic_factorizations;
-    int steps_with_cut = 0;
-    while (w.cuts.count() == 0 && w.time < 1.0) {
-        step_simulation(*sim);
-        ++steps_with_cut;
+// A cut changes the pattern: the factor is analysed and computed again (the multigrid hierarchy
+// built again), and CG still converges right after.
+TEST(LinearSolver, PreconditionerIsRenewedAtACut) {
+    for (const char* method : {"cholesky", "amg"}) {
+        SCOPED_TRACE(method);
+        Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json");
+        scene.visual_subdivisions = -1;
+        scene.solver.linear = method;
+        auto sim = make_simulation(scene, false);
+        const World& w = sim->world;
+        for (int i = 0; i < 15; ++i) step_simulation(*sim);  // before the blade moves (t < 0.2 s)
+        ASSERT_EQ(w.cuts.count(), 0);
+        const int symbolic = w.linear.symbolic_factorizations, built = w.linear.factorizations;
+        while (w.cuts.count() == 0 && w.time < 1.0) step_simulation(*sim);
+        ASSERT_GT(w.cuts.count(), 0);
+        if (w.linear.amg) {
+            EXPECT_GT(w.linear.factorizations, built);
+            EXPECT_EQ(w.linear.amg->topology, w.linear.topology);
+            EXPECT_LE(w.metrics.current.cg_iterations, 30);
+        } else {
+            EXPECT_GT(w.linear.symbolic_factorizations, symbolic);
+            EXPECT_LE(w.metrics.current.cg_iterations, 10);
+        }
+        EXPECT_LE(w.metrics.current.cg_residual, 1e-6);
     }
-    ASSERT_GT(w.cuts.count(), 0);
-    EXPECT_GT(w.linear.symbolic_factorizations, symbolic);
-    EXPECT_LE(w.metrics.current.cg_iterations, 10);
-    EXPECT_LE(w.metrics.current.cg_residual, 1e-6);
 }
 
 // No silent failure: a cap of one CG iteration cannot reach 1e-6; the step is retried in 2, 4, ...
@@ -262,26 +267,30 @@ TEST(TeamCg, MatrixFreeProductInTeamMatchesTheProduct) {
     EXPECT_TRUE(in_team == reference);
 }
 
-// With a fixed thread count the cholesky method replays bit for bit; 1 and 2 threads agree to the
-// CG tolerance (here bit for bit too: the factor's solve is serial and every sum has a fixed order).
-TEST(LinearSolver, CholeskyIsDeterministic) {
-    auto run = [](int threads) {
-        set_thread_count(threads);
-        Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json");
-        scene.mesh.grid.cells = Eigen::Vector3i(15, 10, 1);
-        scene.visual_subdivisions = -1;
-        scene.solver.linear = "cholesky";
-        auto sim = make_simulation(scene, false);
-        for (int i = 0; i < 40; ++i) step_simulation(*sim);
-        return sim->world.nodes.position;
-    };
-    const auto a = run(2), b = run(2), c = run(1);
-    set_thread_count(2);
-    EXPECT_EQ(a, b);
-    ASSERT_EQ(a.size(), c.size());
-    double worst = 0.0;
-    for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, (a[i] - c[i]).norm());
-    EXPECT_LE(worst, 1e-6 * 0.001) << "1 vs 2 threads: within the CG tolerance of a 1 mm displacement";
+// With a fixed thread count the cholesky and amg methods replay bit for bit; 1 and 2 threads agree
+// to the CG tolerance (here bit for bit too: the factor's solve is serial, every row of the
+// multigrid cycle is written by one thread, and every sum has a fixed order). The default scene's
+// 3,906 DOFs give the multigrid a coarse level.
+TEST(LinearSolver, KeptPreconditionersAreDeterministic) {
+    for (const char* method : {"cholesky", "amg"}) {
+        SCOPED_TRACE(method);
+        auto run = [&](int threads) {
+            set_thread_count(threads);
+            Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json");
+            scene.visual_subdivisions = -1;
+            scene.solver.linear = method;
+            auto sim = make_simulation(scene, false);
+            for (int i = 0; i < 40; ++i) step_simulation(*sim);
+            return sim->world.nodes.position;
+        };
+        const auto a = run(2), b = run(2), c = run(1);
+        set_thread_count(2);
+        EXPECT_EQ(a, b);
+        ASSERT_EQ(a.size(), c.size());
+        double worst = 0.0;
+        for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, (a[i] - c[i]).norm());
+        EXPECT_LE(worst, 1e-6 * 0.001) << "1 vs 2 threads: within the CG tolerance of a 1 mm displacement";
+    }
 }
 
 }  // namespace
