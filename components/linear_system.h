@@ -44,6 +44,7 @@ struct LinearSystem {
     int factor_age = 0;                    ///< steps since the factor was computed
     int factorizations = 0;                ///< numeric factorizations (or amg hierarchies built) so far
     int symbolic_factorizations = 0;       ///< symbolic (pattern) analyses so far
+    int extensions = 0;                    ///< amg hierarchies carried over to a grown pattern (amg_extend)
     double factor_nonzeros = 0.0;          ///< non-zeros of the Cholesky factor L or the amg hierarchy (12 bytes each)
     std::string method;                    ///< the method in use: jacobi, block_jacobi, amg, cholesky, direct
 };

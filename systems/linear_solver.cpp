@@ -188,7 +188,8 @@ public:
     void amg(bool new_pattern, double ratio) {
         const SolverSettings& s = w_.solver;
         AmgHierarchy* h = A_.amg.get();
-        const bool stale = !h || new_pattern || !h->ok || h->topology != A_.topology || h->age >= s.refactor_every ||
+        if (new_pattern && h && h->ok && amg_extend(*h, A_)) ++A_.extensions;
+        const bool stale = !h || !h->ok || h->topology != A_.topology || h->age >= s.refactor_every ||
                            h->last_iterations > kAmgRenewGrowth * h->first_iterations + kAmgRenewSlack ||
                            ratio > (1.0 + 1e-9) * h->stiffness_ratio;
         const auto renew = [&] {

@@ -12,8 +12,9 @@
 //    is taken depends only on the iteration counts, never on timing: replays stay bit-identical;
 //  - "direct": the same factor computed every step (CG then converges in one or two iterations);
 //  - "amg": CG preconditioned by a smoothed-aggregation multigrid V-cycle (systems/kernels/amg.h),
-//    10-20 iterations at any size; the hierarchy is kept and renewed like the factor (at a cut, when
-//    CG needs twice its first count, or when the step's stiffness weight grows);
+//    10-20 iterations at any size; the hierarchy is kept, carried over to the new DOFs at a cut
+//    (no setup at the cut step), and renewed when CG needs twice its first count, when it is
+//    `solver.refactor_every` steps old, or when the step's stiffness weight grows;
 //  - "auto": cholesky up to 10,000 DOFs while its factor's estimated memory fits in a quarter of
 //    the machine's, amg beyond.
 #include <Eigen/Core>

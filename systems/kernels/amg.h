@@ -82,6 +82,13 @@ double amg_nonzeros(const AmgHierarchy& h);
 void build_amg(const LinearSystem& A, const std::vector<Eigen::Vector3d>& position, const Eigen::VectorXd& mask,
                AmgHierarchy& h);
 
+/// Carries the hierarchy over to a pattern that only added DOF nodes after the existing ones (a cut:
+/// XFEM's phantom nodes, a snap cut's new nodes): the new rows get no coarse representation (zero
+/// rows of P), so only the finest level's smoothing acts on them, and the setup is not paid at the
+/// cut step. The kept policy renews it when CG slows. False (nothing changed) when the hierarchy has
+/// a single level or the pattern has fewer rows.
+bool amg_extend(AmgHierarchy& h, const LinearSystem& A);
+
 /// Refreshes the finest level from the current A (each solve: dt or contacts may have changed it
 /// since the setup): its single-precision blocks and its diagonal; lambda_max is kept.
 void amg_update_finest(AmgHierarchy& h, const LinearSystem& A);

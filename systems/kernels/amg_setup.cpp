@@ -235,6 +235,19 @@ void build_amg(const LinearSystem& Ablock, const std::vector<Eigen::Vector3d>& p
     }
 }
 
+bool amg_extend(AmgHierarchy& h, const LinearSystem& A) {
+    if (h.levels.size() < 2) return false;
+    AmgLevel& L = h.levels.front();
+    const int n = 3 * A.rows();
+    if (n < L.P.rows()) return false;
+    L.P.conservativeResize(n, L.P.cols());
+    L.R.conservativeResize(L.R.rows(), n);
+    L.inverse_diagonal.setOnes(n);  // refilled from the current A before every solve
+    L.x.setZero(n), L.b.setZero(n), L.r.setZero(n), L.d.setZero(n), L.t.setZero(n);
+    h.topology = A.topology;
+    return true;
+}
+
 double amg_nonzeros(const AmgHierarchy& h) {
     double n = 0.0;
     for (const AmgLevel& L : h.levels) n += double(L.A.nonZeros()) + double(L.P.nonZeros()) + double(L.R.nonZeros());

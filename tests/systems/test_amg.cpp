@@ -2,7 +2,7 @@
 // method: the V-cycle is a symmetric positive definite operator, the same bits on 1 and 2 threads;
 // its Chebyshev bound lies above the spectrum; CG with it converges in a few tens of iterations where
 // block Jacobi needs hundreds; the hierarchy is renewed at a cut and when the step's stiffness weight
-// grows, and kept otherwise. At a cut: LinearSolver.PreconditionerIsRenewedAtACut; replays:
+// grows, and kept otherwise. At a cut: LinearSolver.PreconditionerFollowsACut; replays:
 // LinearSolver.KeptPreconditionersAreDeterministic.
 #include <gtest/gtest.h>
 
