@@ -47,9 +47,11 @@ struct StaticResult {
     int cg_iterations = 0;         ///< summed over the Newton iterations
     double residual = 0.0;         ///< |f_free| / |f_free at start| reached
     bool converged = false;
+    bool at_round_off = false;     ///< converged by a negligible update, the residual above tolerance
 };
 /// Static equilibrium f(x) = 0 on the free axes: Newton iterations with the corotational stiffness
-/// (rotations refreshed per iteration), each solved by Jacobi-CG to `cg_tolerance`. For
+/// (rotations refreshed per iteration), each K dx = f solved by the scene's linear method
+/// (`solver.linear`, systems/linear_solver.h) to `cg_tolerance` within `cg_max_iterations`. For
 /// verification problems (patch test, cantilever); velocities are left untouched. `load`: external
 /// nodal forces [N], 3 per DOF node (a traction spread on boundary nodes), or empty.
 StaticResult static_solve(World& world, double tolerance, int max_newton, double cg_tolerance,

@@ -82,6 +82,37 @@ TEST(PatchTest, IrregularTrianglesPlaneStress) {
     run_patch_test(world_from_mesh(generate_plate(grid(size, {6, 5, 1}, 0.3, 5))), size, 2);
 }
 
+// Newton stops at the round-off floor: with a tolerance no residual reaches, it ends once a converged
+// solve moves the nodes by less than 1e-9 of their displacement, says so, and holds the answer of a
+// reachable tolerance.
+TEST(StaticSolve, StopsAtTheRoundOffFloor) {
+    Material stiff;
+    stiff.young = 1e9;  // sag ~1e-7 of the length: small rotations, Newton converges in a few steps
+    auto sag = [&](double tolerance, StaticResult& r) {
+        World w = world_from_mesh(generate_box(grid({0.04, 0.01, 0.01}, {8, 2, 2}, 0.2, 3)), stiff);
+        w.gravity = Vec3(0, 0, -9.81);
+        w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
+        apply_constraints(w);
+        r = static_solve(w, tolerance, 30, 1e-12, 5000);
+        return w.nodes.position;
+    };
+    StaticResult reachable, floor;
+    const auto a = sag(1e-6, reachable), b = sag(1e-30, floor);
+    ASSERT_TRUE(reachable.converged);
+    EXPECT_FALSE(reachable.at_round_off);
+    EXPECT_TRUE(floor.converged);
+    EXPECT_TRUE(floor.at_round_off);
+    EXPECT_LT(floor.newton_iterations, 30);
+    EXPECT_GT(floor.residual, 1e-30);
+    double worst = 0.0, largest = 0.0;
+    const World reference = world_from_mesh(generate_box(grid({0.04, 0.01, 0.01}, {8, 2, 2}, 0.2, 3)));
+    for (size_t i = 0; i < a.size(); ++i) {
+        worst = std::max(worst, (a[i] - b[i]).norm());
+        largest = std::max(largest, (a[i] - reference.nodes.rest[i]).norm());
+    }
+    EXPECT_LT(worst, 1e-6 * largest);
+}
+
 Mat3 rotation_about(const Vec3& axis, double angle) { return Eigen::AngleAxisd(angle, axis.normalized()).matrix(); }
 
 /// Rigid-motion invariance (docs/verification.md problem 2): energy unchanged and forces rotated under a rigid

@@ -19,10 +19,10 @@ namespace xcut {
 
 struct AccuracyBenchOptions {
     std::vector<int> problems{3, 5, 6};
-    std::vector<int> cantilever_levels{1, 2, 3, 4, 5};  ///< n: 20n x n x n cells
+    std::vector<int> cantilever_levels{1, 2, 3, 4, 5, 8, 11, 14};  ///< n: 20n x n x n cells (14: 329k tets)
     std::vector<int> block_levels{8, 12, 16, 24, 32};    ///< cells along the block's length (multiples of 4)
     int block_reference = 80;                            ///< cells along L of the conforming reference
-    std::vector<int> plate_levels{10, 20, 40, 80, 160};  ///< cells across the plate's width (even)
+    std::vector<int> plate_levels{10, 20, 40, 80, 160, 320};  ///< cells across the plate's width (even)
     /// The independent references' levels (tools/studies/calculix_reference.h), coarse to fine:
     /// cells across the beam's height (3), along the block's length (5), across the plate (6).
     std::vector<int> cantilever_reference_levels{1, 2, 3, 4};
