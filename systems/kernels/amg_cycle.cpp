@@ -1,5 +1,6 @@
-// The V-cycle of the smoothed-aggregation hierarchy (systems/kernels/amg.h): the finest level on
-// the calling OpenMP team, the coarser ones on one thread of it.
+// The V-cycle of the smoothed-aggregation hierarchy (systems/kernels/amg.h): the finest level and
+// the coarse levels with at least kTeamNonzeros on the calling OpenMP team, the rest on one thread
+// of it.
 #include <omp.h>
 
 #include "engine/parallel.h"
@@ -9,12 +10,12 @@
 namespace xcut {
 namespace {
 
-constexpr int kDegree = 2;         // Chebyshev degree before and after the coarse correction
+constexpr int kDegree = 2;          // Chebyshev degree before and after the coarse correction
 constexpr double kBoost = 1.1;      // the upper bound over the estimated lambda_max
 constexpr double kRatio = 30.0;     // the lower bound: upper / kRatio (Adams et al. 2003, §4)
 constexpr long kTeamNonzeros = 50000;  // a coarse level with fewer runs on one thread
 
-/// Loops of the finest level: worksharing over the team (a barrier at the end of each).
+/// Loops of the levels the team shares: worksharing (a barrier at the end of each).
 struct TeamLoop {
     template <class Body>
     void operator()(int n, Body&& body) const {
@@ -22,7 +23,7 @@ struct TeamLoop {
         for (int i = 0; i < n; ++i) body(i);
     }
 };
-/// Loops of the coarser levels: on the calling thread.
+/// Loops of the small coarse levels: on the calling thread.
 struct SerialLoop {
     template <class Body>
     void operator()(int n, Body&& body) const {
