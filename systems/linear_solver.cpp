@@ -100,6 +100,13 @@ std::string resolve_linear_method(const World& w, std::string* why) {
 
 namespace {
 
+/// Records a CG result in `out`; whether it reached the tolerance.
+bool accepted(const CgResult& cg, const CgLimits& limits, LinearSolve& out) {
+    out.cg = cg;
+    out.converged = cg.relative_residual <= limits.tolerance;
+    return out.converged;
+}
+
 /// The preconditioner a team_cg call does not use: the row-wise one, or the whole-vector one.
 void no_rows(int, int, const Eigen::VectorXd&, Eigen::VectorXd&) {}
 void no_whole(const Eigen::VectorXd&, Eigen::VectorXd&) {}
@@ -107,7 +114,7 @@ void no_whole(const Eigen::VectorXd&, Eigen::VectorXd&) {}
 /// The jacobi method: matrix-free, A p = mass_scale M p + stiff_scale K p (stiffness_product_in_team),
 /// preconditioned by diag(A)^-1 (the paper's solver).
 CgResult jacobi_cg(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b, const Eigen::VectorXd& mask,
-                   Eigen::VectorXd& x) {
+                   const CgLimits& limits, Eigen::VectorXd& x) {
     const int nodes = w.nodes.count();
     Eigen::VectorXd inverse(3 * nodes);
     for (int i = 0; i < 3 * nodes; ++i)
@@ -121,21 +128,19 @@ CgResult jacobi_cg(World& w, double mass_scale, double stiff_scale, const Eigen:
     const auto jacobi_rows = [&](int lo, int hi, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
         for (int i = 3 * lo; i < 3 * hi; ++i) z[i] = r[i] * inverse[i];
     };
-    return team_cg(nodes, product, Preconditioning::kRows, jacobi_rows, no_whole, b, mask, w.solver.cg_tolerance, w.solver.cg_max_iterations, x);
+    return team_cg(nodes, product, Preconditioning::kRows, jacobi_rows, no_whole, b, mask, limits.tolerance,
+                   limits.max_iterations, x);
 }
 
 /// One solve with an assembled method: A filled for this step, CG as one team per solve
 /// (systems/kernels/team_cg.h) with the product by rows.
 class AssembledSolve {
 public:
-    AssembledSolve(World& w, const Eigen::VectorXd& b, const Eigen::VectorXd& mask, Eigen::VectorXd& x, LinearSolve& out)
-        : w_(w), A_(w.linear), b_(b), mask_(mask), x_(x), x0_(x), out_(out) {}
+    AssembledSolve(World& w, const Eigen::VectorXd& b, const Eigen::VectorXd& mask, const CgLimits& limits,
+                   Eigen::VectorXd& x, LinearSolve& out)
+        : w_(w), A_(w.linear), b_(b), mask_(mask), limits_(limits), x_(x), x0_(x), out_(out) {}
 
-    bool accept(const CgResult& cg) {
-        out_.cg = cg;
-        out_.converged = cg.relative_residual <= w_.solver.cg_tolerance;
-        return out_.converged;
-    }
+    bool accept(const CgResult& cg) { return accepted(cg, limits_, out_); }
 
     /// CG with the preconditioner given as team_cg takes it.
     template <class Rows, class Whole>
@@ -145,8 +150,8 @@ public:
 #pragma omp for schedule(static)
             for (int i = 0; i < A.rows(); ++i) linear_multiply_rows(A, i, i + 1, v, q);
         };
-        return team_cg(A.rows(), product, mode, rows, whole, b_, mask_, w_.solver.cg_tolerance,
-                       w_.solver.cg_max_iterations, x_);
+        return team_cg(A.rows(), product, mode, rows, whole, b_, mask_, limits_.tolerance, limits_.max_iterations,
+                       x_);
     }
 
     CgResult block_jacobi() {
@@ -240,6 +245,7 @@ private:
     LinearSystem& A_;
     const Eigen::VectorXd& b_;
     const Eigen::VectorXd& mask_;
+    const CgLimits limits_;
     Eigen::VectorXd& x_;
     const Eigen::VectorXd x0_;
     LinearSolve& out_;
@@ -248,19 +254,17 @@ private:
 }  // namespace
 
 LinearSolve solve_linear(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
-                         const Eigen::VectorXd& mask, Eigen::VectorXd& x) {
+                         const Eigen::VectorXd& mask, Eigen::VectorXd& x, const CgLimits& limits) {
     LinearSystem& A = w.linear;
     if (A.method.empty()) A.method = resolve_linear_method(w);
     LinearSolve out;
     if (A.method == "jacobi") {
-        const CgResult cg = jacobi_cg(w, mass_scale, stiff_scale, b, mask, x);
-        out.cg = cg;
-        out.converged = cg.relative_residual <= w.solver.cg_tolerance;
+        accepted(jacobi_cg(w, mass_scale, stiff_scale, b, mask, limits, x), limits, out);
         return out;
     }
     const bool new_pattern = ensure_linear_pattern(w);
     assemble_step_matrix(w, mass_scale, stiff_scale);
-    AssembledSolve solve(w, b, mask, x, out);
+    AssembledSolve solve(w, b, mask, limits, x, out);
     if (A.method == "block_jacobi") solve.accept(solve.block_jacobi());
     else if (A.method == "amg") solve.amg(new_pattern, stiff_scale / mass_scale);
     else solve.cholesky(new_pattern);

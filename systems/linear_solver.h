@@ -37,9 +37,20 @@ struct LinearSolve {
 /// A x = b for the step, A = mass_scale M + stiff_scale (K + K_c): the jacobi method multiplies
 /// matrix-free (systems/force_system.h) with diag(A)^-1 from world.forces.stiffness_diagonal; the
 /// others assemble A into world.linear first. Every method runs CG as one OpenMP team
-/// (systems/kernels/team_cg.h). `x` holds the first guess. A solve above tolerance with a factor
-/// older than this step is retried once with a fresh factor.
+/// (systems/kernels/team_cg.h) to |r| <= `limits.tolerance` |b| within `limits.max_iterations`.
+/// `x` holds the first guess. A solve above tolerance with a factor older than this step is retried
+/// once with a fresh factor.
+struct CgLimits {
+    double tolerance = 1e-6;   ///< relative residual [-]
+    int max_iterations = 200;
+};
 LinearSolve solve_linear(World& world, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
-                         const Eigen::VectorXd& mask, Eigen::VectorXd& x);
+                         const Eigen::VectorXd& mask, Eigen::VectorXd& x, const CgLimits& limits);
+/// The same at the scene's `solver.cg_tolerance` and `solver.cg_max_iterations`.
+inline LinearSolve solve_linear(World& world, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
+                                const Eigen::VectorXd& mask, Eigen::VectorXd& x) {
+    return solve_linear(world, mass_scale, stiff_scale, b, mask, x,
+                        CgLimits{world.solver.cg_tolerance, world.solver.cg_max_iterations});
+}
 
 }  // namespace xcut

@@ -243,15 +243,6 @@ StaticResult static_solve(World& world, double tolerance, int max_newton, double
     constexpr double kRoundOffUpdate = 1e-9;
     double last_update = 1.0;
     const Eigen::Map<const Eigen::VectorXd> rest(world.nodes.rest[0].data(), n3);
-    SolverSettings& settings = world.solver;
-    const SolverSettings kept = settings;
-    settings.cg_tolerance = cg_tolerance, settings.cg_max_iterations = cg_max_iterations;
-    // The step's tolerance and cap come back however this ends (a numerical error included).
-    struct Restore {
-        SolverSettings& s;
-        const SolverSettings& k;
-        ~Restore() { s.cg_tolerance = k.cg_tolerance, s.cg_max_iterations = k.cg_max_iterations; }
-    } restore{settings, kept};
     for (; result.newton_iterations < max_newton; ++result.newton_iterations) {
         update_rotations(world);
         compute_forces(world);
@@ -267,7 +258,7 @@ StaticResult static_solve(World& world, double tolerance, int max_newton, double
         }
         // K dx = f by the scene's linear method (A = 0 M + 1 K), at the caller's tolerance and cap.
         Eigen::VectorXd dx = Eigen::VectorXd::Zero(n3);
-        const LinearSolve solve = solve_linear(world, 0.0, 1.0, f, mask, dx);
+        const LinearSolve solve = solve_linear(world, 0.0, 1.0, f, mask, dx, CgLimits{cg_tolerance, cg_max_iterations});
         result.cg_iterations += solve.cg.iterations;
         x += dx;
         const Eigen::VectorXd u = (x - rest).cwiseProduct(mask);

@@ -188,6 +188,9 @@ NearNull rigid_modes(const std::vector<Eigen::Vector3d>& position, int rows, con
     return B;
 }
 
+/// The cycle's vectors of a level with n DOFs.
+void size_vectors(AmgLevel& L, int n) { L.x.setZero(n), L.b.setZero(n), L.r.setZero(n), L.d.setZero(n), L.t.setZero(n); }
+
 }  // namespace
 
 void build_amg(const LinearSystem& Ablock, const std::vector<Eigen::Vector3d>& position, const Eigen::VectorXd& mask,
@@ -226,13 +229,9 @@ void build_amg(const LinearSystem& Ablock, const std::vector<Eigen::Vector3d>& p
         B = std::move(coarse_B), g = std::move(coarse);
         theta *= 0.5;
     }
-    // The coarsest level is solved exactly. On the finest alone, its scalar copy is kept for it.
-    h.coarsest.compute(Eigen::SparseMatrix<double>(A));
+    h.coarsest.compute(Eigen::SparseMatrix<double>(A));  // the coarsest level is solved exactly
     h.ok = h.coarsest.info() == Eigen::Success;
-    for (AmgLevel& L : h.levels) {
-        const int n = static_cast<int>(L.inverse_diagonal.size());
-        L.x.setZero(n), L.b.setZero(n), L.r.setZero(n), L.d.setZero(n), L.t.setZero(n);
-    }
+    for (AmgLevel& L : h.levels) size_vectors(L, static_cast<int>(L.inverse_diagonal.size()));
 }
 
 bool amg_extend(AmgHierarchy& h, const LinearSystem& A) {
@@ -243,7 +242,7 @@ bool amg_extend(AmgHierarchy& h, const LinearSystem& A) {
     L.P.conservativeResize(n, L.P.cols());
     L.R.conservativeResize(L.R.rows(), n);
     L.inverse_diagonal.setOnes(n);  // refilled from the current A before every solve
-    L.x.setZero(n), L.b.setZero(n), L.r.setZero(n), L.d.setZero(n), L.t.setZero(n);
+    size_vectors(L, n);
     h.topology = A.topology;
     return true;
 }

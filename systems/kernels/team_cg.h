@@ -90,11 +90,14 @@ CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, Precon
             precondition_rows(lo, hi, r, u);
             for (int i = 3 * lo; i < 3 * hi; ++i) u[i] *= mask[i];
         };
-        const auto precondition_serial = [&] {  // the same for a whole-vector preconditioner
+        const auto precondition_whole = [&] {  // the same for a whole-vector preconditioner
             if (mode == Preconditioning::kRows) return;
-            if (mode == Preconditioning::kTeam) precondition_all(r, u);
+            if (mode == Preconditioning::kTeam) {
+                precondition_all(r, u);
+            } else {
 #pragma omp single
-            if (mode == Preconditioning::kSingle) precondition_all(r, u);
+                precondition_all(r, u);
+            }
             rows(sh, reductions, [&](int lo, int hi, auto&) {
                 for (int i = 3 * lo; i < 3 * hi; ++i) u[i] *= mask[i];
             }, false);
@@ -108,7 +111,7 @@ CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, Precon
             for (int i = 3 * lo; i < 3 * hi; ++i) r[i] = mask[i] * (b[i] - w[i]), acc[0] += mask[i] * b[i] * b[i];
             precondition(lo, hi);
         }, true)[0]);
-        precondition_serial();
+        precondition_whole();
         // w = mask A u and the fused reduction: gamma = (r, u), delta = (w, u), |r|^2.
         const auto product_and_reduce = [&] {
             product(u, w);
@@ -120,8 +123,7 @@ CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, Precon
             }, true);
         };
         const bool start = std::isfinite(bnorm) && bnorm > 0.0;
-        // Plain scalars (no structured bindings: an OpenMP construct below reads them, which
-        // clang does not allow of a binding).
+        // Plain scalars, no structured bindings: clang refuses a binding read in an OpenMP construct.
         const std::array<double, 3> first = start ? product_and_reduce() : std::array<double, 3>{};
         double gamma = first[0], rr = first[2];
         double alpha = gamma / first[1], beta = 0.0;
@@ -135,7 +137,7 @@ CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, Precon
                 }
                 precondition(lo, hi);
             }, false);
-            precondition_serial();
+            precondition_whole();
             ++iterations;
             const std::array<double, 3> next = product_and_reduce();  // gamma, delta, |r|^2
             rr = next[2], beta = next[0] / gamma;
