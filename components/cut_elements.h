@@ -26,6 +26,20 @@ struct CutElements {
     std::vector<std::array<Vec3, 4>> points;     ///< edge intersection points, rest configuration [m]
     std::vector<std::array<int8_t, 4>> point_edge;  ///< local edge (0..5; 2D 0..2) of each point, -1 unused
     std::vector<std::array<int, 2>> virtual_element;  ///< [above, below]: indices into VirtualElements
+    /// Local edges (bit k: edge k) the blade has crossed. A split edge whose bit is clear lies on the
+    /// cut's extension ahead of the blade (a progressive front's tip element): the crack-front rule
+    /// holds its nodes. Every other cut has all bits set.
+    std::vector<uint8_t> crossed;
+    std::vector<double> entered_time;            ///< simulated time the blade first crossed it [s]
+    std::vector<double> entered_wall;            ///< wall time of that crossing [s]
+    std::vector<uint8_t> opened;                 ///< a virtual vertex is a phantom: the wound can open here
+
+    /// Per cut element, once it opened: time from the blade's first crossing to the opening
+    /// (simulated [s], wall [s]). The crossing delay a user sees.
+    std::vector<double> open_delay_sim, open_delay_wall;
+    /// Split mesh edges (node pairs) whose crossing came after their element's split, in order: the
+    /// surface re-makes the pieces around them (SurfaceMesh::crossings_mapped).
+    std::vector<std::array<int, 2>> crossed_log;
 
     std::vector<int> cut_of_element;             ///< per mesh element: index here, -1 if uncut
 
@@ -56,8 +70,13 @@ struct EnrichedDofs {
 
 /// A split requested by a cutter: an element and the cut surface through it, as node levels
 /// (signed distances to the cut surface, current configuration [m]) and edge crossing points.
+/// For an element already cut (a progressive front's tip element), only `crossed` is read: the
+/// edges the blade has crossed since.
 struct CutEvent {
     int element = -1;
+    uint8_t crossed = 0xFF;               ///< local edges the blade crossed (all: a full cut)
+    double entered_time = -1.0;           ///< first crossing [s] (simulated; < 0: now)
+    double entered_wall = -1.0;           ///< first crossing [s] (wall; < 0: now)
     std::array<double, 4> level{};        ///< per local node; sign gives H_j unless already set
     std::array<double, 6> edge_t{};       ///< per local edge: crossing parameter in [0, 1] from its first node
     std::array<uint8_t, 6> edge_has_t{};  ///< edge_t is given (else taken from the levels)

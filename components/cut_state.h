@@ -20,6 +20,7 @@ struct ElementCrossings {
     double first_time = 0.0;          ///< simulated time of the first crossing [s]
     double first_wall = 0.0;          ///< wall time of the first crossing [s]
     int list = 0;                     ///< 1, 2 or 3: which of L1, L2, L3 holds it
+    bool split = false;               ///< progressive front: already split as a tip element
 };
 
 struct CutQuad {
@@ -38,6 +39,9 @@ struct CutState {
     double threshold = 0.0;           ///< blade travel that makes a new quad [m]; 0: mean edge length
     int min_depth = 1;                ///< neighbourhood levels searched around the last crossings
     bool bvh_every_quad = false;      ///< candidates from the Embree BVH for every quad (measured alternative)
+    /// "cutter.front": false: semi-progressive (an element is split once fully crossed, paper §3.3);
+    /// true: progressive (split when the blade enters it; its uncrossed edges are held, docs/xfem.md).
+    bool progressive = false;
     double mean_edge = 0.0;           ///< mean mesh edge length, rest [m]
     std::vector<uint8_t> anchored;    ///< per tool: the blade has an anchor (quad start)
     std::vector<Vec3> anchor_tip, anchor_heel;  ///< per tool: blade edge in world at the last quad [m]

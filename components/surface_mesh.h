@@ -38,13 +38,15 @@ struct SurfaceMesh {
     std::map<std::array<int64_t, 3>, int> base_vertex_at;
     /// Points made by cuts, made once and reused by every element and triangle that meets them (the
     /// paper's "existing or future points"). Key: {kind, a, b, c}: a point on a mesh edge is
-    /// {side, node, node, 0} (side 0 while some whole element still holds the edge: the crack
-    /// front, where both lips are one vertex); any other point {side + 4, quantized rest position}.
+    /// {side, node, node, 0} (side 0 while some whole element still holds the edge, or, on a
+    /// progressive front, the blade has not crossed it yet: the crack front, where both lips are
+    /// one vertex); any other point {side + 4, quantized rest position}.
     std::map<std::array<int64_t, 4>, int> cut_point;
     /// Front points split since the surface was last made: {vertex, node a, node b} (a == b for a
     /// node). The pieces still using such a vertex are made again (systems/surface_cut.cpp).
     std::vector<std::array<int, 3>> opened;
     int cuts_mapped = 0;                     ///< cut elements already mapped (CutElements index)
+    int crossings_mapped = 0;                ///< CutElements::crossed_log entries already mapped
     int last_rebound = 0;                    ///< vertices re-bound by the last mapping update
 
     int vertex_count() const { return static_cast<int>(position.size()); }

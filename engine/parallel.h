@@ -14,6 +14,9 @@ namespace xcut {
 void set_thread_count(int threads);
 int thread_count();
 
+/// Wall-clock time [s] on the steady clock (for delays and timings, never for results).
+double wall_seconds();
+
 /// Items below which a loop runs serially: forking costs more than it saves.
 constexpr int kParallelMin = 8192;
 

@@ -1,19 +1,15 @@
 #include "systems/cut_system.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "components/cut_elements.h"
+#include "engine/parallel.h"
 #include "systems/kernels/intersection.h"
 #include "systems/tool_system.h"
 
 namespace xcut {
 namespace {
-
-double wall_seconds() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 int edges_of(int dim) { return dim == 3 ? 6 : 3; }
 const int* edge_of(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
@@ -116,6 +112,63 @@ bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) 
     return true;
 }
 
+/// Progressive front: a node whose side is not fixed yet and lies closer than this fraction of the
+/// element's shortest edge to the extended plane keeps the element waiting for the blade [-].
+constexpr double kTipNodeMargin = 0.1;
+
+/// Progressive front (docs/xfem.md): the split of an element the blade has entered but not fully
+/// crossed, on the blade's plane extended through it: through the first crossing, normal to the
+/// plane of three crossings when there are three, else to the quad. Node levels are signed
+/// distances to that plane, so the uncrossed edges' parameters follow from them. False when a node
+/// sign already fixed disagrees with the plane, or a crossed edge then has both nodes on one side
+/// (a curved sweep): the element waits for its next crossing, and at worst is split once fully
+/// crossed, as on the semi-progressive front. (A colouring guessed from one or two crossings, as
+/// make_event would, puts the uncrossed edges' points at their nodes.)
+bool tip_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) {
+    const Elements& el = w.elements;
+    const int dim = el.dim, npe = el.nodes_per_element(), ne = edges_of(dim);
+    const Vec3* x = w.nodes.position.data();
+    std::vector<Vec3> pts;
+    int first = -1;
+    for (int k = 0; k < ne; ++k) {
+        if (!(c.mask >> k & 1)) continue;
+        if (first < 0) first = k;
+        const int* ed = edge_of(dim, k);
+        pts.push_back(x[el.nodes[e][ed[0]]] + c.t[k] * (x[el.nodes[e][ed[1]]] - x[el.nodes[e][ed[0]]]));
+    }
+    if (first < 0) return false;
+    Vec3 n = c.normal[first];
+    if (dim == 3 && pts.size() >= 3) {
+        const Vec3 m = (pts[1] - pts[0]).cross(pts[2] - pts[0]);
+        if (m.norm() > 0.0) n = m.dot(n) >= 0.0 ? m : Vec3(-m);
+    }
+    if (!(n.norm() > 0.0)) return false;
+    n.normalize();
+    const auto& sign = w.enriched.sign;
+    std::array<int, 4> H{};
+    ev = CutEvent{};
+    ev.element = e;
+    double shortest = 1e300;
+    for (int k = 0; k < ne; ++k)
+        shortest = std::min(shortest, (x[el.nodes[e][edge_of(dim, k)[0]]] - x[el.nodes[e][edge_of(dim, k)[1]]]).norm());
+    for (int a = 0; a < npe; ++a) {
+        ev.level[a] = (x[el.nodes[e][a]] - pts[0]).dot(n);
+        H[a] = ev.level[a] >= 0.0 ? 1 : -1;
+        const int fixed = sign.empty() ? 0 : sign[el.nodes[e][a]];
+        if (fixed != 0 && fixed != H[a]) return false;
+        // A node this close to the extended plane would get its side from a guess: wait for the blade.
+        if (fixed == 0 && std::abs(ev.level[a]) < kTipNodeMargin * shortest) return false;
+    }
+    for (int k = 0; k < ne; ++k) {
+        const int* ed = edge_of(dim, k);
+        if (!(c.mask >> k & 1)) continue;
+        if (H[ed[0]] == H[ed[1]]) return false;
+        ev.edge_t[k] = c.t[k];
+        ev.edge_has_t[k] = 1;
+    }
+    return true;
+}
+
 void remove_from_list(BladeCut& bc, int e, int list) {
     if (list < 1) return;
     auto& l = bc.lists[list - 1];
@@ -156,6 +209,51 @@ int test_element(World& w, BladeCut& bc, int e, const CutQuad& q, const Vec3 nor
         ++found;
     }
     return found;
+}
+
+/// Queues the splits of the elements the last quad crossed and moves the others through the lists,
+/// in element order (deterministic): an element fully crossed is split (make_event); on a
+/// progressive front one the blade has only entered is split as a tip element (tip_event), and a
+/// tip element's later crossings are queued as events for the enrichment.
+void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed) {
+    CutState& cs = w.cut_state;
+    const int need = w.elements.dim == 3 ? 3 : 2;
+    for (int e : crossed) {
+        ElementCrossings& c = bc.crossing.at(e);
+        const int count = std::min(__builtin_popcount(c.mask), 3);
+        const bool full = count >= need;
+        if (c.split) {  // a tip element already split: the enrichment learns which edges are crossed now
+            CutEvent ev;
+            ev.element = e;
+            ev.crossed = full ? 0xFF : c.mask;
+            w.pending_cuts.push_back(ev);
+        } else if (full || cs.progressive) {
+            CutEvent ev;
+            const bool made = full ? make_event(w, e, c, ev) : tip_event(w, e, c, ev);
+            if (made) {
+                ev.crossed = full ? 0xFF : c.mask;
+                ev.entered_time = c.first_time;
+                ev.entered_wall = c.first_wall;
+                w.pending_cuts.push_back(ev);
+                if (cs.queued.empty()) cs.queued.assign(w.mesh_elements, 0);
+                cs.queued[e] = 1;
+                cs.delay_sim.push_back(w.time - c.first_time);
+                cs.delay_wall.push_back(wall_seconds() - c.first_wall);
+                ++cs.elements_split;
+                c.split = true;
+            }
+        }
+        if (c.split && full) {  // fully crossed: done
+            remove_from_list(bc, e, c.list);
+            bc.crossing.erase(e);
+            continue;
+        }
+        if (count != c.list) {
+            remove_from_list(bc, e, c.list);
+            c.list = count;
+            bc.lists[count - 1].push_back(e);
+        }
+    }
 }
 
 }  // namespace
@@ -207,37 +305,16 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
     const auto& cut = w.cuts.cut_of_element;
     std::vector<int> crossed;
     for (int e : candidates) {
-        if ((!cut.empty() && cut[e] >= 0) || (!cs.queued.empty() && cs.queued[e])) continue;
+        if ((!cut.empty() && cut[e] >= 0) || (!cs.queued.empty() && cs.queued[e])) {
+            const auto tip = bc.crossing.find(e);  // a progressive front's tip element is still tested
+            if (tip == bc.crossing.end() || !tip->second.split) continue;
+        }
         ++cs.elements_tested;
         const int found = test_element(w, bc, e, q, normal);
         cs.crossings_found += found;
         if (found > 0) crossed.push_back(e);
     }
-    // Lists and splits, in element order (deterministic).
-    const int need = dim == 3 ? 3 : 2;
-    for (int e : crossed) {
-        ElementCrossings& c = bc.crossing.at(e);
-        const int count = std::min(__builtin_popcount(c.mask), 3);
-        if (count >= need) {
-            CutEvent ev;
-            if (make_event(w, e, c, ev)) {
-                w.pending_cuts.push_back(ev);
-                if (cs.queued.empty()) cs.queued.assign(w.mesh_elements, 0);
-                cs.queued[e] = 1;
-                cs.delay_sim.push_back(w.time - c.first_time);
-                cs.delay_wall.push_back(wall_seconds() - c.first_wall);
-                ++cs.elements_split;
-                remove_from_list(bc, e, c.list);
-                bc.crossing.erase(e);
-                continue;
-            }
-        }
-        if (count != c.list) {
-            remove_from_list(bc, e, c.list);
-            c.list = count;
-            bc.lists[count - 1].push_back(e);
-        }
-    }
+    split_or_list(w, bc, crossed);
     // Elements the search no longer reaches are dropped: the blade has left them.
     for (auto it = bc.crossing.begin(); it != bc.crossing.end();) {
         if (std::binary_search(candidates.begin(), candidates.end(), it->first)) {

@@ -11,6 +11,10 @@
 //    L1 -> L2 -> L3 by their count of distinct crossed edges, and are split (a CutEvent) once fully
 //    crossed: three distinct edges or four in 3D, two in 2D. Elements the search no longer reaches
 //    are dropped from the lists.
+//  - `cutter.front: "progressive"` (CutState::progressive; docs/xfem.md): an element is split as soon
+//    as the blade enters it, on the blade's plane extended through it (a *tip element*), and stays a
+//    candidate: each later crossing of its edges is queued as an event that tells the enrichment
+//    which edges are crossed now, until it is fully crossed.
 //  - Each bladed tool has its own lists and front (CutState::blade): several scalpels cut
 //    independently; an element queued by one is not tested again by any.
 // 2D: the blade is a point (its tip) moving in the plane; the quad is the segment it swept.

@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <fmt/format.h>
 
+#include "engine/parallel.h"
 #include "engine/setup.h"
 #include "systems/kernels/cut_geometry.h"
 
 namespace xcut {
-namespace {
-
-}  // namespace
 
 void prepare_enrichment(World& w) {
     EnrichedDofs& en = w.enriched;
@@ -31,6 +29,23 @@ void prepare_enrichment(World& w) {
     const size_t n_cap = static_cast<size_t>(w.mesh_nodes) * 2;
     n.rest.reserve(n_cap), n.position.reserve(n_cap), n.velocity.reserve(n_cap);
     n.mass.reserve(n_cap), n.fixed.reserve(n_cap);
+}
+
+bool edge_crossed(const World& w, int a, int b) {
+    const Elements& el = w.elements;
+    const int npe = el.nodes_per_element();
+    const auto& edges = el.dim == 3 ? kTetEdges : kTriEdges;
+    for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
+        const int f = w.incidence.entry[p] >> 2, la = w.incidence.entry[p] & 3;
+        const int c = w.cuts.cut_of_element[f];
+        if (c < 0) continue;
+        const int lb = static_cast<int>(std::find(el.nodes[f].begin(), el.nodes[f].begin() + npe, b) - el.nodes[f].begin());
+        if (lb == npe) continue;
+        for (int k = 0; k < (el.dim == 3 ? 6 : 3); ++k)
+            if ((edges[k][0] == la && edges[k][1] == lb) || (edges[k][0] == lb && edges[k][1] == la))
+                if (w.cuts.crossed[c] >> k & 1) return true;
+    }
+    return false;
 }
 
 namespace {
@@ -86,11 +101,36 @@ bool record_cut(World& w, const CutEvent& ev) {
     ce.points.push_back(points);
     ce.point_edge.push_back(point_edge);
     ce.virtual_element.push_back({-1, -1});
+    ce.crossed.push_back(ev.crossed);
+    ce.entered_time.push_back(ev.entered_time >= 0.0 ? ev.entered_time : w.time);
+    ce.entered_wall.push_back(ev.entered_wall >= 0.0 ? ev.entered_wall : wall_seconds());
+    ce.opened.push_back(0);
     return true;
 }
 
+/// An event for an element already cut (a progressive front's tip element): marks the edges the
+/// blade has crossed since, and adds the nodes of those that are split to `affected`.
+void record_crossings(World& w, const CutEvent& ev, std::vector<int>& affected) {
+    if (ev.element < 0 || ev.element >= w.mesh_elements) return;
+    const int c = w.cuts.cut_of_element[ev.element];
+    if (c < 0) return;
+    const uint8_t fresh = ev.crossed & ~w.cuts.crossed[c];
+    if (fresh == 0) return;
+    w.cuts.crossed[c] |= ev.crossed;
+    const auto& nodes = w.elements.nodes[ev.element];
+    for (int k = 0; k < edge_count(w.elements.dim); ++k) {
+        if (!(fresh >> k & 1)) continue;
+        const int i = nodes[edge_nodes(w.elements.dim, k)[0]], j = nodes[edge_nodes(w.elements.dim, k)[1]];
+        if (w.enriched.sign[i] == w.enriched.sign[j]) continue;
+        affected.push_back(i), affected.push_back(j);
+        w.cuts.crossed_log.push_back({i, j});
+    }
+}
+
 /// Crack-front rule (§3.5): node j keeps a_j = 0 while a crossed edge (j, k) of a cut element is
-/// also an edge of an uncut element, i.e. while the crack front runs through that neighbour.
+/// also an edge of an uncut element, i.e. while the crack front runs through that neighbour; and,
+/// on a progressive front, while such an edge lies on the cut's extension ahead of the blade (no
+/// cut element has it crossed: edge_crossed).
 bool held_by_front(const World& w, int j) {
     const Incidence& inc = w.incidence;
     const Elements& el = w.elements;
@@ -101,6 +141,7 @@ bool held_by_front(const World& w, int j) {
         for (int b = 0; b < npe; ++b) {
             const int k = el.nodes[e][b];
             if (k == j || w.enriched.sign[k] == w.enriched.sign[j]) continue;
+            if (!edge_crossed(w, j, k)) return true;
             // Crossed edge (j, k): is there an uncut element containing it?
             for (int q = inc.offset[j]; q < inc.offset[j + 1]; ++q) {
                 const int f = inc.entry[q] >> 2;
@@ -128,6 +169,22 @@ void add_phantom(World& w, int j) {
         dv.conservativeResize(3 * p + 3);
         dv.segment<3>(3 * p) = dv.segment<3>(3 * j);
     }
+}
+
+/// Records when cut element c first has a phantom vertex (the wound can open there): the time from
+/// the blade's first crossing of it, simulated and wall.
+void note_opening(World& w, int c) {
+    CutElements& ce = w.cuts;
+    if (ce.opened[c]) return;
+    const auto& verts = w.elements.nodes[w.virtual_elements.element[ce.virtual_element[c][0]]];
+    const auto& other = w.elements.nodes[w.virtual_elements.element[ce.virtual_element[c][1]]];
+    for (int a = 0; a < w.elements.nodes_per_element(); ++a)
+        if (verts[a] >= w.mesh_nodes || other[a] >= w.mesh_nodes) {
+            ce.opened[c] = 1;
+            ce.open_delay_sim.push_back(w.time - ce.entered_time[c]);
+            ce.open_delay_wall.push_back(wall_seconds() - ce.entered_wall[c]);
+            return;
+        }
 }
 
 /// Creates or updates the two virtual elements of cut element `c` (vertex = real node on its own
@@ -162,6 +219,7 @@ void build_virtual_elements(World& w, int c) {
         el.weight.push_back(std::max(side > 0 ? fa : 1.0 - fa, kMinSideFraction));
     }
     el.weight[e] = 0.0;
+    note_opening(w, c);
 }
 
 }  // namespace
@@ -170,14 +228,15 @@ int apply_cut_events(World& w) {
     if (w.pending_cuts.empty()) return 0;
     prepare_enrichment(w);
     const int first_new = w.cuts.count();
-    for (const CutEvent& ev : w.pending_cuts) record_cut(w, ev);
+    std::vector<int> affected;  // nodes whose hold is looked at again
+    for (const CutEvent& ev : w.pending_cuts)
+        if (!record_cut(w, ev)) record_crossings(w, ev, affected);
     w.pending_cuts.clear();
     const int split = w.cuts.count() - first_new;
-    if (split == 0) return 0;
+    if (split == 0 && affected.empty()) return 0;
 
     const Elements& el = w.elements;
     const int npe = el.nodes_per_element();
-    std::vector<int> affected;
     for (int c = first_new; c < w.cuts.count(); ++c)
         for (int a = 0; a < npe; ++a) affected.push_back(el.nodes[w.cuts.element[c]][a]);
     std::sort(affected.begin(), affected.end());

@@ -7,7 +7,10 @@
 //  - computes the exact volume fractions V_a/V, V_b/V;
 //  - gives each node one enriched DOF (stored as the phantom vertex, components/cut_elements.h),
 //    unless the crack-front rule (§3.5) holds it at zero: an enriched DOF on a crossed edge that the
-//    cut element shares with an uncut element stays at zero until that neighbour is cut too;
+//    cut element shares with an uncut element stays at zero until that neighbour is cut too, and
+//    on a progressive front one on a split edge the blade has not crossed yet (docs/xfem.md);
+//  - for an event on an element already cut (a tip element), marks the edges the blade has crossed
+//    since and releases the nodes no longer held;
 //  - creates the two virtual elements (above, below) with weights V_s/V and their own rotations;
 //  - re-lumps masses (each side's share to its own vertices; momentum is conserved because a new
 //    phantom starts at its node's position and velocity) and rebuilds the force incidence.
@@ -29,6 +32,10 @@ void prepare_enrichment(World& world);
 
 /// Applies `world.pending_cuts` (and clears it). Returns the number of elements split.
 int apply_cut_events(World& world);
+
+/// Mesh edge a-b has been crossed by the blade: some cut element holding it has its bit in
+/// CutElements::crossed. False for an edge no cut element holds.
+bool edge_crossed(const World& world, int a, int b);
 
 /// Where the crack crosses mesh edge a -> b: the parameter from a of the point a cut element holding
 /// the edge put on it, or -1 if no cut element crosses it. One crack has one point per edge: an

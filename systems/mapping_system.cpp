@@ -146,7 +146,8 @@ void build_surface(const World& w, SurfaceMesh& s, int subdivisions) {
 void build_visual_surface(World& w, int subdivisions) { build_surface(w, w.visual, subdivisions); }
 
 int map_cuts(World& w, SurfaceMesh& s) {
-    if (s.vertex_count() == 0 || s.cuts_mapped >= w.cuts.count()) return 0;
+    const int crossings = static_cast<int>(w.cuts.crossed_log.size());
+    if (s.vertex_count() == 0 || (s.cuts_mapped >= w.cuts.count() && s.crossings_mapped >= crossings)) return 0;
     int rebound = 0;
     for (int c = s.cuts_mapped; c < w.cuts.count(); ++c) {
         const int e = w.cuts.element[c];
@@ -158,8 +159,9 @@ int map_cuts(World& w, SurfaceMesh& s) {
             ++rebound;
         }
     }
-    cut_surface(w, s, s.cuts_mapped);
+    cut_surface(w, s, s.cuts_mapped, s.crossings_mapped);
     s.cuts_mapped = w.cuts.count();
+    s.crossings_mapped = crossings;
     s.last_rebound = rebound;
     return rebound;
 }

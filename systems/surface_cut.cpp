@@ -124,7 +124,7 @@ int zero_area_triangles(const SurfaceMesh& s) {
     return zero;
 }
 
-void cut_surface(World& w, SurfaceMesh& s, int first_cut) {
+void cut_surface(World& w, SurfaceMesh& s, int first_cut, int first_crossing) {
     // Elements whose pieces change: the new cut elements and, around each of their crossed edges,
     // the cut ones (points on an edge that has just opened are bound anew) and the whole ones
     // showing skin (a new crack-front point splits it).
@@ -140,6 +140,11 @@ void cut_surface(World& w, SurfaceMesh& s, int first_cut) {
             });
         }
     }
+    const auto& log = w.cuts.crossed_log;
+    for (size_t k = first_crossing; k < log.size(); ++k)
+        for_elements_around(w, log[k][0], log[k][1], [&](int f) {
+            if (is_cut(w, f) || !s.base_of[f].empty()) touched.push_back(f);
+        });
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     s.opened.clear();

@@ -44,7 +44,9 @@ std::array<int64_t, 3> surface_place(const Vec3& rest);
 int zero_area_triangles(const SurfaceMesh& surface);
 
 /// Regenerates the pieces of the elements cut by cuts [first_cut, world.cuts.count()) and of the
-/// elements around their crossed edges. Vertex bindings of the base surface are not touched here.
-void cut_surface(World& world, SurfaceMesh& surface, int first_cut);
+/// elements around their crossed edges, and around the edges of CutElements::crossed_log from
+/// first_crossing on (a progressive front's edges crossed after their split). Vertex bindings of
+/// the base surface are not touched here.
+void cut_surface(World& world, SurfaceMesh& surface, int first_cut, int first_crossing);
 
 }  // namespace xcut

@@ -17,14 +17,28 @@ int mesh_node(const World& w, int node) {
     return node >= w.mesh_nodes ? w.enriched.node_of_phantom[node - w.mesh_nodes] : node;
 }
 
-/// The first whole (uncut) mesh element holding every node of `nodes` [0, n), or -1.
-int whole_element_holding(const World& w, const std::array<int, 4>& nodes, int n) {
-    for (int k = w.incidence.offset[nodes[0]]; k < w.incidence.offset[nodes[0] + 1]; ++k) {
+/// The element that holds the lips together at a point on mesh edge nodes[0]-nodes[1] (n = 2) or
+/// at node nodes[0] (n = 1): the first whole (uncut) mesh element holding every node; else, on a
+/// progressive front, the first cut element in which that edge (n = 1: an edge at that node) is split
+/// but not yet crossed by the blade, whose nodes the crack-front rule holds. -1 if none.
+int element_holding_lips(const World& w, const std::array<int, 4>& nodes, int n) {
+    const int a = nodes[0];
+    for (int k = w.incidence.offset[a]; k < w.incidence.offset[a + 1]; ++k) {
         const int e = w.incidence.entry[k] >> 2;
         if (is_cut(w, e)) continue;
         bool all = true;
         for (int i = 1; i < n; ++i) all = all && holds(w, e, nodes[i]);
         if (all) return e;
+    }
+    const auto& sign = w.enriched.sign;
+    for (int k = w.incidence.offset[a]; k < w.incidence.offset[a + 1]; ++k) {
+        const int e = w.incidence.entry[k] >> 2;
+        if (!is_cut(w, e) || (n == 2 && !holds(w, e, nodes[1]))) continue;
+        for (int m = 0; m < w.elements.nodes_per_element(); ++m) {
+            const int b = w.elements.nodes[e][m];
+            if ((n == 2 && b != nodes[1]) || sign[b] == sign[a]) continue;
+            if (!edge_crossed(w, a, b)) return e;
+        }
     }
     return -1;
 }
@@ -43,11 +57,13 @@ Eigen::Vector4d rebased(const World& w, int from, const Eigen::Vector4d& b, int 
     return r;
 }
 
-/// Binds vertex v at barycentric b of mesh element e: to `whole` if that whole element holds it (a
-/// crack-front point), else to the virtual element of cut element e on `side`.
+/// Binds vertex v at barycentric b of mesh element e: to `whole` if that element holds the lips
+/// together there (a crack-front point; a cut one through its upper virtual element, whose vertices
+/// there are the held real nodes), else to the virtual element of cut element e on `side`.
 void bind(World& w, SurfaceMesh& s, int v, int e, int side, const Eigen::Vector4d& b, int whole) {
     if (whole >= 0) {
-        s.element[v] = whole;
+        const int c = w.cuts.cut_of_element[whole];
+        s.element[v] = c < 0 ? whole : w.virtual_elements.element[w.cuts.virtual_element[c][0]];
         s.bary[v] = rebased(w, e, b, whole);
     } else {
         const int c = w.cuts.cut_of_element[e];
@@ -124,7 +140,7 @@ int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector
     // A cut through a node: on the node's own side the point is the node's base vertex, and on both
     // while a whole element holds the node (the lips meet there).
     if (n == 1 && s.node_vertex[support[0]] >= 0 &&
-        (w.enriched.sign[support[0]] == side || whole_element_holding(w, support, 1) >= 0))
+        (w.enriched.sign[support[0]] == side || element_holding_lips(w, support, 1) >= 0))
         return s.node_vertex[support[0]];
     // A cut through any other skin vertex (a subdivision point): that vertex, on its own side, or on
     // both while it is bound to a whole element (the crack front, where the lips meet).
@@ -132,7 +148,7 @@ int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector
     if (const auto base = s.base_vertex_at.find(place);
         base != s.base_vertex_at.end() && (s.side[base->second] == side || s.side[base->second] == 0))
         return base->second;
-    const int whole = n <= 2 ? whole_element_holding(w, support, n) : -1;
+    const int whole = n <= 2 ? element_holding_lips(w, support, n) : -1;
     const int key_side = whole >= 0 ? 0 : side;
     const int64_t lo = std::min(support[0], support[n - 1]), hi = std::max(support[0], support[n - 1]);
     const std::array<int64_t, 4> key =

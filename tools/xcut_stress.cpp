@@ -12,8 +12,11 @@ Command add_stress_command(CLI::App& app) {
     cmd->add_option("--budget", o->budget_s, "Wall-time budget for problem 8 [s]")->check(CLI::PositiveNumber);
     cmd->add_option("--seed", o->seed, "Random seed (reproducible)");
     cmd->add_option("--csv", o->csv, "CSV of every case");
+    cmd->add_option("--front", o->front, "Problem 8's cutter.front: semi (the paper's) or progressive")
+        ->check(CLI::IsMember({"semi", "progressive"}));
     return {cmd, [o, cmd] {
                 o->csv_given = cmd->count("--csv") > 0;
+                if (!o->csv_given && o->front != "semi") o->csv = "results/bench_stress_" + o->front + ".csv";
                 return stress_command(*o);
             }};
 }

@@ -149,11 +149,14 @@ DeviceSpec read_device(const JsonFields& tool, const std::string& file) {
 
 void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) {
     const JsonFields cutter = top.object("cutter");
-    cutter.allow_only({"threshold", "neighbourhood_depth", "type", "snap_threshold"});
+    cutter.allow_only({"threshold", "neighbourhood_depth", "type", "snap_threshold", "front"});
     scene.cut_threshold = cutter.number("threshold", 0.0, 0.0);
     scene.cut_min_depth = cutter.integer("neighbourhood_depth", 1, 0, 50);
     scene.cutter = cutter.choice("type", "xfem", {"xfem", "snap"});
     scene.snap_threshold = cutter.number("snap_threshold", 0.1);
+    scene.cut_front = cutter.choice("front", "semi", {"semi", "progressive"});
+    if (scene.cut_front == "progressive" && scene.cutter == "snap")
+        cutter.fail("front", "\"progressive\" needs \"type\": \"xfem\": snapping splits an element only once it is fully crossed");
     if (!(scene.snap_threshold > 0.0 && scene.snap_threshold < 0.5))
         cutter.fail("snap_threshold", fmt::format("{} is out of range (0, 0.5): a fraction of the crossed edge's length",
                                                   scene.snap_threshold));
@@ -432,6 +435,7 @@ World build_world(const Scene& scene) {
     world.tools = scene.tools;
     world.cut_state.threshold = scene.cut_threshold;
     world.cut_state.min_depth = scene.cut_min_depth;
+    world.cut_state.progressive = scene.cut_front == "progressive";
     world.snap.enabled = scene.cutter == "snap";
     world.snap.threshold = scene.snap_threshold;
     world.snap.visual_subdivisions = scene.visual_subdivisions;

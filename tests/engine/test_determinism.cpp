@@ -25,9 +25,10 @@ uint64_t state_hash(const World& w) {
 
 /// The default scene (a scalpel incision in the skin patch), large enough that every parallel loop
 /// really splits (3600 tets > the 2048-item serial cut-off), run for 30 steps.
-uint64_t run_default_scene(int threads) {
+uint64_t run_default_scene(int threads, const std::string& front = "semi") {
     set_thread_count(threads);
     Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json");
+    scene.cut_front = front;
     scene.solver.dt = 0.03;             // the blade cuts within the run
     scene.solver.cg_tolerance = 1e-4;   // fewer iterations: the test is about bits, not accuracy
     auto sim = make_simulation(scene, /*with_output=*/false);
@@ -40,6 +41,14 @@ uint64_t run_default_scene(int threads) {
 TEST(Determinism, SameThreadCountIsBitIdentical) { EXPECT_EQ(run_default_scene(2), run_default_scene(2)); }
 
 TEST(Determinism, OneAndTwoThreadsAreBitIdentical) { EXPECT_EQ(run_default_scene(1), run_default_scene(2)); }
+
+// The progressive front (tip elements split on entry, crossings queued as events) keeps both.
+TEST(Determinism, ProgressiveFrontIsBitIdentical) {
+    const uint64_t two = run_default_scene(2, "progressive");
+    EXPECT_EQ(two, run_default_scene(2, "progressive"));
+    EXPECT_EQ(two, run_default_scene(1, "progressive"));
+    EXPECT_NE(two, run_default_scene(2)) << "the front changes the run";
+}
 
 TEST(RealTimeMode, TimeStepFollowsMeasuredStepTimeWithinBounds) {
     Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/tissue_block.json");

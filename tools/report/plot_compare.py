@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Plots of `xcut compare` (docs/compare.md) from the CSVs in DIR: XFEM against snapping and
-subdivision. Writes dofs_vs_cuts.png (paper Fig. 9 / 10), crossing_delay.png (Fig. 12),
+"""Plots of `xcut compare` (docs/compare.md) from the CSVs in DIR: XFEM (semi-progressive and
+progressive front) against snapping and subdivision. Writes dofs_vs_cuts.png (paper Fig. 9 / 10), crossing_delay.png (Fig. 12),
 steps.png (CG iterations and step time per step) and profile.png (wall time per system).
 
 Usage: python3 tools/report/plot_compare.py DIR
@@ -14,7 +14,12 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-COLOURS = {"xfem": "tab:blue", "snap": "tab:red"}
+COLOURS = {"xfem": "tab:blue", "xfem_progressive": "tab:green", "snap": "tab:red"}
+
+
+def cutters(table, suffix):
+    """The cutters whose `<cutter><suffix>` column the table has, in COLOURS' order."""
+    return [c for c in COLOURS if table and c + suffix in table[0]]
 
 
 def rows(directory, name):
@@ -30,7 +35,7 @@ def dofs_vs_cuts(d):
     t = rows(d, "dofs_vs_cuts.csv")
     fig, ax = plt.subplots(figsize=(6, 4))
     cuts = column(t, "cuts", int)
-    for c in ("xfem", "snap"):
+    for c in cutters(t, "_added"):
         ax.plot(cuts, column(t, c + "_added", int), "o-", color=COLOURS[c], label=c)
     ax.set_xlabel("cuts")
     ax.set_ylabel("DOFs added")
@@ -47,16 +52,20 @@ def crossing_delay(d):
         return
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     sizes = sorted({float(r["element_size_m"]) for r in t if r["cutter"] == "xfem"})
-    for c in ("xfem", "snap"):
+    for c in [c for c in COLOURS if any(r["cutter"] == c for r in t)]:
         for i, h in enumerate(sizes):
             sel = [r for r in t if r["cutter"] == c and abs(float(r["element_size_m"]) - h) < 1e-12]
             sel.sort(key=lambda r: float(r["speed_m_s"]))
+            if not sel:
+                continue
             style = ["o-", "s--", "^:"][i % 3]
             label = "{} h = {:.2f} mm".format(c, h * 1e3)
+            if c != "snap" and "open_delay_mean_s" in sel[0]:  # when the wound opens (XFEM)
+                axes[1].plot(column(sel, "speed_m_s"), column(sel, "open_delay_mean_s"), style, color=COLOURS[c],
+                             label=label)
             axes[0].plot(column(sel, "speed_m_s"), column(sel, "delay_mean_s"), style, color=COLOURS[c], label=label)
-            axes[1].plot(column(sel, "speed_m_s"), column(sel, "delay_wall_mean_ms"), style, color=COLOURS[c], label=label)
-    axes[0].set_ylabel("mean crossing delay, simulated [s]")
-    axes[1].set_ylabel("mean crossing delay, wall [ms]")
+    axes[0].set_ylabel("mean split delay, simulated [s]")
+    axes[1].set_ylabel("mean opening delay (XFEM), simulated [s]")
     for ax in axes:
         ax.set_xlabel("blade speed [m/s]")
         ax.set_xscale("log")
@@ -71,7 +80,7 @@ def steps(d):
     t = rows(d, "steps.csv")
     fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
     time = column(t, "time_s")
-    for c in ("xfem", "snap"):
+    for c in cutters(t, "_dofs"):
         axes[0].plot(time, column(t, c + "_dofs", int), color=COLOURS[c], label=c)
         axes[1].plot(time, column(t, c + "_cg_iterations", int), color=COLOURS[c], lw=0.7, label=c)
         axes[2].plot(time, column(t, c + "_step_ms"), color=COLOURS[c], lw=0.7, label=c)
@@ -91,8 +100,11 @@ def profile(d):
     fig, ax = plt.subplots(figsize=(8, 4))
     names = column(t, "system", str)
     y = range(len(names))
-    ax.barh([i - 0.2 for i in y], column(t, "xfem_ms_per_step"), height=0.4, color=COLOURS["xfem"], label="xfem")
-    ax.barh([i + 0.2 for i in y], column(t, "snap_ms_per_step"), height=0.4, color=COLOURS["snap"], label="snap")
+    shown = cutters(t, "_ms_per_step")
+    width = 0.8 / max(1, len(shown))
+    for k, c in enumerate(shown):
+        offset = (k - (len(shown) - 1) / 2) * width
+        ax.barh([i + offset for i in y], column(t, c + "_ms_per_step"), height=width, color=COLOURS[c], label=c)
     ax.set_yticks(list(y))
     ax.set_yticklabels(names)
     ax.invert_yaxis()

@@ -29,7 +29,21 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* kCutters[2] = {"xfem", "snap"};
+/// The cutters compared: XFEM on the paper's semi-progressive front, XFEM on the progressive front
+/// (cutter.front, docs/xfem.md), and snapping and subdivision.
+struct Variant {
+    const char* label;  ///< CSV column prefix and table header
+    const char* cutter;
+    const char* front;
+};
+constexpr Variant kVariants[] = {{"xfem", "xfem", "semi"}, {"xfem_progressive", "xfem", "progressive"}, {"snap", "snap", "semi"}};
+constexpr int kRuns = sizeof(kVariants) / sizeof(kVariants[0]);
+
+Scene with_variant(Scene scene, const Variant& v) {
+    scene.cutter = v.cutter;
+    scene.cut_front = v.front;
+    return scene;
+}
 
 int first_blade(const Scene& scene) {
     for (int i = 0; i < scene.tools.count(); ++i)
@@ -73,9 +87,8 @@ struct Run {
     double wall_s = 0.0;
 };
 
-Run run_incisions(const Incisions& inc, const char* cutter, double threshold_deg, bool progress) {
-    Scene scene = inc.scene;
-    scene.cutter = cutter;
+Run run_incisions(const Incisions& inc, const Variant& variant, double threshold_deg, bool progress) {
+    const Scene scene = with_variant(inc.scene, variant);
     auto sim = make_simulation(scene, /*with_output=*/false);
     World& w = sim->world;
     Run r;
@@ -83,7 +96,7 @@ Run run_incisions(const Incisions& inc, const char* cutter, double threshold_deg
     r.dim = w.elements.dim;
     r.systems = w.metrics.system_names;
     r.system_ms.assign(r.systems.size(), 0.0);
-    ProgressBar bar(fmt::format("compare {}", cutter), progress ? scene.steps : 0);
+    ProgressBar bar(fmt::format("compare {}", variant.label), progress ? scene.steps : 0);
     size_t next = 0;
     for (int i = 0; i < scene.steps; ++i) {
         step_simulation(*sim);
@@ -102,18 +115,8 @@ Run run_incisions(const Incisions& inc, const char* cutter, double threshold_deg
     return r;
 }
 
-/// One point of the crossing-delay sweep: the cutter alone (tool, CutSystem, the cutter's split and
-/// surface update; no dynamics) along the scene's incision.
-struct DelayRow {
-    std::string cutter;
-    double mesh_scale = 1, speed_factor = 1, element_size = 0, speed = 0;
-    int elements = 0, splits = 0;
-    double mean_s = 0, p99_s = 0, wall_mean_ms = 0, wall_p99_ms = 0;
-};
-
-DelayRow delay_run(const Scene& base, int blade, const char* cutter, double mesh_scale, double speed_factor) {
-    Scene s = base;
-    s.cutter = cutter;
+DelayRow delay_run(const Scene& base, int blade, const Variant& variant, double mesh_scale, double speed_factor) {
+    Scene s = with_variant(base, variant);
     s.tools = replicate_tool(base.tools, blade, 1);
     for (Keyframe& k : s.tools.trajectory[0]) k.time /= speed_factor;
     if (!s.mesh.generator.empty()) {
@@ -142,7 +145,8 @@ DelayRow delay_run(const Scene& base, int blade, const char* cutter, double mesh
         }
     }
     DelayRow row;
-    row.cutter = cutter;
+    row.cutter = variant.label;
+    row.dt = dt;
     row.mesh_scale = mesh_scale;
     row.speed_factor = speed_factor;
     row.element_size = w.cut_state.mean_edge;
@@ -153,53 +157,83 @@ DelayRow delay_run(const Scene& base, int blade, const char* cutter, double mesh
     row.splits = static_cast<int>(cs.delay_sim.size());
     row.mean_s = mean(cs.delay_sim);
     row.p99_s = percentile(cs.delay_sim, 0.99);
+    row.max_s = cs.delay_sim.empty() ? 0.0 : *std::max_element(cs.delay_sim.begin(), cs.delay_sim.end());
     std::vector<double> wall_ms;
     for (double d : cs.delay_wall) wall_ms.push_back(d * 1e3);
     row.wall_mean_ms = mean(wall_ms);
     row.wall_p99_ms = percentile(wall_ms, 0.99);
+    if (!w.snap.enabled) {
+        const auto& open = w.cuts.open_delay_sim;
+        row.opened = static_cast<int>(open.size());
+        row.open_mean_s = mean(open);
+        row.open_p99_s = percentile(open, 0.99);
+        row.open_max_s = open.empty() ? 0.0 : *std::max_element(open.begin(), open.end());
+    } else {
+        row.open_mean_s = row.open_p99_s = row.open_max_s = NAN;
+    }
     return row;
 }
 
-void write_csvs(const std::string& dir, const Incisions& inc, const Run run[2], const std::vector<DelayRow>& delays) {
+/// "<label><suffix>" for every variant, comma-separated: a CSV header's columns.
+std::string columns(const char* suffix) {
+    std::string out;
+    for (const Variant& v : kVariants) out += fmt::format("{}{}{}", out.empty() ? "" : ",", v.label, suffix);
+    return out;
+}
+
+/// f(run) for every run, comma-separated.
+template <class F>
+std::string cells(const Run run[], F f) {
+    std::string out;
+    for (int c = 0; c < kRuns; ++c) out += (c ? "," : "") + f(run[c]);
+    return out;
+}
+
+void write_csvs(const std::string& dir, const Incisions& inc, const Run run[], const std::vector<DelayRow>& delays) {
     auto dofs = fmt::output_file(dir + "/dofs_vs_cuts.csv");
-    dofs.print("cuts,time_s,xfem_dofs,snap_dofs,xfem_added,snap_added,xfem_split,snap_split\n");
-    dofs.print("0,0,{},{},0,0,0,0\n", run[0].dofs0, run[1].dofs0);
+    dofs.print("cuts,time_s,{},{},{}\n", columns("_dofs"), columns("_added"), columns("_split"));
+    const auto int_cell = [](int v) { return std::to_string(v); };
+    dofs.print("0,0,{},{},{}\n", cells(run, [&](const Run& r) { return int_cell(r.dofs0); }),
+               cells(run, [](const Run&) { return std::string("0"); }), cells(run, [](const Run&) { return std::string("0"); }));
     for (size_t k = 0; k < inc.end_time.size(); ++k)
-        dofs.print("{},{:.6g},{},{},{},{},{},{}\n", k + 1, inc.end_time[k], run[0].dofs_after[k], run[1].dofs_after[k],
-                   run[0].dofs_after[k] - run[0].dofs0, run[1].dofs_after[k] - run[1].dofs0, run[0].split_after[k],
-                   run[1].split_after[k]);
+        dofs.print("{},{:.6g},{},{},{}\n", k + 1, inc.end_time[k], cells(run, [&](const Run& r) { return int_cell(r.dofs_after[k]); }),
+                   cells(run, [&](const Run& r) { return int_cell(r.dofs_after[k] - r.dofs0); }),
+                   cells(run, [&](const Run& r) { return int_cell(r.split_after[k]); }));
     auto steps = fmt::output_file(dir + "/steps.csv");
-    steps.print("step,time_s,xfem_dofs,snap_dofs,xfem_cg_iterations,snap_cg_iterations,xfem_step_ms,snap_step_ms\n");
+    steps.print("step,time_s,{},{},{}\n", columns("_dofs"), columns("_cg_iterations"), columns("_step_ms"));
     for (size_t i = 0; i < run[0].time.size(); ++i)
-        steps.print("{},{:.6g},{},{},{},{},{:.4f},{:.4f}\n", i + 1, run[0].time[i], run[0].dofs[i], run[1].dofs[i],
-                    run[0].cg[i], run[1].cg[i], run[0].step_ms[i], run[1].step_ms[i]);
+        steps.print("{},{:.6g},{},{},{}\n", i + 1, run[0].time[i], cells(run, [&](const Run& r) { return int_cell(r.dofs[i]); }),
+                    cells(run, [&](const Run& r) { return fmt::format("{:g}", r.cg[i]); }),
+                    cells(run, [&](const Run& r) { return fmt::format("{:.4f}", r.step_ms[i]); }));
     auto profile = fmt::output_file(dir + "/profile.csv");
-    profile.print("system,xfem_ms,snap_ms,xfem_ms_per_step,snap_ms_per_step\n");
-    std::vector<std::string> names = run[0].systems;
-    for (const auto& n : run[1].systems)
-        if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+    profile.print("system,{},{}\n", columns("_ms"), columns("_ms_per_step"));
+    std::vector<std::string> names;
+    for (int c = 0; c < kRuns; ++c)
+        for (const auto& n : run[c].systems)
+            if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+    const double steps_run = std::max<size_t>(1, run[0].time.size());
     for (const auto& n : names) {
-        double ms[2] = {0.0, 0.0};
-        for (int c = 0; c < 2; ++c) {
-            const auto it = std::find(run[c].systems.begin(), run[c].systems.end(), n);
-            if (it != run[c].systems.end()) ms[c] = run[c].system_ms[it - run[c].systems.begin()];
-        }
-        const double steps_run = std::max<size_t>(1, run[0].time.size());
-        profile.print("{},{:.3f},{:.3f},{:.5f},{:.5f}\n", n, ms[0], ms[1], ms[0] / steps_run, ms[1] / steps_run);
+        const auto ms = [&](const Run& r) {
+            const auto it = std::find(r.systems.begin(), r.systems.end(), n);
+            return it != r.systems.end() ? r.system_ms[it - r.systems.begin()] : 0.0;
+        };
+        profile.print("{},{},{}\n", n, cells(run, [&](const Run& r) { return fmt::format("{:.3f}", ms(r)); }),
+                      cells(run, [&](const Run& r) { return fmt::format("{:.5f}", ms(r) / steps_run); }));
     }
     auto quality = fmt::output_file(dir + "/quality.csv");
     quality.print("cutter,elements,min_angle_deg,min_volume_m3,min_effective_volume_m3,below_threshold\n");
-    for (int c = 0; c < 2; ++c) {
+    for (int c = 0; c < kRuns; ++c) {
         const MeshQuality& q = run[c].quality;
-        quality.print("{},{},{:.6g},{:.6g},{:.6g},{}\n", kCutters[c], q.elements, q.min_angle_deg, q.min_volume,
+        quality.print("{},{},{:.6g},{:.6g},{:.6g},{}\n", kVariants[c].label, q.elements, q.min_angle_deg, q.min_volume,
                       q.min_effective_volume, q.below_threshold);
     }
     auto delay = fmt::output_file(dir + "/crossing_delay.csv");
-    delay.print("cutter,mesh_scale,elements,element_size_m,speed_m_s,splits,delay_mean_s,delay_p99_s,delay_wall_mean_ms,"
-                "delay_wall_p99_ms\n");
+    delay.print("cutter,mesh_scale,elements,element_size_m,speed_m_s,dt_s,splits,delay_mean_s,delay_p99_s,delay_max_s,delay_wall_mean_ms,"
+                "delay_wall_p99_ms,opened,open_delay_mean_s,open_delay_p99_s,open_delay_max_s\n");
     for (const DelayRow& d : delays)
-        delay.print("{},{},{},{:.6g},{:.6g},{},{:.6g},{:.6g},{:.6g},{:.6g}\n", d.cutter, d.mesh_scale, d.elements,
-                    d.element_size, d.speed, d.splits, d.mean_s, d.p99_s, d.wall_mean_ms, d.wall_p99_ms);
+        delay.print("{},{},{},{:.6g},{:.6g},{:g},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{},{:.6g},{:.6g},{:.6g}\n", d.cutter,
+                    d.mesh_scale, d.elements, d.element_size, d.speed, d.dt, d.splits, d.mean_s, d.p99_s, d.max_s, d.wall_mean_ms, d.wall_p99_ms,
+                    d.opened, d.open_mean_s, d.open_p99_s, d.open_max_s);
 }
 
 }  // namespace
@@ -254,73 +288,109 @@ Incisions repeated_incisions(const Scene& scene, int cuts, double spacing) {
     return out;
 }
 
+std::vector<DelayRow> crossing_delay_sweep(const Scene& scene, bool progress) {
+    const int blade = first_blade(scene);
+    const auto& keys = scene.tools.trajectory[blade];
+    const Keyframe &a = keys[keys.size() - 2], &b = keys.back();
+    const double own = (b.position - a.position).norm() / (b.time - a.time);
+    const std::vector<double> scales = scene.mesh.generator.empty() ? std::vector<double>{1.0}
+                                                                    : std::vector<double>{1.5, 1.0, 0.75};
+    std::vector<double> factors = {1.0};  // the scene's own speed, then 10 ... 200 mm/s
+    if (own > 0.0)
+        for (double v : kDelaySweepSpeeds) factors.push_back(v / own);
+    std::vector<DelayRow> delays;
+    ProgressBar bar("crossing delay", progress ? static_cast<int>(scales.size() * factors.size() * kRuns) : 0);
+    for (double m : scales)
+        for (double f : factors)
+            for (const Variant& v : kVariants) {
+                delays.push_back(delay_run(scene, blade, v, m, f));
+                bar.update(static_cast<int>(delays.size()));
+            }
+    bar.finish();
+    return delays;
+}
+
+namespace {
+
+/// The crossing-delay table: per speed on the scene's mesh, each XFEM front's split and opening
+/// delay in steps (max over the elements), and the target's verdict (opening within one step).
+void print_delay_table(const std::vector<DelayRow>& delays) {
+    fmt::print("\ncrossing delay on the scene's mesh, in steps (max over elements; mean in brackets)\n");
+    fmt::print("  {:>10}  {:>22}{:>22}  {:>22}{:>22}\n", "speed mm/s", "semi: split", "semi: opening", "progressive: split",
+               "progressive: opening");
+    const auto steps = [](double max_s, double mean_s, double dt) {
+        return std::isnan(max_s) ? std::string("-") : fmt::format("{:.1f} ({:.2f})", max_s / dt, mean_s / dt);
+    };
+    int met = 0, rows = 0;
+    for (const DelayRow& semi : delays) {
+        if (semi.cutter != "xfem" || semi.mesh_scale != 1.0) continue;
+        const DelayRow* prog = nullptr;
+        for (const DelayRow& d : delays)
+            if (d.cutter == "xfem_progressive" && d.mesh_scale == 1.0 && d.speed_factor == semi.speed_factor) prog = &d;
+        if (!prog) continue;
+        fmt::print("  {:>10.3g}  {:>22}{:>22}  {:>22}{:>22}\n", semi.speed * 1e3, steps(semi.max_s, semi.mean_s, semi.dt),
+                   steps(semi.open_max_s, semi.open_mean_s, semi.dt), steps(prog->max_s, prog->mean_s, prog->dt),
+                   steps(prog->open_max_s, prog->open_mean_s, prog->dt));
+        ++rows;
+        met += prog->open_max_s <= prog->dt * (1.0 + 1e-9);
+    }
+    fmt::print("  target: the wound opens within one step of the blade entering an element (progressive): {} of {} speeds\n",
+               met, rows);
+}
+
+}  // namespace
+
 int compare_command(const CompareOptions& o) {
     set_thread_count(o.threads);
     const Scene scene = load_scene(o.scene, o.overrides);
-    const int blade = first_blade(scene);
     const Incisions inc = repeated_incisions(scene, o.cuts, o.spacing);
     const std::string dir = o.output.empty() ? "out/" + scene.name + "/compare" : o.output;
     fs::create_directories(dir);
-    fmt::print("compare {}: {} incisions {:.3g} mm apart, {} steps of {} s, {} threads; xfem then snap (threshold {})\n",
+    fmt::print("compare {}: {} incisions {:.3g} mm apart, {} steps of {} s, {} threads; xfem (semi-progressive), xfem "
+               "(progressive), snap (threshold {})\n",
                scene.name, o.cuts, inc.spacing * 1e3, inc.scene.steps, scene.solver.dt, thread_count(), scene.snap_threshold);
-    Run run[2];
-    for (int c = 0; c < 2; ++c) run[c] = run_incisions(inc, kCutters[c], o.quality_threshold_deg, !o.quiet);
-
-    std::vector<DelayRow> delays;
-    if (o.delay_sweep) {
-        const std::vector<double> scales = scene.mesh.generator.empty() ? std::vector<double>{1.0}
-                                                                        : std::vector<double>{1.5, 1.0, 0.75};
-        ProgressBar bar("crossing delay", o.quiet ? 0 : static_cast<int>(scales.size() * 4 * 2));
-        for (double m : scales)
-            for (double v : {0.5, 1.0, 2.0, 4.0})
-                for (const char* c : kCutters) {
-                    delays.push_back(delay_run(scene, blade, c, m, v));
-                    bar.update(static_cast<int>(delays.size()));
-                }
-        bar.finish();
-    }
+    Run run[kRuns];
+    for (int c = 0; c < kRuns; ++c) run[c] = run_incisions(inc, kVariants[c], o.quality_threshold_deg, !o.quiet);
+    const std::vector<DelayRow> delays = o.delay_sweep ? crossing_delay_sweep(scene, !o.quiet) : std::vector<DelayRow>{};
     write_csvs(dir, inc, run, delays);
 
     // The one-screen table.
-    const int n = o.cuts;
-    const double added[2] = {double(run[0].dofs_after.back() - run[0].dofs0), double(run[1].dofs_after.back() - run[1].dofs0)};
-    auto row = [](const std::string& label, const std::string& x, const std::string& s, const std::string& ratio = "") {
-        fmt::print("  {:<34}{:>14}{:>14}{:>12}\n", label, x, s, ratio);
+    const int n = o.cuts, snap = kRuns - 1;
+    double added[kRuns];
+    for (int c = 0; c < kRuns; ++c) added[c] = run[c].dofs_after.back() - run[c].dofs0;
+    const auto row = [&](const std::string& label, auto cell, std::string ratio = "") {
+        fmt::print("  {:<34}", label);
+        for (int c = 0; c < kRuns; ++c) fmt::print("{:>18}", cell(run[c]));
+        fmt::print("{:>12}\n", ratio);
     };
-    auto num = [](double v) { return fmt::format("{:.4g}", v); };
-    auto ratio = [](double a, double b) { return b != 0.0 ? fmt::format("{:.3f}", a / b) : std::string("-"); };
-    fmt::print("\n{} ({}D): XFEM against snapping and subdivision, {} incisions\n", scene.name, run[0].dim, n);
-    row("", "xfem", "snap", "xfem/snap");
-    row("DOFs before cutting", num(run[0].dofs0), num(run[1].dofs0));
-    row(fmt::format("DOFs after {} cuts", n), num(run[0].dofs_after.back()), num(run[1].dofs_after.back()),
-        ratio(run[0].dofs_after.back(), run[1].dofs_after.back()));
-    row(fmt::format("DOFs added by {} cuts", n), num(added[0]), num(added[1]), ratio(added[0], added[1]));
-    row("elements split", num(run[0].split_after.back()), num(run[1].split_after.back()));
+    const auto num = [](double v) { return fmt::format("{:.4g}", v); };
+    const auto ratio = [](double a, double b) { return b != 0.0 ? fmt::format("{:.3f}", a / b) : std::string("-"); };
+    fmt::print("\n{} ({}D): XFEM against snapping and subdivision, {} incisions\n  {:<34}", scene.name, run[0].dim, n, "");
+    for (const Variant& v : kVariants) fmt::print("{:>18}", v.label);
+    fmt::print("{:>12}\n", "xfem/snap");
+    row("DOFs before cutting", [&](const Run& r) { return num(r.dofs0); });
+    row(fmt::format("DOFs after {} cuts", n), [&](const Run& r) { return num(r.dofs_after.back()); },
+        ratio(run[0].dofs_after.back(), run[snap].dofs_after.back()));
+    row(fmt::format("DOFs added by {} cuts", n), [&](const Run& r) { return num(r.dofs_after.back() - r.dofs0); },
+        ratio(added[0], added[snap]));
+    row("elements split", [&](const Run& r) { return num(r.split_after.back()); });
     row(fmt::format("min {} angle [deg]", run[0].dim == 2 ? "triangle" : "dihedral"),
-        fmt::format("{:.2f}", run[0].quality.min_angle_deg), fmt::format("{:.2f}", run[1].quality.min_angle_deg));
-    row(fmt::format("elements below {:g} deg", o.quality_threshold_deg), num(run[0].quality.below_threshold),
-        num(run[1].quality.below_threshold));
-    row("min element volume [m^3]", fmt::format("{:.3e}", run[0].quality.min_volume), fmt::format("{:.3e}", run[1].quality.min_volume));
-    row("min effective volume V*w [m^3]", fmt::format("{:.3e}", run[0].quality.min_effective_volume),
-        fmt::format("{:.3e}", run[1].quality.min_effective_volume));
-    row("step time mean [ms]", fmt::format("{:.2f}", mean(run[0].step_ms)), fmt::format("{:.2f}", mean(run[1].step_ms)),
-        ratio(mean(run[0].step_ms), mean(run[1].step_ms)));
-    row("step time p99 [ms]", fmt::format("{:.2f}", percentile(run[0].step_ms, 0.99)),
-        fmt::format("{:.2f}", percentile(run[1].step_ms, 0.99)),
-        ratio(percentile(run[0].step_ms, 0.99), percentile(run[1].step_ms, 0.99)));
-    row("CG iterations per step, mean", fmt::format("{:.1f}", mean(run[0].cg)), fmt::format("{:.1f}", mean(run[1].cg)));
-    const DelayRow* at_scene[2] = {nullptr, nullptr};
-    for (const DelayRow& d : delays)
-        if (d.mesh_scale == 1.0 && d.speed_factor == 1.0) at_scene[d.cutter == "snap" ? 1 : 0] = &d;
-    if (at_scene[0] && at_scene[1])
-        row("crossing delay mean [s] (wall [ms])", fmt::format("{:.3f} ({:.1f})", at_scene[0]->mean_s, at_scene[0]->wall_mean_ms),
-            fmt::format("{:.3f} ({:.1f})", at_scene[1]->mean_s, at_scene[1]->wall_mean_ms));
+        [](const Run& r) { return fmt::format("{:.2f}", r.quality.min_angle_deg); });
+    row(fmt::format("elements below {:g} deg", o.quality_threshold_deg), [&](const Run& r) { return num(r.quality.below_threshold); });
+    row("min element volume [m^3]", [](const Run& r) { return fmt::format("{:.3e}", r.quality.min_volume); });
+    row("min effective volume V*w [m^3]", [](const Run& r) { return fmt::format("{:.3e}", r.quality.min_effective_volume); });
+    row("step time mean [ms]", [](const Run& r) { return fmt::format("{:.2f}", mean(r.step_ms)); },
+        ratio(mean(run[0].step_ms), mean(run[snap].step_ms)));
+    row("step time p99 [ms]", [](const Run& r) { return fmt::format("{:.2f}", percentile(r.step_ms, 0.99)); },
+        ratio(percentile(run[0].step_ms, 0.99), percentile(run[snap].step_ms, 0.99)));
+    row("CG iterations per step, mean", [](const Run& r) { return fmt::format("{:.1f}", mean(r.cg)); });
     fmt::print("  target: xfem/snap DOFs added <= 0.5 after 20 cuts\n");
+    if (!delays.empty()) print_delay_table(delays);
     auto summary = fmt::output_file(dir + "/summary.csv");
     summary.print("cutter,cuts,dofs_before,dofs_after,dofs_added,elements_split,min_angle_deg,below_threshold,min_volume_m3,"
                   "min_effective_volume_m3,step_ms_mean,step_ms_p99,cg_mean,wall_s\n");
-    for (int c = 0; c < 2; ++c)
-        summary.print("{},{},{},{},{},{},{:.6g},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", kCutters[c], n, run[c].dofs0,
+    for (int c = 0; c < kRuns; ++c)
+        summary.print("{},{},{},{},{},{},{:.6g},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", kVariants[c].label, n, run[c].dofs0,
                       run[c].dofs_after.back(), added[c], run[c].split_after.back(), run[c].quality.min_angle_deg,
                       run[c].quality.below_threshold, run[c].quality.min_volume, run[c].quality.min_effective_volume,
                       mean(run[c].step_ms), percentile(run[c].step_ms, 0.99), mean(run[c].cg), run[c].wall_s);

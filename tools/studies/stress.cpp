@@ -105,9 +105,10 @@ Scene block_scene(const Vec3& size, const Eigen::Vector3i& cells) {
 
 }  // namespace
 
-Scene random_cut_scene(std::mt19937_64& rng) {
+Scene random_cut_scene(std::mt19937_64& rng, const std::string& front) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
     Scene s = block_scene(Vec3(0.04, 0.04, 0.004), Eigen::Vector3i(10, 10, 2));
+    s.cut_front = front;
     s.gravity = Vec3(0, 0, -9.81);
     s.solver.dt = 0.02;
     s.solver.damping_mass = 1.0;
@@ -170,8 +171,8 @@ std::vector<CaseResult> slivers() {
 }
 
 /// Problem 8: one random trajectory's run.
-CaseResult random_cut(std::mt19937_64& rng, int index) {
-    auto sim = make_simulation(random_cut_scene(rng), false);
+CaseResult random_cut(std::mt19937_64& rng, int index, const std::string& front) {
+    auto sim = make_simulation(random_cut_scene(rng, front), false);
     CaseResult r{"8 many cuts", fmt::format("trajectory {}", index)};
     run_steps(*sim, kRandomCutSteps, [](const World& w) { return w.metrics.current.gravity_work; }, r);
     return r;
@@ -260,7 +261,7 @@ std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     int done = 0;
     for (; done < o.count; ++done) {
-        record(random_cut(rng, done));
+        record(random_cut(rng, done, o.front));
         bar.update(done + 1);
         if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > o.budget_s) {
             ++done;

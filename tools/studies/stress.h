@@ -31,8 +31,9 @@ constexpr int kStressRecordCount = 10000;  ///< trajectories of the committed re
 
 /// Problem 8's scene for the next trajectory of `rng`: a 40 x 40 x 4 mm slab held at its x borders,
 /// visual (1 subdivision) and collision surfaces, a scalpel through three random waypoints at a
-/// random depth (1-6 mm below the top) and tilt (±0.4 rad about its path).
-Scene random_cut_scene(std::mt19937_64& rng);
+/// random depth (1-6 mm below the top) and tilt (±0.4 rad about its path); `front` is its
+/// cutter.front ("semi" or "progressive").
+Scene random_cut_scene(std::mt19937_64& rng, const std::string& front = "semi");
 
 struct StressOptions {
     int count = 200;          ///< random trajectories of problem 8
@@ -40,6 +41,7 @@ struct StressOptions {
     unsigned seed = 1;
     std::string csv = "results/bench_stress.csv";
     bool csv_given = false;   ///< false: a run short of kStressRecordCount writes <csv>_quick.csv instead
+    std::string front = "semi";  ///< problem 8's cutter.front
     bool progress = true;
 };
 

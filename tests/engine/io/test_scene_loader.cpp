@@ -90,6 +90,11 @@ std::vector<BadScene> bad_scenes() {
         {"unknown cutter type", "cutter.type=\"laser\"", "cutter.type", "is not one of \"xfem\", \"snap\""},
         {"snap threshold of half an edge", "cutter.snap_threshold=0.5", "cutter.snap_threshold", "out of range (0, 0.5)"},
         {"zero snap threshold", "cutter.snap_threshold=0", "cutter.snap_threshold", "out of range (0, 0.5)"},
+        {"unknown crack front", "cutter.front=\"full\"", "cutter.front", "is not one of \"semi\", \"progressive\""},
+        {"progressive front with snapping",
+         "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
+         "\"cutter\": { \"type\": \"snap\", \"front\": \"progressive\" } }",
+         "cutter.front", "needs \"type\": \"xfem\""},
         {"key given twice", "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
                             "\"solver\": { \"dt\": 0.01, \"dt\": 0.02 } }",
          "solver.dt", "given twice"},
