@@ -54,6 +54,10 @@ struct SnapMesh {
     int snaps = 0;                     ///< nodes moved onto a cut
     int points = 0;                    ///< edge points made
     int copies = 0;                    ///< nodes duplicated
+    /// Pieces whose rest shape came out inverted: snaps of two nodes of one element in one step
+    /// can turn a sliver over. They keep |V| (a positive mass and a positive semi-definite
+    /// stiffness; their current shape is inverted with them, so they exert no spurious force).
+    int inverted_pieces = 0;
     int elements_split = 0;            ///< mesh elements whose cut was applied
     std::vector<double> snap_fraction; ///< per snap: distance moved / length of the edge it moved along [-]
     double max_snap_distance = 0.0;    ///< largest distance a node was moved [m]

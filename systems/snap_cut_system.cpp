@@ -462,7 +462,13 @@ int apply_snap_events(World& w) {
     for (int r : roots) separate(w, r, rewritten);
     std::sort(rewritten.begin(), rewritten.end());
     rewritten.erase(std::unique(rewritten.begin(), rewritten.end()), rewritten.end());
-    for (int q : rewritten) compute_rest_shape(w, q);
+    for (int q : rewritten) {
+        compute_rest_shape(w, q);
+        if (w.elements.rest_volume[q] < 0.0) {  // a sliver turned over (SnapMesh::inverted_pieces)
+            w.elements.rest_volume[q] = -w.elements.rest_volume[q];
+            ++s.inverted_pieces;
+        }
+    }
     for (int f : touched)  // spare slots: a finite shape, weight 0
         for (int q : s.pieces[f])
             if (!s.piece_live[q - w.mesh_elements]) compute_rest_shape(w, q);
