@@ -80,9 +80,11 @@ bool record_cut(World& w, const CutEvent& ev) {
     for (int k = 0; k < edge_count(dim); ++k) {
         const int i = edge_nodes(dim, k)[0], j = edge_nodes(dim, k)[1];
         if (H[i] == H[j]) continue;
+        // The event's parameter; else where its levels change sign; else (a node's side fixed by an
+        // earlier cut against this event's levels) the midpoint, never a point extrapolated onto a node.
         double tk = ev.edge_has_t[k] ? ev.edge_t[k] : 0.5;
         const double li = ev.level[i], lj = ev.level[j];
-        if (!ev.edge_has_t[k] && li != lj) tk = li / (li - lj);
+        if (!ev.edge_has_t[k] && li != lj && (li >= 0.0) != (lj >= 0.0)) tk = li / (li - lj);
         const double earlier = crack_edge_param(w, c[i], c[j]);
         t[k] = earlier >= 0.0 ? earlier : std::clamp(tk, 0.0, 1.0);
         points[np] = edge_point(X, dim, k, t[k]);
