@@ -327,10 +327,11 @@ def accuracy_section(d, plt, plots):
     return "\n".join(out).rstrip()
 
 
-def stress_section(d, plt, plots):
+def stress_section(d, plt, plots, csv="bench_stress.csv"):
     """docs/verification.md problems 7-9 (`xcut stress`): one line per problem from the per-case CSV, the figures
-    the command's own summary prints (bounds as in tools/studies/stress.h: CG 400 per solve, energy per case)."""
-    rows, _ = read_csv(os.path.join(d, "bench_stress.csv"))
+    the command's own summary prints (bounds as in tools/studies/stress.h: CG 400 per solve, energy per case).
+    `xcut stress --front progressive` writes bench_stress_progressive.csv, rendered the same way."""
+    rows, _ = read_csv(os.path.join(d, csv))
     body = []
     for problem in dict.fromkeys(r["problem"] for r in rows):
         sel = [r for r in rows if r["problem"] == problem]
@@ -378,6 +379,7 @@ def generic_section(name):
 
 
 SUITES = {"perf": perf_section, "cut": cut_section, "accuracy": accuracy_section, "stress": stress_section,
+          "stress_progressive": lambda d, plt, plots: stress_section(d, plt, plots, "bench_stress_progressive.csv"),
           "solver": solver_section}
 
 

@@ -331,11 +331,19 @@ void print_delay_table(const std::vector<DelayRow>& delays) {
         fmt::print("  {:>10.3g}  {:>22}{:>22}  {:>22}{:>22}\n", semi.speed * 1e3, steps(semi.max_s, semi.mean_s, semi.dt),
                    steps(semi.open_max_s, semi.open_mean_s, semi.dt), steps(prog->max_s, prog->mean_s, prog->dt),
                    steps(prog->open_max_s, prog->open_mean_s, prog->dt));
-        ++rows;
-        met += prog->open_max_s <= prog->dt * (1.0 + 1e-9);
     }
-    fmt::print("  target: the wound opens within one step of the blade entering an element (progressive): {} of {} speeds\n",
-               met, rows);
+    // The verdict over every mesh and speed; the worst element and the 99th percentile named.
+    double worst = 0.0, worst_p99 = 0.0;
+    for (const DelayRow& d : delays) {
+        if (d.cutter != "xfem_progressive") continue;
+        ++rows;
+        met += d.open_max_s <= d.dt * (1.0 + 1e-9);
+        worst = std::max(worst, d.open_max_s / d.dt);
+        worst_p99 = std::max(worst_p99, d.open_p99_s / d.dt);
+    }
+    fmt::print("  target: the wound opens within one step of the blade entering an element (progressive): met at {} of {} "
+               "(mesh, speed); worst element {:.0f} steps, 99th percentile {:.0f}\n",
+               met, rows, worst, worst_p99);
 }
 
 }  // namespace
