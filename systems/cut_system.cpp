@@ -122,8 +122,8 @@ constexpr double kTipNodeMargin = 0.1;
 /// distances to that plane, so the uncrossed edges' parameters follow from them. False when a node
 /// sign already fixed disagrees with the plane, or a crossed edge then has both nodes on one side
 /// (a curved sweep): the element waits for its next crossing, and at worst is split once fully
-/// crossed, as on the semi-progressive front. (A colouring guessed from one or two crossings, as
-/// make_event would, puts the uncrossed edges' points at their nodes.)
+/// crossed, as on the semi-progressive front. (make_event's colouring, the fewest split edges
+/// besides the crossed ones, need not be the plane's while only one or two edges are crossed.)
 bool tip_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) {
     const Elements& el = w.elements;
     const int dim = el.dim, npe = el.nodes_per_element(), ne = edges_of(dim);
