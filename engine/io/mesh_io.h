@@ -31,6 +31,12 @@ MeshData read_surface_tetrahedralize(const std::string& path, double max_volume,
 /// Tetrahedralizes a closed surface (file units; max_volume in their cube, 0: no bound).
 MeshData tetrahedralize_surface(const std::string& path, const ClosedSurface& surface, double max_volume,
                                 double min_ratio = 1.5);
+/// Most points TetGen may add to a surface for its quality mesh (its S switch); past it the surface
+/// is refused with an InputError naming the limit. Default kMaxMeshCells / 4: a mesh at the cell
+/// limit has about a fifth as many nodes. A surface with a feature far smaller than its size (a gap
+/// of 1e-5 of it) asks for millions; the fuzzers lower it so that such an input is refused fast.
+void set_mesher_point_limit(long long points);
+long long mesher_point_limit();
 /// VTK XML UnstructuredGrid: ascii, binary (base64) or appended (raw or base64), zlib-compressed or not.
 MeshData read_vtu(const std::string& path);
 /// Legacy VTK, ASCII or BINARY: an UNSTRUCTURED_GRID, or a POLYDATA closed surface tetrahedralized

@@ -258,8 +258,10 @@ MeshData run_tetgen(const std::string& path, const ClosedSurface& s, double max_
             throw InputError(path, "faces", fmt::format("the surface intersects itself ({} triangles cross or overlap "
                                                         "others)", diagnosis.numberoftrifaces));
     }
-    // p: a piecewise linear complex; q: quality (radius-edge ratio bound); a: volume bound; Q: quiet.
-    std::string switches = fmt::format("pq{}Q", min_ratio);
+    // p: a piecewise linear complex; q: quality (radius-edge ratio bound); a: volume bound; S: most
+    // added points (mesher_point_limit); Q: quiet.
+    const long long limit = mesher_point_limit();
+    std::string switches = fmt::format("pq{}S{}Q", min_ratio, limit);
     if (max_volume > 0.0) switches += fmt::format("a{:.10g}", max_volume);
     try {
         tetrahedralize(switches.data(), &in, &out);
@@ -267,6 +269,11 @@ MeshData run_tetgen(const std::string& path, const ClosedSurface& s, double max_
         throw InputError(path, "surface", fmt::format("TetGen could not tetrahedralize it (error {}): is it a closed, "
                                                       "non-self-intersecting surface?", code));
     }
+    if (out.numberofpoints - in.numberofpoints >= limit)
+        throw InputError(path, "surface",
+                         fmt::format("the quality mesh needs more than {} added points (the limit): the surface has "
+                                     "features far smaller than its size (a thin gap or sliver); repair or remesh it",
+                                     limit));
     MeshData mesh;
     mesh.source = path;
     for (int i = 0; i < out.numberofpoints; ++i)
@@ -284,6 +291,13 @@ MeshData run_tetgen(const std::string& path, const ClosedSurface& s, double max_
 }
 
 }  // namespace
+
+namespace {
+long long g_mesher_point_limit = kMaxMeshCells / 4;
+}  // namespace
+
+void set_mesher_point_limit(long long points) { g_mesher_point_limit = std::max(1LL, points); }
+long long mesher_point_limit() { return g_mesher_point_limit; }
 
 MeshData tetrahedralize_surface(const std::string& path, const ClosedSurface& input, double max_volume, double min_ratio) {
     const ClosedSurface s = conditioned(path, input);

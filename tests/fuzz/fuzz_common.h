@@ -12,8 +12,13 @@
 #include <string_view>
 
 #include "engine/error.h"
+#include "engine/io/mesh_io.h"
 
 namespace xcut::fuzz {
+
+/// A surface whose quality mesh needs more than 20,000 added points is refused (an InputError)
+/// instead of meshed: a thin feature made TetGen add 180,000 points, 13 s per input (a fuzz timeout).
+inline const bool kMesherLimited = (set_mesher_point_limit(20000), true);
 
 inline const std::filesystem::path& temp_dir() {
     static const std::filesystem::path dir = [] {
