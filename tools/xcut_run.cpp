@@ -29,7 +29,7 @@ void print_result(const World& w, int steps, double secs) {
                    steps, all.refactored_steps, all.substepped_steps, all.max_substeps);
     double max_disp = 0.0;
     for (int i = 0; i < w.nodes.count(); ++i) max_disp = std::max(max_disp, (w.nodes.position[i] - w.nodes.rest[i]).norm());
-    fmt::print("done: t = {:.4g} s in {:.3f} s wall ({:.1f} steps/s); DOFs {}; last step {} CG iterations; "
+    fmt::print("done: t = {:.4g} s in {:.3f} s wall ({:.1f} steps/s); free DOFs {}; last step {} CG iterations; "
                "max displacement {:.4g} m; kinetic {:.4g} J, elastic {:.4g} J\n",
                w.time, secs, steps / std::max(secs, 1e-9), m.dofs, m.cg_iterations, max_disp, m.kinetic_energy,
                m.elastic_energy);
