@@ -96,7 +96,9 @@ TEST(ProgressiveFront, CrackOpensUpToTheBladeAndNotBeyond) {
                 const int i = w.elements.nodes[e][ed[0]], j = w.elements.nodes[e][ed[1]];
                 if (w.enriched.sign[i] == w.enriched.sign[j]) continue;
                 const bool open = w.enriched.phantom[i] >= 0 || w.enriched.phantom[j] >= 0;
-                if (open && edge_crossed(w, i, j)) EXPECT_LE(crossing(w, i, j).y(), reach) << "step " << n;
+                if (open && edge_crossed(w, i, j)) {
+                    EXPECT_LE(crossing(w, i, j).y(), reach) << "step " << n;
+                }
                 if (!edge_crossed(w, i, j)) {  // where the blade has not been: behind its start, or at most
                                                // one quad (a mean edge of travel) behind it
                     EXPECT_TRUE(w.enriched.front_fixed[i] || w.enriched.phantom[i] >= 0);
