@@ -306,6 +306,7 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
     std::vector<int> crossed;
     for (int e : candidates) {
         if ((!cut.empty() && cut[e] >= 0) || (!cs.queued.empty() && cs.queued[e])) {
+            if (!cs.progressive) continue;
             const auto tip = bc.crossing.find(e);  // a progressive front's tip element is still tested
             if (tip == bc.crossing.end() || !tip->second.split) continue;
         }

@@ -31,28 +31,27 @@ void prepare_enrichment(World& w) {
     n.mass.reserve(n_cap), n.fixed.reserve(n_cap);
 }
 
-bool edge_crossed(const World& w, int a, int b) {
-    const Elements& el = w.elements;
-    const int npe = el.nodes_per_element();
-    const auto& edges = el.dim == 3 ? kTetEdges : kTriEdges;
-    for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
-        const int f = w.incidence.entry[p] >> 2, la = w.incidence.entry[p] & 3;
-        const int c = w.cuts.cut_of_element[f];
-        if (c < 0) continue;
-        const int lb = static_cast<int>(std::find(el.nodes[f].begin(), el.nodes[f].begin() + npe, b) - el.nodes[f].begin());
-        if (lb == npe) continue;
-        for (int k = 0; k < (el.dim == 3 ? 6 : 3); ++k)
-            if ((edges[k][0] == la && edges[k][1] == lb) || (edges[k][0] == lb && edges[k][1] == la))
-                if (w.cuts.crossed[c] >> k & 1) return true;
-    }
-    return false;
-}
-
 namespace {
 
 int edge_count(int dim) { return dim == 3 ? 6 : 3; }
 const int* edge_nodes(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
 
+}  // namespace
+
+bool edge_crossed(const World& w, int a, int b) {
+    const Elements& el = w.elements;
+    for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
+        const int f = w.incidence.entry[p] >> 2, c = w.cuts.cut_of_element[f];
+        if (c < 0) continue;
+        for (int k = 0; k < edge_count(el.dim); ++k) {
+            const int i = el.nodes[f][edge_nodes(el.dim, k)[0]], j = el.nodes[f][edge_nodes(el.dim, k)[1]];
+            if (((i == a && j == b) || (i == b && j == a)) && (w.cuts.crossed[c] >> k & 1)) return true;
+        }
+    }
+    return false;
+}
+
+namespace {
 
 /// Splits one element as `ev` asks; returns false if it is already cut or the signs do not differ.
 bool record_cut(World& w, const CutEvent& ev) {

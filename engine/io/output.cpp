@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <algorithm>
@@ -11,16 +10,13 @@
 #include <fmt/os.h>
 
 #include "engine/error.h"
+#include "engine/parallel.h"
 #include "engine/io/cell_stress.h"
 #include "engine/io/clipped_cells.h"
 #include "engine/io/vtu_writer.h"
 
 namespace xcut {
 namespace {
-
-double now_seconds() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 int vtk_cell_type(int dim) { return dim == 3 ? 10 : 5; }  // VTK_TETRA, VTK_TRIANGLE
 
@@ -213,11 +209,11 @@ void OutputWriter::finish() {
 }
 
 ProgressBar::ProgressBar(std::string label, int total)
-    : label_(std::move(label)), total_(total), enabled_(isatty(fileno(stderr)) != 0), start_(now_seconds()) {}
+    : label_(std::move(label)), total_(total), enabled_(isatty(fileno(stderr)) != 0), start_(wall_seconds()) {}
 
 void ProgressBar::update(int done) {
     if (!enabled_ || total_ <= 0) return;
-    const double elapsed = now_seconds() - start_;
+    const double elapsed = wall_seconds() - start_;
     const int percent = static_cast<int>(100.0 * done / total_);
     if (elapsed < 1.0 || percent == last_percent_) return;
     last_percent_ = percent;

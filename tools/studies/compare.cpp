@@ -115,6 +115,20 @@ Run run_incisions(const Incisions& inc, const Variant& variant, double threshold
     return r;
 }
 
+/// Mean, 99th percentile and maximum of `v` (all 0 when empty).
+struct Spread {
+    double mean = 0, p99 = 0, max = 0;
+};
+Spread spread(const std::vector<double>& v) {
+    return {mean(v), percentile(v, 0.99), v.empty() ? 0.0 : *std::max_element(v.begin(), v.end())};
+}
+
+/// The blade's speed over the last stretch of its trajectory [m/s].
+double last_speed(const std::vector<Keyframe>& keys) {
+    const Keyframe &a = keys[keys.size() - 2], &b = keys.back();
+    return (b.position - a.position).norm() / (b.time - a.time);
+}
+
 DelayRow delay_run(const Scene& base, int blade, const Variant& variant, double mesh_scale, double speed_factor) {
     Scene s = with_variant(base, variant);
     s.tools = replicate_tool(base.tools, blade, 1);
@@ -151,23 +165,19 @@ DelayRow delay_run(const Scene& base, int blade, const Variant& variant, double 
     row.speed_factor = speed_factor;
     row.element_size = w.cut_state.mean_edge;
     row.elements = w.mesh_elements;
-    const Keyframe &a = keys[keys.size() - 2], &b = keys.back();
-    row.speed = (b.position - a.position).norm() / (b.time - a.time);
+    row.speed = last_speed(keys);
     const CutState& cs = w.cut_state;
     row.splits = static_cast<int>(cs.delay_sim.size());
-    row.mean_s = mean(cs.delay_sim);
-    row.p99_s = percentile(cs.delay_sim, 0.99);
-    row.max_s = cs.delay_sim.empty() ? 0.0 : *std::max_element(cs.delay_sim.begin(), cs.delay_sim.end());
+    const Spread split = spread(cs.delay_sim);
+    row.mean_s = split.mean, row.p99_s = split.p99, row.max_s = split.max;
     std::vector<double> wall_ms;
     for (double d : cs.delay_wall) wall_ms.push_back(d * 1e3);
-    row.wall_mean_ms = mean(wall_ms);
-    row.wall_p99_ms = percentile(wall_ms, 0.99);
+    const Spread wall = spread(wall_ms);
+    row.wall_mean_ms = wall.mean, row.wall_p99_ms = wall.p99;
     if (!w.snap.enabled) {
-        const auto& open = w.cuts.open_delay_sim;
-        row.opened = static_cast<int>(open.size());
-        row.open_mean_s = mean(open);
-        row.open_p99_s = percentile(open, 0.99);
-        row.open_max_s = open.empty() ? 0.0 : *std::max_element(open.begin(), open.end());
+        row.opened = static_cast<int>(w.cuts.open_delay_sim.size());
+        const Spread open = spread(w.cuts.open_delay_sim);
+        row.open_mean_s = open.mean, row.open_p99_s = open.p99, row.open_max_s = open.max;
     } else {
         row.open_mean_s = row.open_p99_s = row.open_max_s = NAN;
     }
@@ -290,9 +300,7 @@ Incisions repeated_incisions(const Scene& scene, int cuts, double spacing) {
 
 std::vector<DelayRow> crossing_delay_sweep(const Scene& scene, bool progress) {
     const int blade = first_blade(scene);
-    const auto& keys = scene.tools.trajectory[blade];
-    const Keyframe &a = keys[keys.size() - 2], &b = keys.back();
-    const double own = (b.position - a.position).norm() / (b.time - a.time);
+    const double own = last_speed(scene.tools.trajectory[blade]);
     const std::vector<double> scales = scene.mesh.generator.empty() ? std::vector<double>{1.0}
                                                                     : std::vector<double>{1.5, 1.0, 0.75};
     std::vector<double> factors = {1.0};  // the scene's own speed, then 10 ... 200 mm/s
@@ -321,7 +329,6 @@ void print_delay_table(const std::vector<DelayRow>& delays) {
     const auto steps = [](double max_s, double mean_s, double dt) {
         return std::isnan(max_s) ? std::string("-") : fmt::format("{:.1f} ({:.2f})", max_s / dt, mean_s / dt);
     };
-    int met = 0, rows = 0;
     for (const DelayRow& semi : delays) {
         if (semi.cutter != "xfem" || semi.mesh_scale != 1.0) continue;
         const DelayRow* prog = nullptr;
@@ -333,6 +340,7 @@ void print_delay_table(const std::vector<DelayRow>& delays) {
                    steps(prog->open_max_s, prog->open_mean_s, prog->dt));
     }
     // The verdict over every mesh and speed; the worst element and the 99th percentile named.
+    int met = 0, rows = 0;
     double worst = 0.0, worst_p99 = 0.0;
     for (const DelayRow& d : delays) {
         if (d.cutter != "xfem_progressive") continue;

@@ -3,13 +3,9 @@
 #include <chrono>
 #include <exception>
 
-namespace xcut::viewer {
+#include "engine/parallel.h"
 
-namespace {
-double wall_now() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-}  // namespace
+namespace xcut::viewer {
 
 PhysicsThread::PhysicsThread(Simulation& sim, SnapshotBuffer& buffer) : sim_(sim), buffer_(buffer) {}
 
@@ -84,7 +80,7 @@ void PhysicsThread::step_once() {
     SolverSettings& s = sim_.world.solver;
     if (dt_request_ > 0.0 && !s.realtime) s.dt = dt_request_.exchange(0.0);
     step_simulation(sim_);
-    const double t1 = wall_now();
+    const double t1 = wall_seconds();
     ++steps_done_;
     SnapshotOptions options;
     {
@@ -110,7 +106,7 @@ void PhysicsThread::run() {
             was_stepping = false;
             continue;
         }
-        if (!was_stepping) pace_wall = wall_now(), pace_sim = sim_.world.time;
+        if (!was_stepping) pace_wall = wall_seconds(), pace_sim = sim_.world.time;
         was_stepping = true;
         try {
             step_once();
@@ -123,7 +119,7 @@ void PhysicsThread::run() {
             return;
         }
         if (paced_ && !lockstep_) {  // keep simulated time to the wall clock: never run ahead of it
-            const double ahead = (sim_.world.time - pace_sim) - (wall_now() - pace_wall);
+            const double ahead = (sim_.world.time - pace_sim) - (wall_seconds() - pace_wall);
             if (ahead > 0.0) {
                 std::unique_lock<std::mutex> lock(mutex_);
                 wake_.wait_for(lock, std::chrono::duration<double>(ahead), [this] { return quit_.load(); });
