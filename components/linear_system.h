@@ -22,6 +22,21 @@ struct LinearFactor;
 /// The smoothed-aggregation hierarchy the amg method keeps (systems/kernels/amg.h); opaque here.
 struct AmgHierarchy;
 
+/// What the kept solutions of earlier steps were solved for (systems/kernels/projected_guess.h); a
+/// step with another key starts them again (a cut changes the DOFs or elements, a substep the scales).
+struct GuessKey {
+    int dofs = 0, elements = 0;
+    uint64_t topology = 0;                       ///< the assembled pattern (0 when matrix-free)
+    double mass_scale = 0.0, stiff_scale = 0.0;  ///< A = mass_scale M + stiff_scale K [-], [s^2]
+    bool operator==(const GuessKey&) const = default;
+};
+
+/// The velocity changes [m/s] solved in the last steps with one key, newest last, held entries zero.
+struct SolutionHistory {
+    GuessKey key;
+    std::vector<Eigen::VectorXd> solutions;
+};
+
 struct LinearSystem {
     // Pattern: block rows are DOF nodes; columns the nodes they share an element with.
     std::vector<int> row_offset;        ///< block row i's blocks: [row_offset[i], row_offset[i+1])
@@ -47,6 +62,9 @@ struct LinearSystem {
     int extensions = 0;                    ///< amg hierarchies carried over to a grown pattern (amg_extend)
     double factor_nonzeros = 0.0;          ///< non-zeros of the Cholesky factor L or the amg hierarchy (12 bytes each)
     std::string method;                    ///< the method in use: jacobi, block_jacobi, amg, cholesky, direct
+    double load_setup_ms = 0.0;            ///< building the kept preconditioner at load [ms]
+    SolutionHistory history;               ///< earlier steps' solutions: the next step's first guess
+    int projected_guesses = 0;             ///< steps whose first guess came from them
 };
 
 }  // namespace xcut

@@ -9,8 +9,10 @@
 #include <exception>
 #include <fmt/format.h>
 
+#include "engine/parallel.h"
 #include "systems/force_system.h"
 #include "systems/kernels/amg.h"
+#include "systems/kernels/projected_guess.h"
 #include "systems/kernels/team_cg.h"
 #include "systems/linear_assembly.h"
 
@@ -64,6 +66,18 @@ bool factorize(World& w) {
     A.factor_age = 0;
     f.ok = f.llt.info() == Eigen::Success;
     return f.ok;
+}
+
+/// Builds the amg method's hierarchy from the assembled A, for stiff_scale / mass_scale = `ratio`.
+bool build_hierarchy(World& w, const Eigen::VectorXd& mask, double ratio) {
+    LinearSystem& A = w.linear;
+    if (!A.amg) A.amg = std::make_shared<AmgHierarchy>();
+    AmgHierarchy& h = *A.amg;
+    build_amg(A, w.nodes.position, mask, h);
+    h.stiffness_ratio = ratio;
+    ++A.factorizations;
+    A.factor_nonzeros = amg_nonzeros(h);
+    return h.ok;
 }
 
 constexpr int kAutoCholeskyDofs = 10000;  // auto: cholesky up to this many DOFs, amg beyond
@@ -198,13 +212,9 @@ public:
                            h->last_iterations > kAmgRenewGrowth * h->first_iterations + kAmgRenewSlack ||
                            ratio > (1.0 + 1e-9) * h->stiffness_ratio;
         const auto renew = [&] {
-            if (!A_.amg) A_.amg = std::make_shared<AmgHierarchy>();
+            const bool ok = build_hierarchy(w_, mask_, ratio);
             h = A_.amg.get();
-            build_amg(A_, w_.nodes.position, mask_, *h);
-            h->stiffness_ratio = ratio;
-            ++A_.factorizations;
-            A_.factor_nonzeros = amg_nonzeros(*h);
-            return h->ok;
+            return ok;
         };
         const auto cycle = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) { amg_cycle_in_team(*h, A_, r, z); };
         const auto solve = [&] {
@@ -253,22 +263,79 @@ private:
 
 }  // namespace
 
-LinearSolve solve_linear(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
-                         const Eigen::VectorXd& mask, Eigen::VectorXd& x, const CgLimits& limits) {
+namespace {
+
+/// AV = A V, column by column, with this step's A: the assembled matrix, or matrix-free for jacobi.
+void step_product(World& w, double mass_scale, double stiff_scale, const Eigen::MatrixXd& V, Eigen::MatrixXd& AV) {
+    AV.resize(V.rows(), V.cols());
+    Eigen::VectorXd v, out;
+    for (Eigen::Index j = 0; j < V.cols(); ++j) {
+        v = V.col(j);
+        if (w.linear.method != "jacobi") {
+            linear_multiply(w.linear, v, out);
+        } else {
+            stiffness_product(w, v, out);
+            for (Eigen::Index i = 0; i < v.size(); ++i) out[i] = mass_scale * w.nodes.mass[i / 3] * v[i] + stiff_scale * out[i];
+        }
+        AV.col(j) = out;
+    }
+}
+
+/// A solve; with `history`, x's first guess is projected from the kept solutions when they were
+/// solved for the same system, and the solution is kept (systems/kernels/projected_guess.h).
+LinearSolve solve(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b, const Eigen::VectorXd& mask,
+                  Eigen::VectorXd& x, const CgLimits& limits, SolutionHistory* history) {
     LinearSystem& A = w.linear;
     if (A.method.empty()) A.method = resolve_linear_method(w);
+    const bool matrix_free = A.method == "jacobi";
+    const bool new_pattern = !matrix_free && ensure_linear_pattern(w);
+    if (!matrix_free) assemble_step_matrix(w, mass_scale, stiff_scale);
+    const GuessKey key{static_cast<int>(b.size()), w.elements.count(), matrix_free ? 0 : A.topology, mass_scale,
+                       stiff_scale};
+    if (history && history->key == key &&
+        projected_guess(*history, [&](const Eigen::MatrixXd& V, Eigen::MatrixXd& AV) {
+            step_product(w, mass_scale, stiff_scale, V, AV);
+        }, b, x))
+        ++A.projected_guesses;
     LinearSolve out;
-    if (A.method == "jacobi") {
+    if (matrix_free) {
         accepted(jacobi_cg(w, mass_scale, stiff_scale, b, mask, limits, x), limits, out);
-        return out;
+    } else {
+        AssembledSolve solve(w, b, mask, limits, x, out);
+        if (A.method == "block_jacobi") solve.accept(solve.block_jacobi());
+        else if (A.method == "amg") solve.amg(new_pattern, stiff_scale / mass_scale);
+        else solve.cholesky(new_pattern);
     }
-    const bool new_pattern = ensure_linear_pattern(w);
-    assemble_step_matrix(w, mass_scale, stiff_scale);
-    AssembledSolve solve(w, b, mask, limits, x, out);
-    if (A.method == "block_jacobi") solve.accept(solve.block_jacobi());
-    else if (A.method == "amg") solve.amg(new_pattern, stiff_scale / mass_scale);
-    else solve.cholesky(new_pattern);
+    if (history && out.converged) remember_solution(*history, key, w.solver.guess_history, x, mask);
     return out;
+}
+
+}  // namespace
+
+void prepare_linear_solver(World& w) {
+    LinearSystem& A = w.linear;
+    if (A.method.empty()) A.method = resolve_linear_method(w);
+    if (w.nodes.count() == 0 || (A.method != "cholesky" && A.method != "amg")) return;
+    const double start = wall_seconds();
+    const SolverSettings& s = w.solver;
+    const double mass_scale = 1.0 + s.dt * s.damping_mass, stiff_scale = s.dt * s.dt + s.dt * s.damping_stiffness;
+    update_rotations(w);
+    ensure_linear_pattern(w);
+    assemble_step_matrix(w, mass_scale, stiff_scale);
+    if (A.method == "amg") build_hierarchy(w, free_mask(w), stiff_scale / mass_scale);
+    else factorize(w);
+    A.load_setup_ms = 1e3 * (wall_seconds() - start);
+}
+
+LinearSolve solve_linear(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
+                         const Eigen::VectorXd& mask, Eigen::VectorXd& x, const CgLimits& limits) {
+    return solve(w, mass_scale, stiff_scale, b, mask, x, limits, nullptr);
+}
+
+LinearSolve solve_step_linear(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
+                              const Eigen::VectorXd& mask, Eigen::VectorXd& x) {
+    return solve(w, mass_scale, stiff_scale, b, mask, x,
+                 CgLimits{w.solver.cg_tolerance, w.solver.cg_max_iterations}, &w.linear.history);
 }
 
 }  // namespace xcut

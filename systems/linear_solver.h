@@ -25,6 +25,14 @@
 
 namespace xcut {
 
+/// Builds the kept preconditioner of the cholesky and amg methods (the factor, the hierarchy) at
+/// load, from A at the initial state and the scene's dt, so that the first step does not pay it: a
+/// 53k-tet block's hierarchy takes about 250 ms, a stall of the loop a renderer or a haptic device
+/// waits on (SOFA builds its solvers' data at init for the same reason). The first step takes it
+/// into use as the kept policy says (it renews it if the step's A has another pattern or a larger
+/// stiffness weight). Records the time in LinearSystem::load_setup_ms. Nothing for the others.
+void prepare_linear_solver(World& world);
+
 /// The method "auto" (or a named method) stands for on this world, and why (for the schedule line).
 std::string resolve_linear_method(const World& world, std::string* why = nullptr);
 
@@ -52,5 +60,12 @@ inline LinearSolve solve_linear(World& world, double mass_scale, double stiff_sc
     return solve_linear(world, mass_scale, stiff_scale, b, mask, x,
                         CgLimits{world.solver.cg_tolerance, world.solver.cg_max_iterations});
 }
+
+/// The step's first solve: as solve_linear at the scene's tolerance and cap, with x's first guess
+/// projected from the solutions of the last `solver.guess_history` steps when they were solved for
+/// the same system (systems/kernels/projected_guess.h; otherwise x's own guess stands), and this
+/// step's solution kept for the next.
+LinearSolve solve_step_linear(World& world, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
+                              const Eigen::VectorXd& mask, Eigen::VectorXd& x);
 
 }  // namespace xcut

@@ -4,6 +4,7 @@
 #include "systems/cut_system.h"
 #include "systems/enrichment_system.h"
 #include "systems/force_system.h"
+#include "systems/linear_solver.h"
 #include "systems/mapping_system.h"
 #include "systems/scripted_cut_system.h"
 #include "systems/snap_cut_system.h"
@@ -28,6 +29,7 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
     scheduler.add(force_system());
     scheduler.add(collision_system(make_collision_model()));
     scheduler.add(solver_system(world));
+    prepare_linear_solver(world);
     scheduler.add(watchdog_system());
     scheduler.add(mapping_system());
     scheduler.add({"OutputSystem", kNodes | kElements | kOutput, 0, [&sim](World& w) {

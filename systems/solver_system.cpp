@@ -75,7 +75,7 @@ LinearSolve euler_substep(World& world, double h, const Eigen::VectorXd& m3, con
     stiffness_product(world, v, kv);
     Eigen::VectorXd b = h * world.forces.force - stiff_scale * kv - h * s.damping_mass * m3.cwiseProduct(v);
     Eigen::VectorXd dv = world.forces.last_dv.size() == n3 ? world.forces.last_dv : Eigen::VectorXd::Zero(n3);
-    LinearSolve total = solve_linear(world, mass_scale, stiff_scale, b, mask, dv);
+    LinearSolve total = solve_step_linear(world, mass_scale, stiff_scale, b, mask, dv);
     int newton = 1;
     if (total.converged && s.newton_iterations > 1) {
         // Newton on the nonlinear step (rotations, forces and K re-evaluated at x_n + h v_k) until

@@ -66,6 +66,9 @@ int run_scene(const RunOptions& o) {
                thread_count(), wait ? wait : "active", w.solver.dt, w.solver.realtime ? "real-time" : "fixed", steps);
     for (const std::string& note : w.mesh_notes) fmt::print(stderr, "warning: {}\n", note);
     fmt::print("{}", sim->scheduler.describe(w));
+    if (w.linear.load_setup_ms > 0.0)
+        fmt::print("linear solver: {} built at load in {:.0f} ms\n",
+                   w.linear.method == "amg" ? "the multigrid hierarchy" : "the Cholesky factor", w.linear.load_setup_ms);
     const auto t0 = std::chrono::steady_clock::now();
     run_simulation(*sim, steps, !o.scene.quiet);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

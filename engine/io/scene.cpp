@@ -334,7 +334,8 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 
     const JsonFields sol = top.object("solver");
     sol.allow_only({"dt", "mode", "cg_tolerance", "cg_max_iterations", "dt_min", "dt_max", "damping", "newton",
-                    "linear", "refactor_iterations", "refactor_every", "max_substeps", "energy_factor"});
+                    "linear", "refactor_iterations", "refactor_every", "max_substeps", "energy_factor",
+                    "guess_history"});
     SolverSettings& s = scene.solver;
     s.dt = sol.number("dt", 1e-2, 1e-9, 10.0);
     s.realtime = sol.choice("mode", "fixed", {"fixed", "realtime"}) == "realtime";
@@ -354,6 +355,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     s.refactor_iterations = sol.integer("refactor_iterations", 8, 1, 1000000);
     s.refactor_every = sol.integer("refactor_every", 200, 1, 1000000);
     s.max_substeps = sol.integer("max_substeps", 16, 1, 1024);
+    s.guess_history = sol.integer("guess_history", 6, 0, 64);
     s.energy_factor = sol.number("energy_factor", 100.0, 1.0);
 
     if (top.has("steps") && top.has("duration")) top.fail("duration", "give \"steps\" or \"duration\", not both");

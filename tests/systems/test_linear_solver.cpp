@@ -269,6 +269,25 @@ TEST(TeamCg, MatrixFreeProductInTeamMatchesTheProduct) {
     EXPECT_TRUE(in_team == reference);
 }
 
+// The kept preconditioner is built at load, and the first step takes it into use instead of
+// building another; the methods that keep none build nothing.
+TEST(LinearSolver, KeptPreconditionerIsBuiltAtLoad) {
+    for (const char* method : {"cholesky", "amg", "block_jacobi", "jacobi"}) {
+        SCOPED_TRACE(method);
+        Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json");
+        scene.visual_subdivisions = scene.collision_subdivisions = -1;
+        scene.solver.linear = method;
+        auto sim = make_simulation(scene, false);
+        const LinearSystem& A = sim->world.linear;
+        const bool keeps = std::string(method) == "cholesky" || std::string(method) == "amg";
+        EXPECT_EQ(A.factorizations, keeps ? 1 : 0);
+        EXPECT_EQ(A.load_setup_ms > 0.0, keeps);
+        step_simulation(*sim);
+        EXPECT_EQ(A.factorizations, keeps ? 1 : 0) << "the first step used the one built at load";
+        EXPECT_LE(sim->world.metrics.current.cg_residual, scene.solver.cg_tolerance);
+    }
+}
+
 // With a fixed thread count the cholesky and amg methods replay bit for bit; 1 and 2 threads agree
 // to the CG tolerance (here bit for bit too: the factor's solve is serial, every row of the
 // multigrid cycle is written by one thread, and every sum has a fixed order). The default scene's

@@ -16,6 +16,9 @@
 namespace xcut {
 namespace {
 
+/// A method name, or "<method> guess 0": the method with solver.guess_history = 0.
+constexpr const char* kNoGuess = " guess 0";
+
 struct Case {
     std::string name;
     Scene scene;
@@ -49,10 +52,12 @@ std::vector<Case> cases(bool tiny) {
         hand.visual_subdivisions = hand.collision_subdivisions = -1;
         out.push_back({"hand_dorsum", hand, 30, {"jacobi", "block_jacobi", "amg", "cholesky"}});
     }
-    out.push_back({"block_2k", sized_scene("scenes/tissue_block.json", 2000), tiny ? 10 : 100, all});
+    std::vector<std::string> with_plain = all;
+    with_plain.push_back(std::string("cholesky") + kNoGuess);
+    out.push_back({"block_2k", sized_scene("scenes/tissue_block.json", 2000), tiny ? 10 : 100, with_plain});
     if (!tiny) {
         out.push_back({"block_53k", sized_scene("scenes/tissue_block.json", 53000), 20,
-                       {"jacobi", "block_jacobi", "amg", "cholesky"}});
+                       {"jacobi", "block_jacobi", "amg", std::string("amg") + kNoGuess, "cholesky"}});
         out.push_back({"block_200k", sized_scene("scenes/tissue_block.json", 200000), 5,
                        {"jacobi", "block_jacobi", "amg", "cholesky"}});
     }
@@ -63,9 +68,11 @@ std::vector<Case> cases(bool tiny) {
 SolverBenchRow timed(const Case& c, const std::string& method, int threads) {
     set_thread_count(threads);
     Scene scene = c.scene;
-    scene.solver.linear = method;
+    const size_t cut = method.find(kNoGuess);
+    scene.solver.linear = method.substr(0, cut);
+    if (cut != std::string::npos) scene.solver.guess_history = 0;
     SolverBenchRow r;
-    r.case_name = c.name, r.method = method, r.threads = threads;
+    r.case_name = c.name, r.method = method, r.threads = threads, r.guess_history = scene.solver.guess_history;
     auto sim = make_simulation(scene, false);
     const World& w = sim->world;
     r.tets = w.mesh_elements;
@@ -89,6 +96,7 @@ SolverBenchRow timed(const Case& c, const std::string& method, int threads) {
     r.factorizations = w.linear.factorizations;
     r.factor_bytes_per_tet = 12.0 * w.linear.factor_nonzeros / std::max(1, r.tets);
     r.rss_bytes_per_tet = peak_rss_bytes() / std::max(1, r.tets);
+    r.load_setup_ms = w.linear.load_setup_ms;
     return r;
 }
 
@@ -135,25 +143,27 @@ int solver_bench_command(const SolverBenchOptions& o) {
     const std::string path = !o.csv.empty() ? o.csv : o.tiny ? "results/bench_solver_quick.csv" : "results/bench_solver.csv";
     auto csv = open_csv(path);
     csv.print("case,method,threads,tets,steps,steps_per_s,ms_per_step,cg_per_step,max_residual,refactored_steps,"
-              "substepped_steps,factorizations,factor_bytes_per_tet,rss_bytes_per_tet,speedup_vs_jacobi,failure\n");
-    fmt::print("{:<20} {:<13} {:>3} {:>7} {:>9} {:>8} {:>9} {:>6} {:>6} {:>8} {:>9}  {}\n", "case", "method", "thr", "tets",
-               "steps/s", "CG/step", "max res", "refac", "subst", "L B/tet", "vs jacobi", "");
+              "substepped_steps,factorizations,factor_bytes_per_tet,rss_bytes_per_tet,speedup_vs_jacobi,guess_history,"
+              "load_setup_ms,failure\n");
+    fmt::print("{:<20} {:<16} {:>3} {:>7} {:>9} {:>8} {:>9} {:>6} {:>6} {:>8} {:>9} {:>8}  {}\n", "case", "method", "thr",
+               "tets", "steps/s", "CG/step", "max res", "refac", "subst", "L B/tet", "vs jacobi", "setup ms", "");
     for (const SolverBenchRow& r : rows) {
         double jacobi = 0.0;
         for (const SolverBenchRow& j : rows)
             if (j.case_name == r.case_name && j.method == "jacobi" && j.failure.empty()) jacobi = j.steps_per_s;
         const double ratio = jacobi > 0 ? r.steps_per_s / jacobi : 0.0;
         const std::string failed = r.failure.empty() ? "" : "FAILED at step " + std::to_string(r.steps + 1);
-        fmt::print("{:<20} {:<13} {:>3} {:>7} {:>9.1f} {:>8.2f} {:>9.2e} {:>6} {:>6} {:>8.0f} {:>9}  {}\n", r.case_name,
-                   r.method, r.threads, r.tets, r.steps_per_s, r.cg_per_step, r.max_residual, r.refactored_steps,
-                   r.substepped_steps, r.factor_bytes_per_tet, ratio > 0 ? fmt::format("{:.2f}x", ratio) : "-", failed);
+        fmt::print("{:<20} {:<16} {:>3} {:>7} {:>9.1f} {:>8.2f} {:>9.2e} {:>6} {:>6} {:>8.0f} {:>9} {:>8.1f}  {}\n",
+                   r.case_name, r.method, r.threads, r.tets, r.steps_per_s, r.cg_per_step, r.max_residual,
+                   r.refactored_steps, r.substepped_steps, r.factor_bytes_per_tet,
+                   ratio > 0 ? fmt::format("{:.2f}x", ratio) : "-", r.load_setup_ms, failed);
         std::string why = r.failure;
         for (char& ch : why)
             if (ch == '"' || ch == '\n') ch = '\'';
-        csv.print("{},{},{},{},{},{:.3f},{:.3f},{:.2f},{:.3e},{},{},{},{:.1f},{:.1f},{:.3f},\"{}\"\n", r.case_name, r.method,
-                  r.threads, r.tets, r.steps, r.steps_per_s, r.ms_per_step, r.cg_per_step, r.max_residual,
+        csv.print("{},{},{},{},{},{:.3f},{:.3f},{:.2f},{:.3e},{},{},{},{:.1f},{:.1f},{:.3f},{},{:.1f},\"{}\"\n", r.case_name,
+                  r.method, r.threads, r.tets, r.steps, r.steps_per_s, r.ms_per_step, r.cg_per_step, r.max_residual,
                   r.refactored_steps, r.substepped_steps, r.factorizations, r.factor_bytes_per_tet, r.rss_bytes_per_tet,
-                  ratio, why);
+                  ratio, r.guess_history, r.load_setup_ms, why);
     }
     fmt::print("targets (2 threads, tolerance as each scene sets it): skin_slab >= 200 steps/s and <= 5 CG/step; "
                "hand_dorsum no step over the cap, <= 1/4 of jacobi's step time; block_2k >= 1000 steps/s; block_53k "

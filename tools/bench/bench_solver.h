@@ -3,7 +3,10 @@
 // the same scenes, each ratio measured in one run against solver.linear = jacobi: steps per second,
 // CG iterations per step, the largest residual, steps that needed a renewed factor or substeps, the
 // factor's non-zeros and bytes per tet, peak memory; and the 2-thread step against the 1-thread step
-// while another process keeps one core busy. A benchmark: it prints figures and writes CSV
+// while another process keeps one core busy. The timed steps start after load, where the cholesky
+// and amg methods build their kept preconditioner (systems/linear_solver.h, prepare_linear_solver);
+// that time is its own column. Two cases run their fastest method again without the projected first
+// guess (solver.guess_history = 0), for the guess's share in the same run. A benchmark: it prints figures and writes CSV
 // (results/bench_solver.csv; a --tiny run writes results/bench_solver_quick.csv, never the record).
 #include <string>
 #include <vector>
@@ -22,6 +25,8 @@ struct SolverBenchRow {
     double steps_per_s = 0, ms_per_step = 0, cg_per_step = 0, max_residual = 0;
     int refactored_steps = 0, substepped_steps = 0, factorizations = 0;
     double factor_bytes_per_tet = 0, rss_bytes_per_tet = 0;
+    int guess_history = 0;      ///< solver.guess_history of the run (0: the previous step's solution)
+    double load_setup_ms = 0;   ///< the kept preconditioner built at load, outside the timed steps
     std::string failure;        ///< the NumericalError that stopped the run, if any
 };
 

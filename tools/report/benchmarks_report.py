@@ -362,10 +362,12 @@ def solver_section(d, plt, plots):
                      f"{float(r['max_residual']):.1e}", r["refactored_steps"], r["substepped_steps"],
                      num(r["factor_bytes_per_tet"]), num(r["rss_bytes_per_tet"]),
                      f"{float(r['speedup_vs_jacobi']):.2f}x" if float(r["speedup_vs_jacobi"]) > 0 else "-",
+                     num(r.get("load_setup_ms", 0)),
                      f"stopped at step {step.group(1)}" if failed and step else ("stopped" if failed else "")])
     return table(["case", "method", "threads", "tets", "steps/s", "CG / step", "max residual", "renewed", "substepped",
-                  "L bytes / tet", "RSS bytes / tet", "vs jacobi", "run"], body,
-                 ["---", "---", "---:", "---:", "---:", "---:", "---:", "---:", "---:", "---:", "---:", "---:", "---"])
+                  "L bytes / tet", "RSS bytes / tet", "vs jacobi", "setup at load ms", "run"], body,
+                 ["---", "---", "---:", "---:", "---:", "---:", "---:", "---:", "---:", "---:", "---:", "---:", "---:",
+                  "---"])
 
 
 def generic_section(name):

@@ -66,6 +66,8 @@ std::vector<BadScene> bad_scenes() {
         {"unknown solver mode", "solver.mode=\"fast\"", "solver.mode", "is not one of"},
         {"zero time step", "solver.dt=0", "solver.dt", "out of range"},
         {"no CG iterations", "solver.cg_max_iterations=0", "solver.cg_max_iterations", "out of range"},
+        {"negative guess history", "solver.guess_history=-1", "solver.guess_history", "out of range"},
+        {"guess history too long", "solver.guess_history=65", "solver.guess_history", "out of range"},
         {"no Newton iteration", "solver.newton.iterations=0", "solver.newton.iterations", "out of range"},
         {"box max below min", "constraints.fixed_boxes=[{\"min\":[0,0,0],\"max\":[1,-1,1]}]",
          "constraints.fixed_boxes[0].max", ">= min"},
