@@ -18,6 +18,7 @@ struct BenchOptions {
     CutBenchOptions cut;
     AccuracyBenchOptions accuracy;
     bool accuracy_tiny = false, accuracy_no_plots = false;
+    std::vector<std::string> cases;  ///< solver: only these cases
 };
 
 void add_bench_options(CLI::App& cmd, BenchOptions& o) {
@@ -35,6 +36,8 @@ void add_bench_options(CLI::App& cmd, BenchOptions& o) {
     cmd.add_option("--speed", o.cut.speed, "Blade speed [m/s] (cut)")->check(CLI::PositiveNumber);
     cmd.add_option("--problems", o.accuracy.problems, "docs/verification.md problems (accuracy): 3, 5, 6")
         ->delimiter(',');
+    cmd.add_option("--cases", o.cases, "Only these cases (solver; a partial run writes its quick CSV): skin_slab, "
+                   "hand_dorsum, block_2k, block_53k, block_200k, thin_membrane")->delimiter(',');
     cmd.add_flag("--tiny", o.accuracy_tiny, "The small configuration (accuracy, solver, mesh_io): writes its own CSV");
     cmd.add_option("--cache-dir", o.accuracy.cache_dir,
                    "Where the conforming reference of problem 5 is cached (accuracy; default $XDG_CACHE_HOME/xcut/accuracy, ~/.cache/xcut/accuracy)");
@@ -94,7 +97,14 @@ int run_bench(const CLI::App& cmd, const BenchOptions& o) {
         a.csv = csv_for(cmd, perf.csv, a.csv, o.accuracy_tiny || cmd.count("--problems") > 0 || cmd.count("--threads") > 0);
         return accuracy_bench_command(a);
     }
-    if (o.suite == "solver") return run_tiny_or_full<SolverBenchOptions>(cmd, o, solver_bench_command);
+    if (o.suite == "solver") {
+        SolverBenchOptions solver;
+        solver.tiny = o.accuracy_tiny;
+        solver.cases = o.cases;
+        solver.csv = csv_for(cmd, perf.csv, solver.tiny ? "results/bench_solver_quick.csv" : "results/bench_solver.csv",
+                             !o.cases.empty() && !solver.tiny);
+        return solver_bench_command(solver);
+    }
     if (o.suite == "mesh_io") return run_tiny_or_full<MeshIoBenchOptions>(cmd, o, mesh_io_bench_command);
     if (o.suite == "cut") {
         CutBenchOptions cut = o.cut;

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <fmt/format.h>
 
@@ -114,7 +115,10 @@ pid_t start_busy_process() {
 
 std::vector<SolverBenchRow> run_solver_bench(const SolverBenchOptions& o) {
     std::vector<SolverBenchRow> rows;
-    const std::vector<Case> all = cases(o.tiny);
+    std::vector<Case> all = cases(o.tiny);
+    if (!o.cases.empty())
+        std::erase_if(all, [&](const Case& c) { return std::find(o.cases.begin(), o.cases.end(), c.name) == o.cases.end(); });
+    if (all.empty()) throw InputError("--cases", "", "no such case in this configuration");
     for (const Case& c : all)
         for (const std::string& m : c.methods) {
             rows.push_back(timed(c, m, 2));

@@ -17,6 +17,7 @@ struct SolverBenchOptions {
     bool tiny = false;          ///< small cases and few steps (CI, a quick look)
     std::string csv;            ///< default: results/bench_solver.csv, or ..._quick.csv when tiny
     bool progress = true;
+    std::vector<std::string> cases;  ///< only these cases (all when empty)
 };
 
 struct SolverBenchRow {
