@@ -284,12 +284,11 @@ void step_product(World& w, double mass_scale, double stiff_scale, const Eigen::
 /// A solve; with `history`, x's first guess is projected from the kept solutions when they were
 /// solved for the same system, and the solution is kept (systems/kernels/projected_guess.h).
 LinearSolve solve(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b, const Eigen::VectorXd& mask,
-                  Eigen::VectorXd& x, const CgLimits& limits, SolutionHistory* history) {
+                  Eigen::VectorXd& x, const CgLimits& limits, SolutionHistory* history, const StepMatrix* filled) {
     LinearSystem& A = w.linear;
     if (A.method.empty()) A.method = resolve_linear_method(w);
     const bool matrix_free = A.method == "jacobi";
-    const bool new_pattern = !matrix_free && ensure_linear_pattern(w);
-    if (!matrix_free) assemble_step_matrix(w, mass_scale, stiff_scale);
+    const bool new_pattern = filled ? filled->new_pattern : fill_step_matrix(w, mass_scale, stiff_scale).new_pattern;
     const GuessKey key{static_cast<int>(b.size()), w.elements.count(), matrix_free ? 0 : A.topology, mass_scale,
                        stiff_scale};
     if (history && history->key == key &&
@@ -329,13 +328,24 @@ void prepare_linear_solver(World& w) {
 
 LinearSolve solve_linear(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
                          const Eigen::VectorXd& mask, Eigen::VectorXd& x, const CgLimits& limits) {
-    return solve(w, mass_scale, stiff_scale, b, mask, x, limits, nullptr);
+    return solve(w, mass_scale, stiff_scale, b, mask, x, limits, nullptr, nullptr);
 }
 
 LinearSolve solve_step_linear(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
-                              const Eigen::VectorXd& mask, Eigen::VectorXd& x) {
+                              const Eigen::VectorXd& mask, Eigen::VectorXd& x, const StepMatrix* filled) {
     return solve(w, mass_scale, stiff_scale, b, mask, x,
-                 CgLimits{w.solver.cg_tolerance, w.solver.cg_max_iterations}, &w.linear.history);
+                 CgLimits{w.solver.cg_tolerance, w.solver.cg_max_iterations}, &w.linear.history, filled);
+}
+
+StepMatrix fill_step_matrix(World& w, double mass_scale, double stiff_scale) {
+    LinearSystem& A = w.linear;
+    if (A.method.empty()) A.method = resolve_linear_method(w);
+    StepMatrix out;
+    if (A.method == "jacobi") return out;
+    out.assembled = true;
+    out.new_pattern = ensure_linear_pattern(w);
+    assemble_step_matrix(w, mass_scale, stiff_scale);
+    return out;
 }
 
 }  // namespace xcut

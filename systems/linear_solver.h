@@ -61,11 +61,21 @@ inline LinearSolve solve_linear(World& world, double mass_scale, double stiff_sc
                         CgLimits{world.solver.cg_tolerance, world.solver.cg_max_iterations});
 }
 
+/// A filled for a step by fill_step_matrix.
+struct StepMatrix {
+    bool assembled = false;    ///< the method assembles A (all but jacobi), and it is filled
+    bool new_pattern = false;  ///< its pattern was made anew (the topology changed)
+};
+/// Assembles A = mass_scale M + stiff_scale (K + K_c) into world.linear for the state as it is, if
+/// the method assembles it (the pattern first, if the topology changed).
+StepMatrix fill_step_matrix(World& world, double mass_scale, double stiff_scale);
+
 /// The step's first solve: as solve_linear at the scene's tolerance and cap, with x's first guess
 /// projected from the solutions of the last `solver.guess_history` steps when they were solved for
 /// the same system (systems/kernels/projected_guess.h; otherwise x's own guess stands), and this
-/// step's solution kept for the next.
+/// step's solution kept for the next. `filled`: A as fill_step_matrix left it for these scales and
+/// this state (it is not filled again), or null.
 LinearSolve solve_step_linear(World& world, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
-                              const Eigen::VectorXd& mask, Eigen::VectorXd& x);
+                              const Eigen::VectorXd& mask, Eigen::VectorXd& x, const StepMatrix* filled = nullptr);
 
 }  // namespace xcut
