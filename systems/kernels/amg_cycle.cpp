@@ -55,13 +55,21 @@ void chebyshev(Loop loop, Apply&& apply, AmgLevel& L, const Eigen::VectorXd& b, 
     }
 }
 
-/// Row i of M v (single-precision M, double v and sum).
+/// Row i of M v (single-precision M, double v and sum). Four partial sums in a fixed order: a
+/// single running sum is one chain of dependent multiply-adds (183 a row on the 53k-tet block's
+/// first coarse level, 253 in its restriction), bound by the adder's latency, not by memory.
 inline double row_times(const CsrMatrixF& M, int i, const Eigen::VectorXd& v) {
     const int* col = M.innerIndexPtr();
     const float* val = M.valuePtr();
-    double s = 0.0;
-    for (int k = M.outerIndexPtr()[i]; k < M.outerIndexPtr()[i + 1]; ++k) s += double(val[k]) * v[col[k]];
-    return s;
+    const int end = M.outerIndexPtr()[i + 1];
+    int k = M.outerIndexPtr()[i];
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+    for (; k + 4 <= end; k += 4) {
+        s0 += double(val[k]) * v[col[k]], s1 += double(val[k + 1]) * v[col[k + 1]];
+        s2 += double(val[k + 2]) * v[col[k + 2]], s3 += double(val[k + 3]) * v[col[k + 3]];
+    }
+    for (; k < end; ++k) s0 += double(val[k]) * v[col[k]];
+    return (s0 + s1) + (s2 + s3);
 }
 
 /// y = M v for a CSR matrix, rows by `loop`.
@@ -70,18 +78,20 @@ void multiply(Loop loop, const CsrMatrixF& M, const Eigen::VectorXd& v, Eigen::V
     loop(static_cast<int>(M.rows()), [&](int i) { y[i] = row_times(M, i, v); });
 }
 
-/// Block row i of y = A v, A's blocks in single precision (AmgHierarchy::finest).
+/// Block row i of y = A v, A's blocks in single precision (AmgHierarchy::finest); the even and
+/// odd blocks in separate sums (two chains of multiply-adds per component, as row_times).
 void multiply_finest(const LinearSystem& A, const std::vector<float>& value, int i, const Eigen::VectorXd& v,
                      Eigen::VectorXd& y) {
-    double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+    double s[2][3] = {};
     for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b) {
         const float* m = value.data() + 9 * b;
         const double* x = v.data() + 3 * A.column[b];
-        s0 += double(m[0]) * x[0] + double(m[1]) * x[1] + double(m[2]) * x[2];
-        s1 += double(m[3]) * x[0] + double(m[4]) * x[1] + double(m[5]) * x[2];
-        s2 += double(m[6]) * x[0] + double(m[7]) * x[1] + double(m[8]) * x[2];
+        double* acc = s[b & 1];
+        acc[0] += double(m[0]) * x[0] + double(m[1]) * x[1] + double(m[2]) * x[2];
+        acc[1] += double(m[3]) * x[0] + double(m[4]) * x[1] + double(m[5]) * x[2];
+        acc[2] += double(m[6]) * x[0] + double(m[7]) * x[1] + double(m[8]) * x[2];
     }
-    y[3 * i] = s0, y[3 * i + 1] = s1, y[3 * i + 2] = s2;
+    for (int c = 0; c < 3; ++c) y[3 * i + c] = s[0][c] + s[1][c];
 }
 
 /// One V-cycle on level l with rhs b, result x, `coarse()` solving level l + 1 (its b set, its x
