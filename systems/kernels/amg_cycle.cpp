@@ -10,7 +10,6 @@
 namespace xcut {
 namespace {
 
-constexpr int kDegree = 2;          // Chebyshev degree before and after the coarse correction
 constexpr double kBoost = 1.1;      // the upper bound over the estimated lambda_max
 constexpr double kRatio = 30.0;     // the lower bound: upper / kRatio (Adams et al. 2003, §4)
 constexpr long kTeamNonzeros = 50000;  // a coarse level with fewer runs on one thread
@@ -31,82 +30,91 @@ struct SerialLoop {
     }
 };
 
-/// x <- Chebyshev smoothing of A x = b (from x = 0 when `zero_start`), preconditioned by D^-1.
-template <class Loop, class Apply>
-void chebyshev(Loop loop, Apply&& apply, AmgLevel& L, const Eigen::VectorXd& b, Eigen::VectorXd& x, bool zero_start) {
+/// A coarse level's operator: scalar rows of a single-precision CSR matrix. row(i, v, out): out[0] =
+/// sum_j M_ij v(j), in four partial sums of a fixed order: a single running sum is one chain of
+/// dependent multiply-adds (183 a row on the 53k-tet block's first coarse level, 253 in its
+/// restriction), bound by the adder's latency, not by memory.
+struct CsrRows {
+    const CsrMatrixF& M;
+    static constexpr int kWidth = 1;
+    int groups() const { return static_cast<int>(M.rows()); }
+    template <class V>
+    void row(int i, V&& v, double* out) const {
+        const int* col = M.innerIndexPtr();
+        const float* val = M.valuePtr();
+        const int end = M.outerIndexPtr()[i + 1];
+        int k = M.outerIndexPtr()[i];
+        double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+        for (; k + 4 <= end; k += 4) {
+            s0 += double(val[k]) * v(col[k]), s1 += double(val[k + 1]) * v(col[k + 1]);
+            s2 += double(val[k + 2]) * v(col[k + 2]), s3 += double(val[k + 3]) * v(col[k + 3]);
+        }
+        for (; k < end; ++k) s0 += double(val[k]) * v(col[k]);
+        out[0] = (s0 + s1) + (s2 + s3);
+    }
+};
+
+/// The finest level's operator: the step's block matrix with its blocks in single precision
+/// (AmgHierarchy::finest), a node's three rows at once; the even and odd blocks in separate sums.
+struct FinestRows {
+    const LinearSystem& A;
+    const std::vector<float>& value;
+    static constexpr int kWidth = 3;
+    int groups() const { return A.rows(); }
+    template <class V>
+    void row(int i, V&& v, double* out) const {
+        double s[2][3] = {};
+        for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b) {
+            const float* m = value.data() + 9 * b;
+            const int c = 3 * A.column[b];
+            const double x0 = v(c), x1 = v(c + 1), x2 = v(c + 2);
+            double* acc = s[b & 1];
+            acc[0] += double(m[0]) * x0 + double(m[1]) * x1 + double(m[2]) * x2;
+            acc[1] += double(m[3]) * x0 + double(m[4]) * x1 + double(m[5]) * x2;
+            acc[2] += double(m[6]) * x0 + double(m[7]) * x1 + double(m[8]) * x2;
+        }
+        for (int k = 0; k < 3; ++k) out[k] = s[0][k] + s[1][k];
+    }
+};
+
+/// body(i, Av_i) for every row i of level operator `op` applied to v(j), by `loop` over its groups.
+template <class Loop, class Op, class V, class Body>
+void rows_of(Loop loop, const Op& op, V&& v, Body&& body) {
+    loop(op.groups(), [&](int g) {
+        double out[Op::kWidth];
+        op.row(g, v, out);
+        for (int k = 0; k < Op::kWidth; ++k) body(Op::kWidth * g + k, out[k]);
+    });
+}
+
+/// One V-cycle on level L with rhs b, result x, `coarse()` solving level C (its b set, its x out).
+/// Chebyshev smoothing of degree 2 preconditioned by D^-1 before and after, on
+/// [lambda_max / kRatio, kBoost lambda_max] (Adams et al. 2003): each smoothing step's product and
+/// update are one row loop (the update written to the other of x and L.t, since other rows still
+/// read the old values), and the residual's product and difference another, so a level costs six
+/// loops, six barriers of the team.
+template <class Loop, class Op, class Coarse>
+void cycle(Loop loop, const Op& op, AmgLevel& L, AmgLevel& C, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+           Coarse&& coarse) {
     const double upper = kBoost * L.lambda_max, lower = upper / kRatio;
     const double theta = 0.5 * (upper + lower), delta = 0.5 * (upper - lower), sigma = theta / delta;
-    const int n = static_cast<int>(b.size());
+    const double rho = 1.0 / sigma, next = 1.0 / (2.0 * sigma - rho);
+    const double c1 = next * rho, c2 = 2.0 * next / delta;  // the second step's coefficients
     const Eigen::VectorXd& dinv = L.inverse_diagonal;
-    Eigen::VectorXd &d = L.d, &t = L.t;
-    if (zero_start) {
-        loop(n, [&](int i) { d[i] = dinv[i] * b[i] / theta, x[i] = d[i]; });
-    } else {
-        apply(x, t);
-        loop(n, [&](int i) { d[i] = dinv[i] * (b[i] - t[i]) / theta, x[i] += d[i]; });
-    }
-    double rho = 1.0 / sigma;
-    for (int k = 1; k < kDegree; ++k) {
-        const double next = 1.0 / (2.0 * sigma - rho);
-        const double c1 = next * rho, c2 = 2.0 * next / delta;
-        apply(x, t);
-        loop(n, [&](int i) { d[i] = c1 * d[i] + c2 * dinv[i] * (b[i] - t[i]), x[i] += d[i]; });
-        rho = next;
-    }
-}
-
-/// Row i of M v (single-precision M, double v and sum). Four partial sums in a fixed order: a
-/// single running sum is one chain of dependent multiply-adds (183 a row on the 53k-tet block's
-/// first coarse level, 253 in its restriction), bound by the adder's latency, not by memory.
-inline double row_times(const CsrMatrixF& M, int i, const Eigen::VectorXd& v) {
-    const int* col = M.innerIndexPtr();
-    const float* val = M.valuePtr();
-    const int end = M.outerIndexPtr()[i + 1];
-    int k = M.outerIndexPtr()[i];
-    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-    for (; k + 4 <= end; k += 4) {
-        s0 += double(val[k]) * v[col[k]], s1 += double(val[k + 1]) * v[col[k + 1]];
-        s2 += double(val[k + 2]) * v[col[k + 2]], s3 += double(val[k + 3]) * v[col[k + 3]];
-    }
-    for (; k < end; ++k) s0 += double(val[k]) * v[col[k]];
-    return (s0 + s1) + (s2 + s3);
-}
-
-/// y = M v for a CSR matrix, rows by `loop`.
-template <class Loop>
-void multiply(Loop loop, const CsrMatrixF& M, const Eigen::VectorXd& v, Eigen::VectorXd& y) {
-    loop(static_cast<int>(M.rows()), [&](int i) { y[i] = row_times(M, i, v); });
-}
-
-/// Block row i of y = A v, A's blocks in single precision (AmgHierarchy::finest); the even and
-/// odd blocks in separate sums (two chains of multiply-adds per component, as row_times).
-void multiply_finest(const LinearSystem& A, const std::vector<float>& value, int i, const Eigen::VectorXd& v,
-                     Eigen::VectorXd& y) {
-    double s[2][3] = {};
-    for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b) {
-        const float* m = value.data() + 9 * b;
-        const double* x = v.data() + 3 * A.column[b];
-        double* acc = s[b & 1];
-        acc[0] += double(m[0]) * x[0] + double(m[1]) * x[1] + double(m[2]) * x[2];
-        acc[1] += double(m[3]) * x[0] + double(m[4]) * x[1] + double(m[5]) * x[2];
-        acc[2] += double(m[6]) * x[0] + double(m[7]) * x[1] + double(m[8]) * x[2];
-    }
-    for (int c = 0; c < 3; ++c) y[3 * i + c] = s[0][c] + s[1][c];
-}
-
-/// One V-cycle on level l with rhs b, result x, `coarse()` solving level l + 1 (its b set, its x
-/// out). Smoothing, residual, restriction and prolongation run by `loop`.
-template <class Loop, class Apply, class Coarse>
-void cycle(Loop loop, Apply&& apply, AmgLevel& L, AmgLevel& C, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-           Coarse&& coarse) {
-    const int n = static_cast<int>(b.size());
-    chebyshev(loop, apply, L, b, x, true);
-    apply(x, L.t);
-    loop(n, [&](int i) { L.r[i] = b[i] - L.t[i]; });
-    multiply(loop, L.R, L.r, C.b);
+    Eigen::VectorXd &d = L.d, &y = L.t, &r = L.r;
+    const auto at = [](const Eigen::VectorXd& v) { return [&v](int j) { return v[j]; }; };
+    // Pre-smoothing from x = 0: x1 = d1 = D^-1 b / theta, then x = x1 + c1 d1 + c2 D^-1 (b - A x1).
+    rows_of(loop, op, [&](int j) { return dinv[j] * b[j] / theta; }, [&](int i, double t) {
+        const double d1 = dinv[i] * b[i] / theta;
+        d[i] = c1 * d1 + c2 * dinv[i] * (b[i] - t), x[i] = d1 + d[i];
+    });
+    rows_of(loop, op, at(x), [&](int i, double t) { r[i] = b[i] - t; });  // residual
+    rows_of(loop, CsrRows{L.R}, at(r), [&](int i, double t) { C.b[i] = t; });
     coarse();
-    loop(n, [&](int i) { x[i] += row_times(L.P, i, C.x); });
-    chebyshev(loop, apply, L, b, x, false);
+    rows_of(loop, CsrRows{L.P}, at(C.x), [&](int i, double t) { x[i] += t; });
+    // Post-smoothing from the corrected x: y = x + D^-1 (b - A x) / theta, then x = y + d.
+    rows_of(loop, op, at(x), [&](int i, double t) { d[i] = dinv[i] * (b[i] - t) / theta, y[i] = x[i] + d[i]; });
+    rows_of(loop, op, at(y), [&](int i, double t) { d[i] = c1 * d[i] + c2 * dinv[i] * (b[i] - t), x[i] = y[i] + d[i]; });
 }
 
 /// The coarser levels from l on, on the calling thread: x_l = V-cycle(b_l).
@@ -116,8 +124,7 @@ void serial_cycle(AmgHierarchy& h, size_t l) {
         L.x = h.coarsest.solve(L.b);
         return;
     }
-    const auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { multiply(SerialLoop{}, L.A, v, y); };
-    cycle(SerialLoop{}, apply, L, h.levels[l + 1], L.b, L.x, [&] { serial_cycle(h, l + 1); });
+    cycle(SerialLoop{}, CsrRows{L.A}, L, h.levels[l + 1], L.b, L.x, [&] { serial_cycle(h, l + 1); });
 }
 
 /// Level l on (l >= 1) by the team while its matrix is large enough to share (kTeamNonzeros),
@@ -129,8 +136,7 @@ void team_cycle(AmgHierarchy& h, size_t l) {
         serial_cycle(h, l);
         return;
     }
-    const auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { multiply(TeamLoop{}, L.A, v, y); };
-    cycle(TeamLoop{}, apply, L, h.levels[l + 1], L.b, L.x, [&] { team_cycle(h, l + 1); });
+    cycle(TeamLoop{}, CsrRows{L.A}, L, h.levels[l + 1], L.b, L.x, [&] { team_cycle(h, l + 1); });
 }
 
 }  // namespace
@@ -151,10 +157,6 @@ void amg_cycle_in_team(AmgHierarchy& h, const LinearSystem& A, const Eigen::Vect
         z = h.coarsest.solve(r);
         return;
     }
-    const auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) {
-#pragma omp for schedule(static)
-        for (int i = 0; i < A.rows(); ++i) multiply_finest(A, h.finest, i, v, y);
-    };
-    cycle(TeamLoop{}, apply, h.levels[0], h.levels[1], r, z, [&] { team_cycle(h, 1); });
+    cycle(TeamLoop{}, FinestRows{A, h.finest}, h.levels[0], h.levels[1], r, z, [&] { team_cycle(h, 1); });
 }
 }  // namespace xcut
