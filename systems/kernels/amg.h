@@ -14,7 +14,7 @@
 //  - tentative prolongator: per aggregate, the near-null rows orthonormalised (Gram-Schmidt, a mode
 //    dropped when its remainder falls below 1e-8 of its length: held axes, a 2D mesh's z);
 //  - smoothed prolongator P = (I - 4/3 / lambda_max D^-1 A) P_tent, D = diag(A); Galerkin A_c = P^T A P;
-//  - smoother: Chebyshev polynomial of D^-1 A on [lambda_max / 30, 1.1 lambda_max], degree 2, the same
+//  - smoother: Chebyshev polynomial of D^-1 A on [lambda_max / 15, 1.1 lambda_max], degree 2, the same
 //    before and after, so the V-cycle is symmetric (Adams, Brezina, Hu & Tuminaro, "Parallel
 //    multigrid smoothing: polynomial versus Gauss-Seidel", J. Comput. Phys. 188, 2003);
 //    lambda_max from 20 Lanczos steps (Jacobi-preconditioned CG from a fixed vector: deterministic),
