@@ -97,10 +97,12 @@ XCUT_INLINE VecD<D> shape_gradient(const MatD<D>& dm_inv, int j) {
 /// lambda_rj = V lambda r_j and mu_rj = V mu r_j (made once per row j): 21 flops a block.
 XCUT_INLINE void add_corotational_stiffness_block(const Vec3& lambda_rj, const Vec3& mu_rj, const Vec3& rk, int dim,
                                                   double* block) {
+    // Each entry read, added to and written once (the diagonal term folded in): a second pass over
+    // the diagonal would wait on the first one's stores.
+    const double diagonal = mu_rj.dot(rk), diagonal_z = dim == 3 ? diagonal : 0.0;
     for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) block[3 * r + c] += lambda_rj[r] * rk[c] + rk[r] * mu_rj[c];
-    const double diagonal = mu_rj.dot(rk);
-    for (int r = 0; r < dim; ++r) block[4 * r] += diagonal;
+        for (int c = 0; c < 3; ++c)
+            block[3 * r + c] += lambda_rj[r] * rk[c] + rk[r] * mu_rj[c] + (r != c ? 0.0 : r < 2 ? diagonal : diagonal_z);
 }
 
 /// Diagonal of the element stiffness: node j, axis k: V (mu |g_j|^2 + (lambda + mu) (R g_j)_k^2).
