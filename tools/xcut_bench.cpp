@@ -100,6 +100,7 @@ int run_bench(const CLI::App& cmd, const BenchOptions& o) {
     if (o.suite == "solver") {
         SolverBenchOptions solver;
         solver.tiny = o.accuracy_tiny;
+        if (solver.tiny) solver.repeats = 1;
         solver.cases = o.cases;
         solver.csv = csv_for(cmd, perf.csv, solver.tiny ? "results/bench_solver_quick.csv" : "results/bench_solver.csv",
                              !o.cases.empty() && !solver.tiny);

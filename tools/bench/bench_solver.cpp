@@ -66,7 +66,7 @@ std::vector<Case> cases(bool tiny) {
     return out;
 }
 
-SolverBenchRow timed(const Case& c, const std::string& method, int threads) {
+SolverBenchRow timed_once(const Case& c, const std::string& method, int threads) {
     set_thread_count(threads);
     Scene scene = c.scene;
     const size_t cut = method.find(kNoGuess);
@@ -101,6 +101,19 @@ SolverBenchRow timed(const Case& c, const std::string& method, int threads) {
     return r;
 }
 
+/// The case run `repeats` times from load: the run with the median rate, and the slowest and
+/// fastest rates beside it. The host is shared (docs/BENCHMARKS.md, Noise): one run's rate moves by
+/// 10-30 % with what else runs on it; the median of three is the figure, the spread is shown.
+SolverBenchRow timed(const Case& c, const std::string& method, int threads, int repeats) {
+    std::vector<SolverBenchRow> runs;
+    for (int k = 0; k < repeats; ++k) runs.push_back(timed_once(c, method, threads));
+    std::sort(runs.begin(), runs.end(), [](const auto& a, const auto& b) { return a.steps_per_s < b.steps_per_s; });
+    SolverBenchRow r = runs[runs.size() / 2];
+    r.slowest_steps_per_s = runs.front().steps_per_s, r.fastest_steps_per_s = runs.back().steps_per_s;
+    r.repeats = repeats;
+    return r;
+}
+
 /// A child process that keeps one core busy until killed: the load a renderer or a haptic thread puts.
 pid_t start_busy_process() {
     const pid_t pid = fork();
@@ -121,7 +134,7 @@ std::vector<SolverBenchRow> run_solver_bench(const SolverBenchOptions& o) {
     if (all.empty()) throw InputError("--cases", "", "no such case in this configuration");
     for (const Case& c : all)
         for (const std::string& m : c.methods) {
-            rows.push_back(timed(c, m, 2));
+            rows.push_back(timed(c, m, 2, o.repeats));
             if (o.progress) fmt::print(stderr, "  {} {}: {:.1f} steps/s\n", c.name, m, rows.back().steps_per_s);
         }
     // Under load: another process busy on one core; at 1 and 2 threads, the default scene with its
@@ -132,7 +145,7 @@ std::vector<SolverBenchRow> run_solver_bench(const SolverBenchOptions& o) {
         const std::string method = c.name == "skin_slab" ? "cholesky" : c.name == "block_53k" ? "amg" : "";
         if (method.empty()) continue;
         for (int threads : {1, 2}) {
-            SolverBenchRow r = timed(c, method, threads);
+            SolverBenchRow r = timed(c, method, threads, o.repeats);
             r.case_name += "_loaded";
             rows.push_back(r);
         }
@@ -148,26 +161,29 @@ int solver_bench_command(const SolverBenchOptions& o) {
     auto csv = open_csv(path);
     csv.print("case,method,threads,tets,steps,steps_per_s,ms_per_step,cg_per_step,max_residual,refactored_steps,"
               "substepped_steps,factorizations,factor_bytes_per_tet,rss_bytes_per_tet,speedup_vs_jacobi,guess_history,"
-              "load_setup_ms,failure\n");
-    fmt::print("{:<20} {:<16} {:>3} {:>7} {:>9} {:>8} {:>9} {:>6} {:>6} {:>8} {:>9} {:>8}  {}\n", "case", "method", "thr",
-               "tets", "steps/s", "CG/step", "max res", "refac", "subst", "L B/tet", "vs jacobi", "setup ms", "");
+              "load_setup_ms,repeats,slowest_steps_per_s,fastest_steps_per_s,failure\n");
+    fmt::print("{:<20} {:<16} {:>3} {:>7} {:>9} {:>15} {:>8} {:>9} {:>6} {:>6} {:>8} {:>9} {:>8}  {}\n", "case", "method",
+               "thr", "tets", "steps/s", "(range)", "CG/step", "max res", "refac", "subst", "L B/tet", "vs jacobi",
+               "setup ms", "");
     for (const SolverBenchRow& r : rows) {
         double jacobi = 0.0;
         for (const SolverBenchRow& j : rows)
             if (j.case_name == r.case_name && j.method == "jacobi" && j.failure.empty()) jacobi = j.steps_per_s;
         const double ratio = jacobi > 0 ? r.steps_per_s / jacobi : 0.0;
         const std::string failed = r.failure.empty() ? "" : "FAILED at step " + std::to_string(r.steps + 1);
-        fmt::print("{:<20} {:<16} {:>3} {:>7} {:>9.1f} {:>8.2f} {:>9.2e} {:>6} {:>6} {:>8.0f} {:>9} {:>8.1f}  {}\n",
-                   r.case_name, r.method, r.threads, r.tets, r.steps_per_s, r.cg_per_step, r.max_residual,
+        fmt::print("{:<20} {:<16} {:>3} {:>7} {:>9.1f} {:>15} {:>8.2f} {:>9.2e} {:>6} {:>6} {:>8.0f} {:>9} {:>8.1f}  {}\n",
+                   r.case_name, r.method, r.threads, r.tets, r.steps_per_s,
+                   fmt::format("({:.1f}-{:.1f})", r.slowest_steps_per_s, r.fastest_steps_per_s), r.cg_per_step, r.max_residual,
                    r.refactored_steps, r.substepped_steps, r.factor_bytes_per_tet,
                    ratio > 0 ? fmt::format("{:.2f}x", ratio) : "-", r.load_setup_ms, failed);
         std::string why = r.failure;
         for (char& ch : why)
             if (ch == '"' || ch == '\n') ch = '\'';
-        csv.print("{},{},{},{},{},{:.3f},{:.3f},{:.2f},{:.3e},{},{},{},{:.1f},{:.1f},{:.3f},{},{:.1f},\"{}\"\n", r.case_name,
-                  r.method, r.threads, r.tets, r.steps, r.steps_per_s, r.ms_per_step, r.cg_per_step, r.max_residual,
-                  r.refactored_steps, r.substepped_steps, r.factorizations, r.factor_bytes_per_tet, r.rss_bytes_per_tet,
-                  ratio, r.guess_history, r.load_setup_ms, why);
+        csv.print("{},{},{},{},{},{:.3f},{:.3f},{:.2f},{:.3e},{},{},{},{:.1f},{:.1f},{:.3f},{},{:.1f},{},{:.3f},{:.3f},\"{}\"\n",
+                  r.case_name, r.method, r.threads, r.tets, r.steps, r.steps_per_s, r.ms_per_step, r.cg_per_step,
+                  r.max_residual, r.refactored_steps, r.substepped_steps, r.factorizations, r.factor_bytes_per_tet,
+                  r.rss_bytes_per_tet, ratio, r.guess_history, r.load_setup_ms, r.repeats, r.slowest_steps_per_s,
+                  r.fastest_steps_per_s, why);
     }
     fmt::print("targets (2 threads, tolerance as each scene sets it): skin_slab >= 200 steps/s and <= 5 CG/step; "
                "hand_dorsum no step over the cap, <= 1/4 of jacobi's step time; block_2k >= 1000 steps/s; block_53k "

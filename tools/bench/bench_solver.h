@@ -5,9 +5,11 @@
 // factor's non-zeros and bytes per tet, peak memory; and the 2-thread step against the 1-thread step
 // while another process keeps one core busy. The timed steps start after load, where the cholesky
 // and amg methods build their kept preconditioner (systems/linear_solver.h, prepare_linear_solver);
-// that time is its own column. Two cases run their fastest method again without the projected first
-// guess (solver.guess_history = 0), for the guess's share in the same run. A benchmark: it prints figures and writes CSV
-// (results/bench_solver.csv; a --tiny run writes results/bench_solver_quick.csv, never the record).
+// that time is its own column. Each case runs three times (once with --tiny); its row is the median
+// run, with the range. Two cases run their fastest method again without the projected first guess
+// (solver.guess_history = 0), for the guess's share in the same run. A benchmark: it prints figures
+// and writes CSV (results/bench_solver.csv; --tiny or --cases write results/bench_solver_quick.csv,
+// never the record).
 #include <string>
 #include <vector>
 
@@ -18,6 +20,7 @@ struct SolverBenchOptions {
     std::string csv;            ///< default: results/bench_solver.csv, or ..._quick.csv when tiny
     bool progress = true;
     std::vector<std::string> cases;  ///< only these cases (all when empty)
+    int repeats = 3;                 ///< timed runs of each case (the median is reported)
 };
 
 struct SolverBenchRow {
@@ -28,6 +31,8 @@ struct SolverBenchRow {
     double factor_bytes_per_tet = 0, rss_bytes_per_tet = 0;
     int guess_history = 0;      ///< solver.guess_history of the run (0: the previous step's solution)
     double load_setup_ms = 0;   ///< the kept preconditioner built at load, outside the timed steps
+    int repeats = 1;            ///< timed runs of the case; the row is the median one
+    double slowest_steps_per_s = 0, fastest_steps_per_s = 0;  ///< the range over the runs
     std::string failure;        ///< the NumericalError that stopped the run, if any
 };
 
