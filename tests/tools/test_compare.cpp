@@ -43,8 +43,11 @@ TEST(Compare, SnappingSurvivesTheSkinSlabsIncisions) {
     for (int i = 0; i < 460; ++i) ASSERT_NO_THROW(step_simulation(*sim)) << "step " << i;
     const World& w = sim->world;
     EXPECT_GT(w.snap.inverted_pieces, 0) << "the case this guards happened";
-    for (int e = 0; e < w.elements.count(); ++e)
-        if (w.elements.weight[e] > 0.0) ASSERT_GT(w.elements.rest_volume[e], 0.0) << "element " << e;
+    for (int e = 0; e < w.elements.count(); ++e) {
+        if (w.elements.weight[e] > 0.0) {
+            ASSERT_GT(w.elements.rest_volume[e], 0.0) << "element " << e;
+        }
+    }
 }
 
 TEST(Compare, QualityOfRegularSimplices) {
