@@ -22,12 +22,13 @@ struct LinearFactor;
 /// The smoothed-aggregation hierarchy the amg method keeps (systems/kernels/amg.h); opaque here.
 struct AmgHierarchy;
 
-/// What the kept solutions of earlier steps were solved for (systems/kernels/projected_guess.h); a
-/// step with another key starts them again (a cut changes the DOFs or elements, a substep the scales).
+/// What the kept solutions of earlier steps belong to (systems/kernels/projected_guess.h): a step
+/// with another key starts them again (a cut changes the DOFs, the elements or the pattern). A
+/// change of dt (real-time mode, a substep) keeps them: the projection is formed with the current A,
+/// whatever scales it has.
 struct GuessKey {
     int dofs = 0, elements = 0;
-    uint64_t topology = 0;                       ///< the assembled pattern (0 when matrix-free)
-    double mass_scale = 0.0, stiff_scale = 0.0;  ///< A = mass_scale M + stiff_scale K [-], [s^2]
+    uint64_t topology = 0;  ///< the assembled pattern (0 when matrix-free)
     bool operator==(const GuessKey&) const = default;
 };
 

@@ -289,8 +289,7 @@ LinearSolve solve(World& w, double mass_scale, double stiff_scale, const Eigen::
     if (A.method.empty()) A.method = resolve_linear_method(w);
     const bool matrix_free = A.method == "jacobi";
     const bool new_pattern = filled ? filled->new_pattern : fill_step_matrix(w, mass_scale, stiff_scale).new_pattern;
-    const GuessKey key{static_cast<int>(b.size()), w.elements.count(), matrix_free ? 0 : A.topology, mass_scale,
-                       stiff_scale};
+    const GuessKey key{static_cast<int>(b.size()), w.elements.count(), matrix_free ? 0 : A.topology};
     if (history && history->key == key &&
         projected_guess(*history, [&](const Eigen::MatrixXd& V, Eigen::MatrixXd& AV) {
             step_product(w, mass_scale, stiff_scale, V, AV);
