@@ -286,9 +286,8 @@ void step_product(World& w, double mass_scale, double stiff_scale, const Eigen::
 LinearSolve solve(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b, const Eigen::VectorXd& mask,
                   Eigen::VectorXd& x, const CgLimits& limits, SolutionHistory* history, const StepMatrix* filled) {
     LinearSystem& A = w.linear;
-    if (A.method.empty()) A.method = resolve_linear_method(w);
-    const bool matrix_free = A.method == "jacobi";
     const bool new_pattern = filled ? filled->new_pattern : fill_step_matrix(w, mass_scale, stiff_scale).new_pattern;
+    const bool matrix_free = A.method == "jacobi";  // resolved by fill_step_matrix
     const GuessKey key{static_cast<int>(b.size()), w.elements.count(), matrix_free ? 0 : A.topology};
     if (history && history->key == key &&
         projected_guess(*history, [&](const Eigen::MatrixXd& V, Eigen::MatrixXd& AV) {
@@ -315,12 +314,10 @@ void prepare_linear_solver(World& w) {
     if (A.method.empty()) A.method = resolve_linear_method(w);
     if (w.nodes.count() == 0 || (A.method != "cholesky" && A.method != "amg")) return;
     const double start = wall_seconds();
-    const SolverSettings& s = w.solver;
-    const double mass_scale = 1.0 + s.dt * s.damping_mass, stiff_scale = s.dt * s.dt + s.dt * s.damping_stiffness;
+    const StepScales scales = step_scales(w.solver, w.solver.dt);
     update_rotations(w);
-    ensure_linear_pattern(w);
-    assemble_step_matrix(w, mass_scale, stiff_scale);
-    if (A.method == "amg") build_hierarchy(w, free_mask(w), stiff_scale / mass_scale);
+    fill_step_matrix(w, scales.mass, scales.stiffness);
+    if (A.method == "amg") build_hierarchy(w, free_mask(w), scales.stiffness / scales.mass);
     else factorize(w);
     A.load_setup_ms = 1e3 * (wall_seconds() - start);
 }

@@ -67,8 +67,8 @@ LinearSolve euler_substep(World& world, double h, const Eigen::VectorXd& m3, con
     Nodes& nodes = world.nodes;
     const SolverSettings& s = world.solver;
     const int n3 = 3 * nodes.count();
-    const double mass_scale = 1.0 + h * s.damping_mass;
-    const double stiff_scale = h * h + h * s.damping_stiffness;
+    const StepScales scales = step_scales(s, h);
+    const double mass_scale = scales.mass, stiff_scale = scales.stiffness;
     Eigen::Map<Eigen::VectorXd> v(nodes.velocity[0].data(), n3);
     Eigen::Map<Eigen::VectorXd> x(nodes.position[0].data(), n3);
 

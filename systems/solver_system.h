@@ -40,6 +40,15 @@ void project_constraints(const World& world, Eigen::Ref<Eigen::VectorXd> v);
 /// The 3N mask (1 free, 0 held) from the nodes' fixed flags.
 Eigen::VectorXd free_mask(const World& world);
 
+/// The scales of a backward Euler step of length h [s]: A = mass M + stiffness K, with Rayleigh
+/// damping, mass = 1 + h alpha [-], stiffness = h^2 + h beta [s^2].
+struct StepScales {
+    double mass = 1.0, stiffness = 0.0;
+};
+inline StepScales step_scales(const SolverSettings& s, double h) {
+    return {1.0 + h * s.damping_mass, h * h + h * s.damping_stiffness};
+}
+
 void implicit_euler_step(World& world);
 
 struct StaticResult {

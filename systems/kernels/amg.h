@@ -18,7 +18,8 @@
 //    before and after, so the V-cycle is symmetric (Adams, Brezina, Hu & Tuminaro, "Parallel
 //    multigrid smoothing: polynomial versus Gauss-Seidel", J. Comput. Phys. 188, 2003);
 //    lambda_max from 20 Lanczos steps (Jacobi-preconditioned CG from a fixed vector: deterministic),
-//    capped by Gershgorin's bound; the Chebyshev interval tolerates an estimate up to 13 % low;
+//    capped by Gershgorin's bound; the Chebyshev polynomial stays below 1 up to upper + lower =
+//    1.1 (1 + 1/15) lambda_max, so it tolerates an estimate up to 14 % low;
 //  - coarsest level (at most kCoarsest DOFs, or when coarsening stalls): sparse LDL^T.
 //
 // The hierarchy is built from one step's A and kept, like the Cholesky factor: rotations change

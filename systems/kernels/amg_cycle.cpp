@@ -5,7 +5,6 @@
 
 #include "engine/parallel.h"
 #include "systems/kernels/amg.h"
-#include "systems/linear_assembly.h"
 
 namespace xcut {
 namespace {
