@@ -38,26 +38,48 @@
 namespace xcut {
 
 using CsrMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
-/// The cycle's operators are kept in single precision (the vectors and sums stay double): the cycle
-/// is a fixed linear operator either way, CG's own product and residual are double, and a V-cycle
-/// is bound by memory traffic, which this halves (mixed-precision multigrid preconditioning, as in
-/// hypre's and MueLu's single-precision preconditioners; Tsai, Beams & Anzt, "Three-precision
-/// algebraic multigrid on GPUs", Future Gener. Comput. Syst. 149, 2023).
-using CsrMatrixF = Eigen::SparseMatrix<float, Eigen::RowMajor, int>;
+
+/// A coarse level's operator for the cycle: a sparse matrix in single precision, each row stored as
+/// runs of consecutive columns (a column and a length; the values packed). The cycle's vectors and
+/// sums stay double: the cycle is a fixed linear operator either way, CG's own product and residual
+/// are double, and a V-cycle is bound by memory traffic, which single precision halves
+/// (mixed-precision multigrid preconditioning, as in hypre's and MueLu's; Tsai, Beams & Anzt,
+/// "Three-precision algebraic multigrid on GPUs", Future Gener. Comput. Syst. 149, 2023). Runs,
+/// because an aggregate's modes and a node's three DOFs are numbered together: on the 53k-tet block
+/// a run holds 8 (P), 11 (R) and 16 (the first coarse A) entries on average, so a row needs one
+/// column index a run instead of one an entry, and its sums run four entries at a time.
+struct RunMatrix {
+    int row_count = 0, column_count = 0;
+    std::vector<int> row_start{0};  ///< row i's runs: [row_start[i], row_start[i + 1])
+    std::vector<int> run_column;    ///< each run's first column
+    std::vector<int> run_start{0};  ///< run k's values: [run_start[k], run_start[k + 1])
+    std::vector<float> value;       ///< the runs' values, in order
+
+    int rows() const { return row_count; }
+    int cols() const { return column_count; }
+    long nonZeros() const { return static_cast<long>(value.size()); }
+};
+
+/// M stored by runs (M's explicit entries, zeros included).
+RunMatrix to_runs(const CsrMatrix& M);
+
+/// y = M v on the calling thread, with the cycle's row kernel (single-precision values, double sums).
+void run_product(const RunMatrix& M, const Eigen::VectorXd& v, Eigen::VectorXd& y);
 
 /// One level: its matrix (coarse levels; the finest uses the step's block matrix), the operators to
 /// the next coarser level and the smoother's data, plus scratch vectors for the cycle.
 struct AmgLevel {
-    CsrMatrixF A;                      ///< this level's matrix (empty on the finest)
-    CsrMatrixF P, R;                   ///< prolongation from the next coarser level, R = P^T
+    RunMatrix A;                       ///< this level's matrix (empty on the finest)
+    RunMatrix P, R;                    ///< prolongation from the next coarser level, R = P^T
     Eigen::VectorXd inverse_diagonal;  ///< 1 / diag(A) [this level's units]
     double lambda_max = 1.0;           ///< estimate of the largest eigenvalue of D^-1 A [-]
     Eigen::VectorXd x, b, r, d, t;     ///< the cycle's vectors on this level
+    Eigen::VectorXd s;                 ///< D^-1 b: the first smoothing step's direction
 };
 
 struct AmgHierarchy {
     std::vector<AmgLevel> levels;                      ///< [0] the finest
-    std::vector<float> finest;                         ///< the current A's blocks in single precision
+    std::vector<float> finest;                         ///< the current A's blocks in single precision, column-major
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> coarsest;
     uint64_t topology = 0;   ///< the pattern it was built for
     int age = 0;             ///< solves since it was built

@@ -32,64 +32,92 @@ struct SerialLoop {
     }
 };
 
-/// A coarse level's operator: scalar rows of a single-precision CSR matrix. row(i, v, out): out[0] =
-/// sum_j M_ij v(j), in four partial sums of a fixed order: a single running sum is one chain of
-/// dependent multiply-adds (183 a row on the 53k-tet block's first coarse level, 253 in its
-/// restriction), bound by the adder's latency, not by memory.
-struct CsrRows {
-    const CsrMatrixF& M;
+/// Four doubles in one register (two SSE2 halves in the portable build, one AVX register with
+/// XCUT_AVX2); GCC and Clang vector extensions (CMakeLists.txt: -Wno-psabi for this file).
+typedef double Double4 __attribute__((vector_size(32)));
+typedef float Float4 __attribute__((vector_size(16)));
+
+/// The four floats at p, widened.
+inline Double4 widened(const float* p) {
+    Float4 f;
+    __builtin_memcpy(&f, p, sizeof f);
+    return __builtin_convertvector(f, Double4);
+}
+inline Double4 loaded(const double* p) {
+    Double4 d;
+    __builtin_memcpy(&d, p, sizeof d);
+    return d;
+}
+inline double lane_sum(const Double4& v) { return (v[0] + v[1]) + (v[2] + v[3]); }
+
+/// A coarse level's operator (RunMatrix): row(i, v, out): out[0] = sum_j M_ij v[j], each run four
+/// entries at a time in two vector sums of a fixed order. A run's last 1-3 entries are taken with
+/// the four that end the run, the lanes already summed weighted by 0. A single running sum a row
+/// was one chain of dependent multiply-adds (183 a row on the 53k-tet block's first coarse level,
+/// 253 in its restriction), bound by the adder's latency, not by memory.
+struct RunRows {
+    const RunMatrix& M;
     static constexpr int kWidth = 1;
-    int groups() const { return static_cast<int>(M.rows()); }
-    template <class V>
-    void row(int i, V&& v, double* out) const {
-        const int* col = M.innerIndexPtr();
-        const float* val = M.valuePtr();
-        const int end = M.outerIndexPtr()[i + 1];
-        int k = M.outerIndexPtr()[i];
-        double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-        for (; k + 4 <= end; k += 4) {
-            s0 += double(val[k]) * v(col[k]), s1 += double(val[k + 1]) * v(col[k + 1]);
-            s2 += double(val[k + 2]) * v(col[k + 2]), s3 += double(val[k + 3]) * v(col[k + 3]);
+    int groups() const { return M.rows(); }
+    void row(int i, const double* v, double* out) const {
+        static constexpr Double4 kLast[4] = {{0, 0, 0, 0}, {0, 0, 0, 1}, {0, 0, 1, 1}, {0, 1, 1, 1}};
+        Double4 s0 = {}, s1 = {};
+        double rest = 0.0;
+        for (int k = M.row_start[i]; k < M.row_start[i + 1]; ++k) {
+            const float* a = M.value.data() + M.run_start[k];
+            const double* x = v + M.run_column[k];
+            const int n = M.run_start[k + 1] - M.run_start[k];
+            int j = 0;
+            for (; j + 8 <= n; j += 8) s0 += widened(a + j) * loaded(x + j), s1 += widened(a + j + 4) * loaded(x + j + 4);
+            if (j + 4 <= n) s0 += widened(a + j) * loaded(x + j), j += 4;
+            if (j == n) continue;
+            if (n >= 4) s1 += widened(a + n - 4) * loaded(x + n - 4) * kLast[n - j];
+            else
+                for (; j < n; ++j) rest += double(a[j]) * x[j];
         }
-        for (; k < end; ++k) s0 += double(val[k]) * v(col[k]);
-        out[0] = (s0 + s1) + (s2 + s3);
+        out[0] = lane_sum(s0 + s1) + rest;
     }
 };
 
-/// The finest level's operator: the step's block matrix with its blocks in single precision
-/// (AmgHierarchy::finest), a node's three rows at once; the even and odd blocks in separate sums.
+/// The finest level's operator: the step's block matrix with its blocks in single precision and
+/// column-major (AmgHierarchy::finest), a node's three rows at once as sum_k column_k v_k in one
+/// vector of four (lane 3 holds the next column's first entry times v_k and is dropped); a row's
+/// even and odd blocks in separate sums. Scalar rows with a float-to-double conversion per entry
+/// ran a product in 0.29-0.41 ms on the 53k-tet block; this runs it in 0.17-0.22 (2 threads), where
+/// the double product runs in 0.18-0.26.
 struct FinestRows {
     const LinearSystem& A;
     const std::vector<float>& value;
     static constexpr int kWidth = 3;
     int groups() const { return A.rows(); }
-    template <class V>
-    void row(int i, V&& v, double* out) const {
-        double s[2][3] = {};
-        for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b) {
+    void row(int i, const double* v, double* out) const {
+        const auto block = [&](int b) {
             const float* m = value.data() + 9 * b;
-            const int c = 3 * A.column[b];
-            const double x0 = v(c), x1 = v(c + 1), x2 = v(c + 2);
-            double* acc = s[b & 1];
-            acc[0] += double(m[0]) * x0 + double(m[1]) * x1 + double(m[2]) * x2;
-            acc[1] += double(m[3]) * x0 + double(m[4]) * x1 + double(m[5]) * x2;
-            acc[2] += double(m[6]) * x0 + double(m[7]) * x1 + double(m[8]) * x2;
-        }
-        for (int k = 0; k < 3; ++k) out[k] = s[0][k] + s[1][k];
+            const double* x = v + 3 * A.column[b];
+            return widened(m) * x[0] + widened(m + 3) * x[1] + widened(m + 6) * x[2];
+        };
+        Double4 even = {}, odd = {};  // two named sums stay in registers (an indexed pair did not)
+        const int end = A.row_offset[i + 1];
+        int b = A.row_offset[i];
+        for (; b + 2 <= end; b += 2) even += block(b), odd += block(b + 1);
+        if (b < end) even += block(b);
+        const Double4 sum = even + odd;
+        for (int k = 0; k < 3; ++k) out[k] = sum[k];
     }
 };
 
-/// body(i, Av_i) for every row i of level operator `op` applied to v(j), by `loop` over its groups.
-template <class Loop, class Op, class V, class Body>
-void rows_of(Loop loop, const Op& op, V&& v, Body&& body) {
+/// body(i, (M v)_i) for every row i of level operator `op` (M), by `loop` over its groups.
+template <class Loop, class Op, class Body>
+void rows_of(Loop loop, const Op& op, const Eigen::VectorXd& v, Body&& body) {
     loop(op.groups(), [&](int g) {
         double out[Op::kWidth];
-        op.row(g, v, out);
+        op.row(g, v.data(), out);
         for (int k = 0; k < Op::kWidth; ++k) body(Op::kWidth * g + k, out[k]);
     });
 }
 
-/// One V-cycle on level L with rhs b, result x, `coarse()` solving level C (its b set, its x out).
+/// One V-cycle on level L with rhs b (and L.s = D^-1 b), result x, `coarse()` solving level C (its b
+/// and s set, its x out).
 /// Chebyshev smoothing of degree 2 preconditioned by D^-1 before and after, on
 /// [lambda_max / kRatio, kBoost lambda_max] (Adams et al. 2003): each smoothing step's product and
 /// update are one row loop (the update written to the other of x and L.t, since other rows still
@@ -104,19 +132,20 @@ void cycle(Loop loop, const Op& op, AmgLevel& L, AmgLevel& C, const Eigen::Vecto
     const double c1 = next * rho, c2 = 2.0 * next / delta;  // the second step's coefficients
     const Eigen::VectorXd& dinv = L.inverse_diagonal;
     Eigen::VectorXd &d = L.d, &y = L.t, &r = L.r;
-    const auto at = [](const Eigen::VectorXd& v) { return [&v](int j) { return v[j]; }; };
-    // Pre-smoothing from x = 0: x1 = d1 = D^-1 b / theta, then x = x1 + c1 d1 + c2 D^-1 (b - A x1).
-    rows_of(loop, op, [&](int j) { return dinv[j] * b[j] / theta; }, [&](int i, double t) {
-        const double d1 = dinv[i] * b[i] / theta;
-        d[i] = c1 * d1 + c2 * dinv[i] * (b[i] - t), x[i] = d1 + d[i];
+    // Pre-smoothing from x = 0: x1 = d1 = D^-1 b / theta, then x = x1 + c1 d1 + c2 D^-1 (b - A x1),
+    // with A x1 = (A s) / theta.
+    rows_of(loop, op, L.s, [&](int i, double t) {
+        const double d1 = L.s[i] / theta;
+        d[i] = c1 * d1 + c2 * dinv[i] * (b[i] - t / theta), x[i] = d1 + d[i];
     });
-    rows_of(loop, op, at(x), [&](int i, double t) { r[i] = b[i] - t; });  // residual
-    rows_of(loop, CsrRows{L.R}, at(r), [&](int i, double t) { C.b[i] = t; });
+    rows_of(loop, op, x, [&](int i, double t) { r[i] = b[i] - t; });  // residual
+    const Eigen::VectorXd& coarse_dinv = C.inverse_diagonal;
+    rows_of(loop, RunRows{L.R}, r, [&](int i, double t) { C.b[i] = t, C.s[i] = coarse_dinv[i] * t; });
     coarse();
-    rows_of(loop, CsrRows{L.P}, at(C.x), [&](int i, double t) { x[i] += t; });
+    rows_of(loop, RunRows{L.P}, C.x, [&](int i, double t) { x[i] += t; });
     // Post-smoothing from the corrected x: y = x + D^-1 (b - A x) / theta, then x = y + d.
-    rows_of(loop, op, at(x), [&](int i, double t) { d[i] = dinv[i] * (b[i] - t) / theta, y[i] = x[i] + d[i]; });
-    rows_of(loop, op, at(y), [&](int i, double t) { d[i] = c1 * d[i] + c2 * dinv[i] * (b[i] - t), x[i] = y[i] + d[i]; });
+    rows_of(loop, op, x, [&](int i, double t) { d[i] = dinv[i] * (b[i] - t) / theta, y[i] = x[i] + d[i]; });
+    rows_of(loop, op, y, [&](int i, double t) { d[i] = c1 * d[i] + c2 * dinv[i] * (b[i] - t), x[i] = y[i] + d[i]; });
 }
 
 /// The coarser levels from l on, on the calling thread: x_l = V-cycle(b_l).
@@ -126,7 +155,7 @@ void serial_cycle(AmgHierarchy& h, size_t l) {
         L.x = h.coarsest.solve(L.b);
         return;
     }
-    cycle(SerialLoop{}, CsrRows{L.A}, L, h.levels[l + 1], L.b, L.x, [&] { serial_cycle(h, l + 1); });
+    cycle(SerialLoop{}, RunRows{L.A}, L, h.levels[l + 1], L.b, L.x, [&] { serial_cycle(h, l + 1); });
 }
 
 /// Level l on (l >= 1) by the team while its matrix is large enough to share (kTeamNonzeros),
@@ -138,17 +167,23 @@ void team_cycle(AmgHierarchy& h, size_t l) {
         serial_cycle(h, l);
         return;
     }
-    cycle(TeamLoop{}, CsrRows{L.A}, L, h.levels[l + 1], L.b, L.x, [&] { team_cycle(h, l + 1); });
+    cycle(TeamLoop{}, RunRows{L.A}, L, h.levels[l + 1], L.b, L.x, [&] { team_cycle(h, l + 1); });
 }
 
 }  // namespace
 
+void run_product(const RunMatrix& M, const Eigen::VectorXd& v, Eigen::VectorXd& y) {
+    y.resize(M.rows());
+    rows_of(SerialLoop{}, RunRows{M}, v, [&](int i, double t) { y[i] = t; });
+}
+
 void amg_update_finest(AmgHierarchy& h, const LinearSystem& A) {
     AmgLevel& L = h.levels.front();
-    h.finest.resize(A.value.size());
+    h.finest.resize(A.value.size() + 1);  // + 1: the last column's four-wide load (FinestRows)
     parallel_for(A.rows(), [&](int i) {
         for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b)
-            for (int k = 0; k < 9; ++k) h.finest[9 * b + k] = static_cast<float>(A.value[9 * b + k]);
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) h.finest[9 * b + 3 * c + r] = static_cast<float>(A.value[9 * b + 3 * r + c]);
         for (int c = 0; c < 3; ++c) L.inverse_diagonal[3 * i + c] = 1.0 / A.value[9 * A.diagonal[i] + 4 * c];
     });
 }
@@ -159,6 +194,9 @@ void amg_cycle_in_team(AmgHierarchy& h, const LinearSystem& A, const Eigen::Vect
         z = h.coarsest.solve(r);
         return;
     }
-    cycle(TeamLoop{}, FinestRows{A, h.finest}, h.levels[0], h.levels[1], r, z, [&] { team_cycle(h, 1); });
+    AmgLevel& L = h.levels[0];
+#pragma omp for schedule(static)
+    for (int i = 0; i < static_cast<int>(r.size()); ++i) L.s[i] = L.inverse_diagonal[i] * r[i];
+    cycle(TeamLoop{}, FinestRows{A, h.finest}, L, h.levels[1], r, z, [&] { team_cycle(h, 1); });
 }
 }  // namespace xcut

@@ -189,9 +189,31 @@ NearNull rigid_modes(const std::vector<Eigen::Vector3d>& position, int rows, con
 }
 
 /// The cycle's vectors of a level with n DOFs.
-void size_vectors(AmgLevel& L, int n) { L.x.setZero(n), L.b.setZero(n), L.r.setZero(n), L.d.setZero(n), L.t.setZero(n); }
+void size_vectors(AmgLevel& L, int n) {
+    for (Eigen::VectorXd* v : {&L.x, &L.b, &L.r, &L.d, &L.t, &L.s}) v->setZero(n);
+}
 
 }  // namespace
+
+RunMatrix to_runs(const CsrMatrix& M) {
+    RunMatrix out;
+    out.row_count = static_cast<int>(M.rows()), out.column_count = static_cast<int>(M.cols());
+    out.value.reserve(M.nonZeros());
+    for (int i = 0; i < M.outerSize(); ++i) {
+        int next = -1;  // the column that would continue the current run
+        for (CsrMatrix::InnerIterator it(M, i); it; ++it) {
+            if (it.col() != next) {  // a new run; the previous one ends here
+                if (!out.run_column.empty()) out.run_start.push_back(static_cast<int>(out.value.size()));
+                out.run_column.push_back(it.col());
+            }
+            out.value.push_back(static_cast<float>(it.value()));
+            next = it.col() + 1;
+        }
+        out.row_start.push_back(static_cast<int>(out.run_column.size()));
+    }
+    if (!out.run_column.empty()) out.run_start.push_back(static_cast<int>(out.value.size()));
+    return out;
+}
 
 void build_amg(const LinearSystem& Ablock, const std::vector<Eigen::Vector3d>& position, const Eigen::VectorXd& mask,
                AmgHierarchy& h) {
@@ -222,9 +244,9 @@ void build_amg(const LinearSystem& Ablock, const std::vector<Eigen::Vector3d>& p
         const CsrMatrix P = Pt - smoothing;
         const CsrMatrix R = P.transpose();
         CsrMatrix coarse_A = R * (A * P);
-        L.P = P.cast<float>(), L.R = R.cast<float>();
+        L.P = to_runs(P), L.R = to_runs(R);
         h.levels.emplace_back();
-        h.levels.back().A = coarse_A.cast<float>();
+        h.levels.back().A = to_runs(coarse_A);
         A = std::move(coarse_A);
         B = std::move(coarse_B), g = std::move(coarse);
         theta *= 0.5;
@@ -239,8 +261,9 @@ bool amg_extend(AmgHierarchy& h, const LinearSystem& A) {
     AmgLevel& L = h.levels.front();
     const int n = 3 * A.rows();
     if (n < L.P.rows()) return false;
-    L.P.conservativeResize(n, L.P.cols());
-    L.R.conservativeResize(L.R.rows(), n);
+    L.P.row_start.resize(n + 1, L.P.row_start.back());  // the new rows: no runs
+    L.P.row_count = n;
+    L.R.column_count = n;
     L.inverse_diagonal.setOnes(n);  // refilled from the current A before every solve
     size_vectors(L, n);
     h.topology = A.topology;
