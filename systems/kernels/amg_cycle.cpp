@@ -9,7 +9,7 @@
 namespace xcut {
 namespace {
 
-constexpr double kBoost = 1.1;      // the upper bound over the estimated lambda_max
+constexpr double kBoost = 1.1;  // the upper bound over the estimated lambda_max
 // The lower bound: upper / kRatio. Adams et al. 2003 (§4) take 30; 15 smooths more of the middle of
 // the spectrum and took CG from 8.45 to 7.95 iterations a step on the 53k-tet block, 9.10 to 7.85
 // on the default scene and 27.2 to 26.6 on the thin membrane (9.51 and 9.46 on hand_dorsum).
@@ -68,10 +68,12 @@ struct RunRows {
             const double* x = v + M.run_column[k];
             const int n = M.run_start[k + 1] - M.run_start[k];
             int j = 0;
-            for (; j + 8 <= n; j += 8) s0 += widened(a + j) * loaded(x + j), s1 += widened(a + j + 4) * loaded(x + j + 4);
+            for (; j + 8 <= n; j += 8)
+                s0 += widened(a + j) * loaded(x + j), s1 += widened(a + j + 4) * loaded(x + j + 4);
             if (j + 4 <= n) s0 += widened(a + j) * loaded(x + j), j += 4;
             if (j == n) continue;
-            if (n >= 4) s1 += widened(a + n - 4) * loaded(x + n - 4) * kLast[n - j];
+            if (n >= 4)
+                s1 += widened(a + n - 4) * loaded(x + n - 4) * kLast[n - j];
             else
                 for (; j < n; ++j) rest += double(a[j]) * x[j];
         }
@@ -85,15 +87,25 @@ struct RunRows {
 /// even and odd blocks in separate sums. Scalar rows with a float-to-double conversion per entry
 /// ran a product in 0.29-0.41 ms on the 53k-tet block; this runs it in 0.17-0.22 (2 threads), where
 /// the double product runs in 0.18-0.26.
-struct FinestRows {
+/// With kScaled, the product is A (D^-1 v), D^-1 applied as v is read (the first smoothing step's
+/// direction, without a loop and a barrier of its own).
+template <bool kScaled>
+struct FinestRowsOf {
     const LinearSystem& A;
     const std::vector<float>& value;
+    const double* inverse_diagonal = nullptr;  ///< D^-1, with kScaled
     static constexpr int kWidth = 3;
     int groups() const { return A.rows(); }
     void row(int i, const double* v, double* out) const {
         const auto block = [&](int b) {
             const float* m = value.data() + 9 * b;
-            const double* x = v + 3 * A.column[b];
+            const int c = 3 * A.column[b];
+            const double* x = v + c;
+            if constexpr (kScaled) {
+                const double* s = inverse_diagonal + c;
+                return widened(m) * (x[0] * s[0]) + widened(m + 3) * (x[1] * s[1]) +
+                       widened(m + 6) * (x[2] * s[2]);
+            }
             return widened(m) * x[0] + widened(m + 3) * x[1] + widened(m + 6) * x[2];
         };
         Double4 even = {}, odd = {};  // two named sums stay in registers (an indexed pair did not)
@@ -106,6 +118,8 @@ struct FinestRows {
     }
 };
 
+using FinestRows = FinestRowsOf<false>;
+
 /// body(i, (M v)_i) for every row i of level operator `op` (M), by `loop` over its groups.
 template <class Loop, class Op, class Body>
 void rows_of(Loop loop, const Op& op, const Eigen::VectorXd& v, Body&& body) {
@@ -116,16 +130,16 @@ void rows_of(Loop loop, const Op& op, const Eigen::VectorXd& v, Body&& body) {
     });
 }
 
-/// One V-cycle on level L with rhs b (and L.s = D^-1 b), result x, `coarse()` solving level C (its b
-/// and s set, its x out).
+/// One V-cycle on level L with rhs b, result x, `coarse()` solving level C (its b and s = D^-1 b
+/// set, its x out); `first.row` gives (A D^-1 b)_i from `first_v`.
 /// Chebyshev smoothing of degree 2 preconditioned by D^-1 before and after, on
 /// [lambda_max / kRatio, kBoost lambda_max] (Adams et al. 2003): each smoothing step's product and
 /// update are one row loop (the update written to the other of x and L.t, since other rows still
 /// read the old values), and the residual's product and difference another, so a level costs six
 /// loops, six barriers of the team.
-template <class Loop, class Op, class Coarse>
-void cycle(Loop loop, const Op& op, AmgLevel& L, AmgLevel& C, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-           Coarse&& coarse) {
+template <class Loop, class Op, class First, class Coarse>
+void cycle(Loop loop, const Op& op, const First& first, const Eigen::VectorXd& first_v, AmgLevel& L,
+           AmgLevel& C, const Eigen::VectorXd& b, Eigen::VectorXd& x, Coarse&& coarse) {
     const double upper = kBoost * L.lambda_max, lower = upper / kRatio;
     const double theta = 0.5 * (upper + lower), delta = 0.5 * (upper - lower), sigma = theta / delta;
     const double rho = 1.0 / sigma, next = 1.0 / (2.0 * sigma - rho);
@@ -133,9 +147,9 @@ void cycle(Loop loop, const Op& op, AmgLevel& L, AmgLevel& C, const Eigen::Vecto
     const Eigen::VectorXd& dinv = L.inverse_diagonal;
     Eigen::VectorXd &d = L.d, &y = L.t, &r = L.r;
     // Pre-smoothing from x = 0: x1 = d1 = D^-1 b / theta, then x = x1 + c1 d1 + c2 D^-1 (b - A x1),
-    // with A x1 = (A s) / theta.
-    rows_of(loop, op, L.s, [&](int i, double t) {
-        const double d1 = L.s[i] / theta;
+    // with A x1 = (A D^-1 b) / theta.
+    rows_of(loop, first, first_v, [&](int i, double t) {
+        const double d1 = dinv[i] * b[i] / theta;
         d[i] = c1 * d1 + c2 * dinv[i] * (b[i] - t / theta), x[i] = d1 + d[i];
     });
     rows_of(loop, op, x, [&](int i, double t) { r[i] = b[i] - t; });  // residual
@@ -145,7 +159,8 @@ void cycle(Loop loop, const Op& op, AmgLevel& L, AmgLevel& C, const Eigen::Vecto
     rows_of(loop, RunRows{L.P}, C.x, [&](int i, double t) { x[i] += t; });
     // Post-smoothing from the corrected x: y = x + D^-1 (b - A x) / theta, then x = y + d.
     rows_of(loop, op, x, [&](int i, double t) { d[i] = dinv[i] * (b[i] - t) / theta, y[i] = x[i] + d[i]; });
-    rows_of(loop, op, y, [&](int i, double t) { d[i] = c1 * d[i] + c2 * dinv[i] * (b[i] - t), x[i] = y[i] + d[i]; });
+    rows_of(loop, op, y,
+            [&](int i, double t) { d[i] = c1 * d[i] + c2 * dinv[i] * (b[i] - t), x[i] = y[i] + d[i]; });
 }
 
 /// The coarser levels from l on, on the calling thread: x_l = V-cycle(b_l).
@@ -155,7 +170,8 @@ void serial_cycle(AmgHierarchy& h, size_t l) {
         L.x = h.coarsest.solve(L.b);
         return;
     }
-    cycle(SerialLoop{}, RunRows{L.A}, L, h.levels[l + 1], L.b, L.x, [&] { serial_cycle(h, l + 1); });
+    cycle(SerialLoop{}, RunRows{L.A}, RunRows{L.A}, L.s, L, h.levels[l + 1], L.b, L.x,
+          [&] { serial_cycle(h, l + 1); });
 }
 
 /// Level l on (l >= 1) by the team while its matrix is large enough to share (kTeamNonzeros),
@@ -167,7 +183,8 @@ void team_cycle(AmgHierarchy& h, size_t l) {
         serial_cycle(h, l);
         return;
     }
-    cycle(TeamLoop{}, RunRows{L.A}, L, h.levels[l + 1], L.b, L.x, [&] { team_cycle(h, l + 1); });
+    cycle(TeamLoop{}, RunRows{L.A}, RunRows{L.A}, L.s, L, h.levels[l + 1], L.b, L.x,
+          [&] { team_cycle(h, l + 1); });
 }
 
 }  // namespace
@@ -183,7 +200,8 @@ void amg_update_finest(AmgHierarchy& h, const LinearSystem& A) {
     parallel_for(A.rows(), [&](int i) {
         for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b)
             for (int r = 0; r < 3; ++r)
-                for (int c = 0; c < 3; ++c) h.finest[9 * b + 3 * c + r] = static_cast<float>(A.value[9 * b + 3 * r + c]);
+                for (int c = 0; c < 3; ++c)
+                    h.finest[9 * b + 3 * c + r] = static_cast<float>(A.value[9 * b + 3 * r + c]);
         for (int c = 0; c < 3; ++c) L.inverse_diagonal[3 * i + c] = 1.0 / A.value[9 * A.diagonal[i] + 4 * c];
     });
 }
@@ -195,8 +213,7 @@ void amg_cycle_in_team(AmgHierarchy& h, const LinearSystem& A, const Eigen::Vect
         return;
     }
     AmgLevel& L = h.levels[0];
-#pragma omp for schedule(static)
-    for (int i = 0; i < static_cast<int>(r.size()); ++i) L.s[i] = L.inverse_diagonal[i] * r[i];
-    cycle(TeamLoop{}, FinestRows{A, h.finest}, L, h.levels[1], r, z, [&] { team_cycle(h, 1); });
+    cycle(TeamLoop{}, FinestRows{A, h.finest}, FinestRowsOf<true>{A, h.finest, L.inverse_diagonal.data()}, r,
+          L, h.levels[1], r, z, [&] { team_cycle(h, 1); });
 }
 }  // namespace xcut

@@ -71,6 +71,10 @@ enum class Preconditioning { kRows, kSingle, kTeam };
 /// The preconditioner, by `mode`: kRows, `precondition_rows(lo, hi, r, z)`: z = M^-1 r on the block
 /// rows [lo, hi); kSingle, `precondition_all(r, z)` on the whole vector, run by one thread of the
 /// team; kTeam, `precondition_all(r, z)` called by every thread, its loops worksharing (as product).
+/// With kSingle and kTeam, z's held entries are projected out after the product A z, in its
+/// reduction's loop (no loop and barrier of their own): `product` must not carry a held input entry
+/// into a free row, as the assembled A does not (its held rows and columns are dropped,
+/// filter_held_axes in systems/linear_assembly.cpp).
 template <class Product, class PreconditionRows, class PreconditionAll>
 CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, PreconditionRows&& precondition_rows,
                  PreconditionAll&& precondition_all, const Eigen::VectorXd& b, const Eigen::VectorXd& mask, double tol,
@@ -96,11 +100,8 @@ CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, Precon
                 precondition_all(r, u);
             } else {
 #pragma omp single
-                precondition_all(r, u);
+                precondition_all(r, u);  // its implicit barrier ends the step
             }
-            rows(sh, reductions, [&](int lo, int hi, auto&) {
-                for (int i = 3 * lo; i < 3 * hi; ++i) u[i] *= mask[i];
-            }, false);
         };
         // The start: x projected, r = mask (b - A x), u = mask M^-1 r, |b|.
         rows(sh, reductions, [&](int lo, int hi, auto&) {
@@ -117,7 +118,7 @@ CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, Precon
             product(u, w);
             return rows(sh, reductions, [&](int lo, int hi, auto& acc) {
                 for (int i = 3 * lo; i < 3 * hi; ++i) {
-                    w[i] *= mask[i];
+                    u[i] *= mask[i], w[i] *= mask[i];  // u's: a no-op for kRows (masked already)
                     acc[0] += r[i] * u[i], acc[1] += w[i] * u[i], acc[2] += r[i] * r[i];
                 }
             }, true);
