@@ -172,6 +172,33 @@ void linear_multiply(const LinearSystem& A, const Eigen::VectorXd& x, Eigen::Vec
     parallel_for(A.rows(), [&](int i) { linear_multiply_rows(A, i, i + 1, x, y); }, 2048);
 }
 
+namespace {
+
+/// Columns [first, first + width) of AV = A V; Width is the count, or Eigen::Dynamic (width given).
+template <int Width>
+void multiply_columns(const LinearSystem& A, const Eigen::MatrixXd& V, int first, int width, Eigen::MatrixXd& AV) {
+    using Block = Eigen::Matrix<double, 3, Width, Eigen::ColMajor, 3, Width == Eigen::Dynamic ? 6 : Width>;
+    parallel_for(A.rows(), [&](int i) {
+        Block sum = Block::Zero(3, width);
+        for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b)
+            sum.noalias() += Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(A.value.data() + 9 * b) *
+                             V.block(3 * A.column[b], first, 3, width);
+        AV.block(3 * i, first, 3, width) = sum;
+    }, 2048);
+}
+
+}  // namespace
+
+void linear_multiply_columns(const LinearSystem& A, const Eigen::MatrixXd& V, Eigen::MatrixXd& AV) {
+    constexpr int kAtOnce = 6;
+    AV.resize(3 * A.rows(), V.cols());
+    for (int first = 0; first < V.cols(); first += kAtOnce) {
+        const int width = std::min<int>(kAtOnce, static_cast<int>(V.cols()) - first);
+        if (width == kAtOnce) multiply_columns<kAtOnce>(A, V, first, width, AV);
+        else multiply_columns<Eigen::Dynamic>(A, V, first, width, AV);
+    }
+}
+
 void block_diagonal_inverse(const LinearSystem& A, std::vector<double>& inverse) {
     inverse.resize(9 * A.rows());
     parallel_for(A.rows(), [&](int i) {

@@ -25,6 +25,9 @@ void assemble_step_matrix(World& world, double mass_scale, double stiff_scale);
 
 /// y = A x for the assembled A (3 entries per DOF node).
 void linear_multiply(const LinearSystem& A, const Eigen::VectorXd& x, Eigen::VectorXd& y);
+/// AV = A V, every column of V in one pass over A (six at a time): each column's sums are
+/// linear_multiply's, in its order. Six separate products took 1.3-1.7 ms at 53k tets, this 0.85-1.1.
+void linear_multiply_columns(const LinearSystem& A, const Eigen::MatrixXd& V, Eigen::MatrixXd& AV);
 /// The block rows [lo, hi) of y = A x (y sized by the caller), on the calling thread.
 void linear_multiply_rows(const LinearSystem& A, int lo, int hi, const Eigen::VectorXd& x, Eigen::VectorXd& y);
 

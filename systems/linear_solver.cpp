@@ -267,16 +267,13 @@ namespace {
 
 /// AV = A V, column by column, with this step's A: the assembled matrix, or matrix-free for jacobi.
 void step_product(World& w, double mass_scale, double stiff_scale, const Eigen::MatrixXd& V, Eigen::MatrixXd& AV) {
+    if (w.linear.method != "jacobi") return linear_multiply_columns(w.linear, V, AV);
     AV.resize(V.rows(), V.cols());
     Eigen::VectorXd v, out;
     for (Eigen::Index j = 0; j < V.cols(); ++j) {
         v = V.col(j);
-        if (w.linear.method != "jacobi") {
-            linear_multiply(w.linear, v, out);
-        } else {
-            stiffness_product(w, v, out);
-            for (Eigen::Index i = 0; i < v.size(); ++i) out[i] = mass_scale * w.nodes.mass[i / 3] * v[i] + stiff_scale * out[i];
-        }
+        stiffness_product(w, v, out);
+        for (Eigen::Index i = 0; i < v.size(); ++i) out[i] = mass_scale * w.nodes.mass[i / 3] * v[i] + stiff_scale * out[i];
         AV.col(j) = out;
     }
 }

@@ -49,6 +49,29 @@ TEST(LinearAssembly, MatchesTheMatrixFreeProductUncut) {
     }
 }
 
+// The projected guess's products, all columns in one pass over A: the same bits as one product a
+// column, for a full pass of six columns, one of six and two, and a single column.
+TEST(LinearAssembly, ColumnsProductEqualsOneProductAColumn) {
+    World w = deformed(false);
+    ensure_linear_pattern(w);
+    assemble_step_matrix(w, 1.0, 1e-4);
+    const int n3 = 3 * w.nodes.count();
+    for (int columns : {6, 8, 1}) {
+        SCOPED_TRACE(columns);
+        std::srand(columns);
+        const Eigen::MatrixXd V = Eigen::MatrixXd::Random(n3, columns);
+        Eigen::MatrixXd AV;
+        linear_multiply_columns(w.linear, V, AV);
+        ASSERT_EQ(AV.rows(), n3);
+        ASSERT_EQ(AV.cols(), columns);
+        for (int j = 0; j < columns; ++j) {
+            Eigen::VectorXd one;
+            linear_multiply(w.linear, V.col(j), one);
+            EXPECT_EQ(AV.col(j), one) << "column " << j;
+        }
+    }
+}
+
 TEST(LinearAssembly, MatchesTheMatrixFreeProductCut) {
     World w = deformed(false);
     ASSERT_GT(testing::cut_now(w, testing::square_on_plane(Vec3(0.0152, 0.01, 0.005), Vec3(1, 0.2, 0.1), 0.05)), 0);
