@@ -74,7 +74,6 @@ struct AmgLevel {
     Eigen::VectorXd inverse_diagonal;  ///< 1 / diag(A) [this level's units]
     double lambda_max = 1.0;           ///< estimate of the largest eigenvalue of D^-1 A [-]
     Eigen::VectorXd x, b, r, d, t;     ///< the cycle's vectors on this level
-    Eigen::VectorXd s;                 ///< D^-1 b, set with b on coarse levels: the first smoothing step's direction
 };
 
 struct AmgHierarchy {

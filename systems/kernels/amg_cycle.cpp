@@ -50,13 +50,19 @@ inline Double4 loaded(const double* p) {
 }
 inline double lane_sum(const Double4& v) { return (v[0] + v[1]) + (v[2] + v[3]); }
 
+/// Each level operator below comes in two kinds: kScaled = false gives rows of M v; kScaled = true
+/// rows of M (D^-1 v), D^-1 applied as v is read: the first smoothing step's product, without a
+/// loop (and a barrier) of its own to form D^-1 b. scaled(op, D^-1) makes the second from the first.
+
 /// A coarse level's operator (RunMatrix): row(i, v, out): out[0] = sum_j M_ij v[j], each run four
 /// entries at a time in two vector sums of a fixed order. A run's last 1-3 entries are taken with
 /// the four that end the run, the lanes already summed weighted by 0. A single running sum a row
 /// was one chain of dependent multiply-adds (183 a row on the 53k-tet block's first coarse level,
 /// 253 in its restriction), bound by the adder's latency, not by memory.
-struct RunRows {
+template <bool kScaled>
+struct RunRowsOf {
     const RunMatrix& M;
+    const double* inverse_diagonal = nullptr;  ///< D^-1, with kScaled
     static constexpr int kWidth = 1;
     int groups() const { return M.rows(); }
     void row(int i, const double* v, double* out) const {
@@ -65,17 +71,20 @@ struct RunRows {
         double rest = 0.0;
         for (int k = M.row_start[i]; k < M.row_start[i + 1]; ++k) {
             const float* a = M.value.data() + M.run_start[k];
-            const double* x = v + M.run_column[k];
-            const int n = M.run_start[k + 1] - M.run_start[k];
+            const int column = M.run_column[k], n = M.run_start[k + 1] - M.run_start[k];
+            const double* x = v + column;
+            const auto at = [&](int j) {  // four entries of v (of D^-1 v) from j
+                if constexpr (kScaled) return loaded(x + j) * loaded(inverse_diagonal + column + j);
+                return loaded(x + j);
+            };
             int j = 0;
-            for (; j + 8 <= n; j += 8)
-                s0 += widened(a + j) * loaded(x + j), s1 += widened(a + j + 4) * loaded(x + j + 4);
-            if (j + 4 <= n) s0 += widened(a + j) * loaded(x + j), j += 4;
+            for (; j + 8 <= n; j += 8) s0 += widened(a + j) * at(j), s1 += widened(a + j + 4) * at(j + 4);
+            if (j + 4 <= n) s0 += widened(a + j) * at(j), j += 4;
             if (j == n) continue;
             if (n >= 4)
-                s1 += widened(a + n - 4) * loaded(x + n - 4) * kLast[n - j];
+                s1 += widened(a + n - 4) * at(n - 4) * kLast[n - j];
             else
-                for (; j < n; ++j) rest += double(a[j]) * x[j];
+                for (; j < n; ++j) rest += double(a[j]) * (kScaled ? x[j] * inverse_diagonal[column + j] : x[j]);
         }
         out[0] = lane_sum(s0 + s1) + rest;
     }
@@ -87,8 +96,6 @@ struct RunRows {
 /// even and odd blocks in separate sums. Scalar rows with a float-to-double conversion per entry
 /// ran a product in 0.29-0.41 ms on the 53k-tet block; this runs it in 0.17-0.22 (2 threads), where
 /// the double product runs in 0.18-0.26.
-/// With kScaled, the product is A (D^-1 v), D^-1 applied as v is read (the first smoothing step's
-/// direction, without a loop and a barrier of its own).
 template <bool kScaled>
 struct FinestRowsOf {
     const LinearSystem& A;
@@ -118,7 +125,12 @@ struct FinestRowsOf {
     }
 };
 
+using RunRows = RunRowsOf<false>;
 using FinestRows = FinestRowsOf<false>;
+inline RunRowsOf<true> scaled(const RunRows& op, const double* inverse_diagonal) { return {op.M, inverse_diagonal}; }
+inline FinestRowsOf<true> scaled(const FinestRows& op, const double* inverse_diagonal) {
+    return {op.A, op.value, inverse_diagonal};
+}
 
 /// body(i, (M v)_i) for every row i of level operator `op` (M), by `loop` over its groups.
 template <class Loop, class Op, class Body>
@@ -130,16 +142,15 @@ void rows_of(Loop loop, const Op& op, const Eigen::VectorXd& v, Body&& body) {
     });
 }
 
-/// One V-cycle on level L with rhs b, result x, `coarse()` solving level C (its b and s = D^-1 b
-/// set, its x out); `first.row` gives (A D^-1 b)_i from `first_v`.
+/// One V-cycle on level L with rhs b, result x, `coarse()` solving level C (its b set, its x out).
 /// Chebyshev smoothing of degree 2 preconditioned by D^-1 before and after, on
 /// [lambda_max / kRatio, kBoost lambda_max] (Adams et al. 2003): each smoothing step's product and
 /// update are one row loop (the update written to the other of x and L.t, since other rows still
 /// read the old values), and the residual's product and difference another, so a level costs six
 /// loops, six barriers of the team.
-template <class Loop, class Op, class First, class Coarse>
-void cycle(Loop loop, const Op& op, const First& first, const Eigen::VectorXd& first_v, AmgLevel& L,
-           AmgLevel& C, const Eigen::VectorXd& b, Eigen::VectorXd& x, Coarse&& coarse) {
+template <class Loop, class Op, class Coarse>
+void cycle(Loop loop, const Op& op, AmgLevel& L, AmgLevel& C, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+           Coarse&& coarse) {
     const double upper = kBoost * L.lambda_max, lower = upper / kRatio;
     const double theta = 0.5 * (upper + lower), delta = 0.5 * (upper - lower), sigma = theta / delta;
     const double rho = 1.0 / sigma, next = 1.0 / (2.0 * sigma - rho);
@@ -148,13 +159,12 @@ void cycle(Loop loop, const Op& op, const First& first, const Eigen::VectorXd& f
     Eigen::VectorXd &d = L.d, &y = L.t, &r = L.r;
     // Pre-smoothing from x = 0: x1 = d1 = D^-1 b / theta, then x = x1 + c1 d1 + c2 D^-1 (b - A x1),
     // with A x1 = (A D^-1 b) / theta.
-    rows_of(loop, first, first_v, [&](int i, double t) {
+    rows_of(loop, scaled(op, dinv.data()), b, [&](int i, double t) {
         const double d1 = dinv[i] * b[i] / theta;
         d[i] = c1 * d1 + c2 * dinv[i] * (b[i] - t / theta), x[i] = d1 + d[i];
     });
     rows_of(loop, op, x, [&](int i, double t) { r[i] = b[i] - t; });  // residual
-    const Eigen::VectorXd& coarse_dinv = C.inverse_diagonal;
-    rows_of(loop, RunRows{L.R}, r, [&](int i, double t) { C.b[i] = t, C.s[i] = coarse_dinv[i] * t; });
+    rows_of(loop, RunRows{L.R}, r, [&](int i, double t) { C.b[i] = t; });
     coarse();
     rows_of(loop, RunRows{L.P}, C.x, [&](int i, double t) { x[i] += t; });
     // Post-smoothing from the corrected x: y = x + D^-1 (b - A x) / theta, then x = y + d.
@@ -170,8 +180,7 @@ void serial_cycle(AmgHierarchy& h, size_t l) {
         L.x = h.coarsest.solve(L.b);
         return;
     }
-    cycle(SerialLoop{}, RunRows{L.A}, RunRows{L.A}, L.s, L, h.levels[l + 1], L.b, L.x,
-          [&] { serial_cycle(h, l + 1); });
+    cycle(SerialLoop{}, RunRows{L.A}, L, h.levels[l + 1], L.b, L.x, [&] { serial_cycle(h, l + 1); });
 }
 
 /// Level l on (l >= 1) by the team while its matrix is large enough to share (kTeamNonzeros),
@@ -183,8 +192,7 @@ void team_cycle(AmgHierarchy& h, size_t l) {
         serial_cycle(h, l);
         return;
     }
-    cycle(TeamLoop{}, RunRows{L.A}, RunRows{L.A}, L.s, L, h.levels[l + 1], L.b, L.x,
-          [&] { team_cycle(h, l + 1); });
+    cycle(TeamLoop{}, RunRows{L.A}, L, h.levels[l + 1], L.b, L.x, [&] { team_cycle(h, l + 1); });
 }
 
 }  // namespace
@@ -212,8 +220,6 @@ void amg_cycle_in_team(AmgHierarchy& h, const LinearSystem& A, const Eigen::Vect
         z = h.coarsest.solve(r);
         return;
     }
-    AmgLevel& L = h.levels[0];
-    cycle(TeamLoop{}, FinestRows{A, h.finest}, FinestRowsOf<true>{A, h.finest, L.inverse_diagonal.data()}, r,
-          L, h.levels[1], r, z, [&] { team_cycle(h, 1); });
+    cycle(TeamLoop{}, FinestRows{A, h.finest}, h.levels[0], h.levels[1], r, z, [&] { team_cycle(h, 1); });
 }
 }  // namespace xcut

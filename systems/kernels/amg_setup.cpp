@@ -189,9 +189,7 @@ NearNull rigid_modes(const std::vector<Eigen::Vector3d>& position, int rows, con
 }
 
 /// The cycle's vectors of a level with n DOFs.
-void size_vectors(AmgLevel& L, int n) {
-    for (Eigen::VectorXd* v : {&L.x, &L.b, &L.r, &L.d, &L.t, &L.s}) v->setZero(n);
-}
+void size_vectors(AmgLevel& L, int n) { L.x.setZero(n), L.b.setZero(n), L.r.setZero(n), L.d.setZero(n), L.t.setZero(n); }
 
 }  // namespace
 
