@@ -56,11 +56,12 @@ struct CutState {
     int quads_built = 0;
     int elements_tested = 0;
     int crossings_found = 0;
-    int elements_split = 0;
+    int elements_split = 0;           ///< splits queued (the cutter may find one needless: the CSV counts applied ones)
     double update_ms = 0.0;
     std::vector<double> delay_sim;    ///< per split element: first crossing to split [s]
     std::vector<double> delay_wall;   ///< [s]
     std::vector<double> quad_ms;      ///< wall time of each quad update [ms]
+    std::vector<int> split_by_tool;   ///< per tool: splits its blade queued over the run
 };
 
 }  // namespace xcut

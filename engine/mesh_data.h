@@ -17,9 +17,16 @@ struct MeshData {
     std::vector<Eigen::Vector3d> points;         ///< [m]
     std::vector<std::array<int, 4>> cells;       ///< node indices; triangles use the first three, [3] = -1
     std::string source;                          ///< file name or generator name, for messages
+    /// The file the points come from, where it is not `source` (TetGen's .node beside its .ele).
+    std::string points_source;
     /// The ids the file gives its nodes and cells (Gmsh tags, TetGen indices), for messages; empty:
     /// the mesh numbers them itself, and messages name points[i] and cells[i].
     std::vector<long long> point_id, cell_id;
+    /// Each point's index in the file's own order (0-based), kept when unused nodes are dropped, so
+    /// that a scene's node indices and the output's "file_node" array mean the file's numbering;
+    /// empty: points[i] is the file's point i. `file_points`: how many points the file lists.
+    std::vector<int> file_index;
+    long long file_points = -1;  ///< -1: points.size()
     /// Region of each cell: a Gmsh physical group, a TetGen region attribute, or a VTK cell-data
     /// array the scene names; empty when the file has none. 0 is "no region".
     std::vector<int> cell_region;
@@ -44,6 +51,10 @@ struct MeshData {
 /// Signed volume of cell `c` (2D: signed area in the xy plane) at `mesh.points` [m^3 or m^2];
 /// positive when its nodes are in the positive order. Indices are assumed valid.
 double signed_cell_measure(const MeshData& mesh, const std::array<int, 4>& c);
+
+/// Throws InputError naming the cell when a cell refers to a node the file does not have (checked
+/// before unused nodes are dropped, so the count quoted is the file's).
+void validate_cell_indices(const MeshData& mesh);
 
 /// Rejects meshes the physics cannot run on: no cells, NaN/inf coordinates, out-of-range or repeated
 /// indices, inverted or zero-volume (zero-area) cells. Cells of negative orientation are not

@@ -91,11 +91,15 @@ long long drop_unused_nodes(MeshData& mesh) {
     if (dropped == 0) return 0;
     std::vector<Eigen::Vector3d> points(used);
     std::vector<long long> ids(mesh.point_id.empty() ? 0 : used);
+    std::vector<int> file_index(used);
+    if (mesh.file_points < 0) mesh.file_points = n;
     for (int i = 0; i < n; ++i)
         if (remap[i] >= 0) {
             points[remap[i]] = mesh.points[i];
+            file_index[remap[i]] = mesh.file_index.empty() ? i : mesh.file_index[i];
             if (!ids.empty()) ids[remap[i]] = mesh.point_id[i];
         }
+    mesh.file_index = std::move(file_index);
     for (auto& c : mesh.cells)
         for (int a = 0; a < mesh.nodes_per_cell(); ++a)
             if (c[a] >= 0 && c[a] < n) c[a] = remap[c[a]];

@@ -14,6 +14,7 @@ namespace xcut {
 
 struct MeshPlacement {
     double scale = 1.0;                                      ///< file units -> metres (units "cm": 0.01)
+    bool units_given = false;                                ///< the scene said "units" or "scale"
     Eigen::Vector3d rotate_deg = Eigen::Vector3d::Zero();    ///< about x, then y, then z [degrees]
     Eigen::Vector3d translate = Eigen::Vector3d::Zero();     ///< after scale and rotation [m]
     bool reorient = false;                                   ///< flip cells of negative orientation

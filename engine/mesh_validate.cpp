@@ -1,17 +1,40 @@
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "engine/error.h"
 #include "engine/mesh_data.h"
 
 namespace xcut {
 
-std::string MeshData::point_name(size_t i) const {
-    return i < point_id.size() ? fmt::format("node {}", point_id[i]) : fmt::format("points[{}]", i);
+namespace {
+
+/// "node 44", or where several of the file's nodes carry that id, which one it is too.
+std::string named(const char* kind, const std::vector<long long>& ids, size_t i, const char* array) {
+    if (i >= ids.size()) return fmt::format("{}[{}]", array, i);
+    const auto same = std::count(ids.begin(), ids.end(), ids[i]);
+    if (same == 1) return fmt::format("{} {}", kind, ids[i]);
+    const auto nth = std::count(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(i), ids[i]) + 1;
+    return fmt::format("{} {} (the file gives {} {}s that id: this is number {} of them, {}[{}] in reading order)",
+                       kind, ids[i], same, kind, nth, array, i);
 }
 
-std::string MeshData::cell_name(size_t e) const {
-    return e < cell_id.size() ? fmt::format("element {}", cell_id[e]) : fmt::format("cells[{}]", e);
+}  // namespace
+
+std::string MeshData::point_name(size_t i) const { return named("node", point_id, i, "points"); }
+
+std::string MeshData::cell_name(size_t e) const { return named("element", cell_id, e, "cells"); }
+
+void validate_cell_indices(const MeshData& mesh) {
+    const int npe = mesh.nodes_per_cell();
+    const long long n = static_cast<long long>(mesh.points.size());
+    for (size_t e = 0; e < mesh.cells.size(); ++e)
+        for (int a = 0; a < npe; ++a)
+            if (mesh.cells[e][a] < 0 || mesh.cells[e][a] >= n)
+                throw InputError(mesh.source, mesh.cell_name(e),
+                                 fmt::format("node index {} is out of range (the file has {} nodes, indices 0 to {})",
+                                             mesh.cells[e][a], n, n - 1));
 }
 
 double signed_cell_measure(const MeshData& mesh, const std::array<int, 4>& c) {
@@ -29,31 +52,29 @@ void validate_mesh(const MeshData& mesh, double rel_tol) {
     if (mesh.cells.empty()) throw InputError(src, "cells", "the mesh has no elements");
     for (size_t i = 0; i < mesh.points.size(); ++i)
         if (!mesh.points[i].allFinite())
-            throw InputError(src, mesh.point_name(i), "coordinate is NaN or infinite");
+            throw InputError(mesh.points_source.empty() ? src : mesh.points_source, mesh.point_name(i),
+                             "coordinate is NaN or infinite");
+    validate_cell_indices(mesh);
     const int npe = mesh.nodes_per_cell();
-    const int n = static_cast<int>(mesh.points.size());
     for (size_t e = 0; e < mesh.cells.size(); ++e) {
         const auto& c = mesh.cells[e];
-        const std::string field = mesh.cell_name(e);
-        for (int a = 0; a < npe; ++a) {
-            if (c[a] < 0 || c[a] >= n)
-                throw InputError(src, field, fmt::format("node index {} is out of range (the mesh has {} nodes)", c[a], n));
+        for (int a = 0; a < npe; ++a)
             for (int b = 0; b < a; ++b)
-                if (c[a] == c[b]) throw InputError(src, field, fmt::format("{} appears twice", mesh.point_name(c[a])));
-        }
+                if (c[a] == c[b])
+                    throw InputError(src, mesh.cell_name(e), fmt::format("{} appears twice", mesh.point_name(c[a])));
         double longest = 0.0;
         for (int a = 0; a < npe; ++a)
             for (int b = a + 1; b < npe; ++b) longest = std::max(longest, (mesh.points[c[a]] - mesh.points[c[b]]).norm());
         if (mesh.dim == 2 && (mesh.points[c[0]].z() != 0.0 || mesh.points[c[1]].z() != 0.0 || mesh.points[c[2]].z() != 0.0))
-            throw InputError(src, field, "2D meshes lie in the plane z = 0");
+            throw InputError(src, mesh.cell_name(e), "2D meshes lie in the plane z = 0");
         const double measure = signed_cell_measure(mesh, c);
         const double tol = rel_tol * std::pow(longest, mesh.dim);
         const char* unit = mesh.dim == 3 ? "m^3" : "m^2";
         if (measure < -tol)
-            throw InputError(src, field, fmt::format("is inverted (signed {} {:.3g} {}): node order must be positive (mesh.reorient: true flips such cells)",
+            throw InputError(src, mesh.cell_name(e), fmt::format("is inverted (signed {} {:.3g} {}): node order must be positive (mesh.reorient: true flips such cells)",
                                                      mesh.dim == 3 ? "volume" : "area", measure, unit));
         if (!(measure > tol))
-            throw InputError(src, field, fmt::format("is degenerate ({} {:.3g} {})", mesh.dim == 3 ? "volume" : "area",
+            throw InputError(src, mesh.cell_name(e), fmt::format("is degenerate ({} {:.3g} {})", mesh.dim == 3 ? "volume" : "area",
                                                      measure, unit));
     }
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "engine/error.h"
+#include "engine/io/scene_checks.h"
 
 namespace xcut {
 
@@ -24,6 +25,7 @@ std::unique_ptr<Simulation> build_simulation(const Scene& scene, const Pipeline&
     pipeline(scene, sim->scheduler, *sim);
     sim->scheduler.build(sim->world);
     if (!sim->world.output.directory.empty()) {
+        check_output_volume(scene, sim->world, scene.steps);  // before the first file is written
         sim->output = std::make_unique<OutputWriter>(sim->world);
         sim->output->write_frame(sim->world);
     }

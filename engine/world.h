@@ -101,6 +101,9 @@ struct World {
     std::vector<std::string> mesh_notes;
     std::vector<std::string> body_names = {"body"};  ///< the scene's bodies (Elements::body indexes them)
     int mesh_nodes = 0;         ///< nodes [0, mesh_nodes) are the mesh's; after them, enriched DOFs
+    /// Mesh node i's index in the mesh files' numbering (0-based through the bodies in order): the
+    /// output's "file_node" array, so results map back to the input. Empty: the same as i.
+    std::vector<int> mesh_file_index;
     int mesh_elements = 0;      ///< elements [0, mesh_elements) are the mesh's; after them, virtual
     Materials materials;
     Constraints constraints;

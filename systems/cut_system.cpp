@@ -14,21 +14,36 @@ namespace {
 int edges_of(int dim) { return dim == 3 ? 6 : 3; }
 const int* edge_of(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
 
-/// Elements sharing a vertex with `seeds`, `depth` levels deep (seeds included), sorted.
-std::vector<int> neighbourhood(const World& w, const std::vector<int>& seeds, int depth) {
+/// Whether element e's box at current positions meets the box [lo, hi].
+bool meets_box(const World& w, int e, const Vec3& lo, const Vec3& hi) {
+    const auto& n = w.elements.nodes[e];
+    Vec3 elo = w.nodes.position[n[0]], ehi = elo;
+    for (int a = 1; a < w.elements.nodes_per_element(); ++a) {
+        elo = elo.cwiseMin(w.nodes.position[n[a]]);
+        ehi = ehi.cwiseMax(w.nodes.position[n[a]]);
+    }
+    return (elo.array() <= hi.array()).all() && (ehi.array() >= lo.array()).all();
+}
+
+/// Elements sharing a vertex with `seeds`, `depth` levels deep (seeds included), and beyond that
+/// every element connected to them through elements whose boxes meet [lo, hi] (the swept quad's
+/// box): the depth is sized by the mean edge, which on a graded mesh is many of its small elements,
+/// so the quad's own extent decides where the search ends. Sorted.
+std::vector<int> neighbourhood(const World& w, const std::vector<int>& seeds, int depth, const Vec3& lo,
+                               const Vec3& hi) {
     const Incidence& inc = w.incidence;
     const int npe = w.elements.nodes_per_element();
     std::vector<int> frontier = seeds, all = seeds;
     std::vector<uint8_t> seen(w.mesh_elements, 0);
     for (int e : seeds) seen[e] = 1;
-    for (int level = 0; level < depth && !frontier.empty(); ++level) {
+    for (int level = 0; !frontier.empty(); ++level) {
         std::vector<int> next;
         for (int e : frontier)
             for (int a = 0; a < npe; ++a) {
                 const int j = w.elements.nodes[e][a];
                 for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
                     const int f = inc.entry[p] >> 2;
-                    if (!seen[f]) seen[f] = 1, next.push_back(f);
+                    if (!seen[f] && (level < depth || meets_box(w, f, lo, hi))) seen[f] = 1, next.push_back(f);
                 }
             }
         all.insert(all.end(), next.begin(), next.end());
@@ -291,7 +306,10 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
     std::vector<int> candidates;
     if (!bc.front.empty() && !cs.bvh_every_quad) {
         const int depth = cs.min_depth + static_cast<int>(std::ceil(length / std::max(cs.mean_edge, 1e-300)));
-        candidates = neighbourhood(w, bc.front, depth);
+        Vec3 lo = q.corner[0], hi = lo;
+        for (const Vec3& c : q.corner) lo = lo.cwiseMin(c), hi = hi.cwiseMax(c);
+        const Vec3 pad = Vec3::Constant(1e-9 * std::max(1.0, (hi - lo).norm()));  // rounding only
+        candidates = neighbourhood(w, bc.front, depth, lo - pad, hi + pad);
     } else {
         Vec3 centre = Vec3::Zero();
         for (const Vec3& c : q.corner) centre += 0.25 * c;
@@ -315,7 +333,10 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
         cs.crossings_found += found;
         if (found > 0) crossed.push_back(e);
     }
+    const int queued_before = cs.elements_split;
     split_or_list(w, bc, crossed);
+    if (static_cast<int>(cs.split_by_tool.size()) <= tool) cs.split_by_tool.resize(tool + 1, 0);
+    cs.split_by_tool[tool] += cs.elements_split - queued_before;
     // Elements the search no longer reaches are dropped: the blade has left them.
     for (auto it = bc.crossing.begin(); it != bc.crossing.end();) {
         if (std::binary_search(candidates.begin(), candidates.end(), it->first)) {

@@ -19,6 +19,7 @@ namespace xcut {
 std::vector<std::string> SceneOptions::all_overrides() const {
     std::vector<std::string> all = overrides;
     if (!cutter.empty()) all.push_back("cutter.type=\"" + cutter + "\"");
+    for (const std::string& check : allow) all.push_back("allow+=\"" + check + "\"");
     return all;
 }
 
@@ -30,6 +31,8 @@ void add_scene_options(CLI::App& cmd, SceneOptions& o) {
     cmd.add_flag("--quiet,-q", o.quiet, "No progress bar");
     cmd.add_option("--cutter", o.cutter, "Cutter: xfem (default) or snap (snapping and subdivision)")
         ->check(CLI::IsMember({"xfem", "snap"}));
+    cmd.add_option("--allow", o.allow,
+                   "Silence a plausibility warning: units, young, density, poisson, tool_reach, dt (repeatable)");
 }
 
 /// Waiting OpenMP threads spin a core by default (libgomp: about 300,000 spins before they sleep).
@@ -62,6 +65,9 @@ int main(int argc, char** argv) {
         for (const xcut::Command& c : commands)
             if (c.app->parsed()) return c.run();
     } catch (const xcut::InputError& e) {
+        fmt::print(stderr, "error: {}\n", e.what());
+        return 2;
+    } catch (const CLI::Error& e) {  // an option the command refuses once it knows the rest (xcut bench)
         fmt::print(stderr, "error: {}\n", e.what());
         return 2;
     } catch (const xcut::NumericalError& e) {

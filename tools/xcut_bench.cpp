@@ -1,5 +1,8 @@
 // xcut bench --suite perf|cut|mapping|collision|accuracy|solver|mesh_io: benchmarks that print figures and write
 // CSV (never pass/fail); docs/BENCHMARKS.md is generated from their CSVs by tools/report/.
+#include <algorithm>
+#include <map>
+
 #include "tools/bench/bench.h"
 #include "tools/bench/bench_accuracy.h"
 #include "tools/bench/bench_collision.h"
@@ -75,17 +78,52 @@ int run_tiny_or_full(const CLI::App& cmd, const BenchOptions& o, int (*run)(cons
     return run(with_csv(cmd, o.perf.csv, options));
 }
 
+/// The options each suite reads besides --suite and --csv. One given to a suite that does not read
+/// it is refused, not ignored: a run that silently ignored --sizes once wrote its full record.
+const std::map<std::string, std::vector<const char*>> kSuiteOptions = {
+    {"perf", {"--sizes", "--threads", "--steps", "--scene"}},
+    {"cut", {"--sizes", "--speed"}},
+    {"mapping", {"--threads", "--steps"}},
+    {"collision", {"--steps"}},
+    {"accuracy", {"--problems", "--threads", "--tiny", "--cache-dir", "--no-plots"}},
+    {"solver", {"--cases", "--tiny"}},
+    {"mesh_io", {"--tiny"}},
+};
+/// Options that change what a suite measures: with any of them given, the run is partial and
+/// writes its quick CSV, never the committed record.
+constexpr const char* kPartialOptions[] = {"--sizes", "--threads", "--steps", "--scene", "--speed",
+                                           "--problems", "--tiny", "--cases"};
+
+/// Throws CLI::ValidationError when an option the suite does not read was given; whether the run
+/// is partial otherwise.
+bool check_suite_options(const CLI::App& cmd, const std::string& suite) {
+    const std::vector<const char*>& reads = kSuiteOptions.at(suite);
+    bool partial = false;
+    for (const char* opt : kPartialOptions) {
+        if (cmd.count(opt) == 0) continue;
+        if (std::find_if(reads.begin(), reads.end(), [&](const char* r) { return std::string(r) == opt; }) == reads.end())
+            throw CLI::ValidationError(opt, fmt::format("the {} suite does not read it (it reads: {})", suite,
+                                                        fmt::join(reads, ", ")));
+        partial = true;
+    }
+    return partial;
+}
+
 int run_bench(const CLI::App& cmd, const BenchOptions& o) {
     const PerfBenchOptions& perf = o.perf;
+    const bool partial = check_suite_options(cmd, o.suite);
     if (o.suite == "mapping") {
         MappingBenchOptions m;
-        m.threads = perf.threads;
-        return mapping_bench_command(with_csv(cmd, perf.csv, m));
+        if (cmd.count("--threads")) m.threads = perf.threads;
+        if (cmd.count("--steps")) m.repeats = perf.steps;
+        m.csv = csv_for(cmd, perf.csv, m.csv, partial);
+        return mapping_bench_command(m);
     }
     if (o.suite == "collision") {
         CollisionBenchOptions c;
         if (cmd.count("--steps")) c.steps = perf.steps;
-        return collision_bench_command(with_csv(cmd, perf.csv, c));
+        c.csv = csv_for(cmd, perf.csv, c.csv, partial);
+        return collision_bench_command(c);
     }
     if (o.suite == "accuracy") {
         AccuracyBenchOptions a = o.accuracy_tiny ? AccuracyBenchOptions::tiny() : AccuracyBenchOptions{};
@@ -94,7 +132,7 @@ int run_bench(const CLI::App& cmd, const BenchOptions& o) {
         a.plots = !o.accuracy_no_plots;
         a.progress = true;
         if (cmd.count("--threads")) a.threads = perf.threads.front();
-        a.csv = csv_for(cmd, perf.csv, a.csv, o.accuracy_tiny || cmd.count("--problems") > 0 || cmd.count("--threads") > 0);
+        a.csv = csv_for(cmd, perf.csv, a.csv, partial);
         return accuracy_bench_command(a);
     }
     if (o.suite == "solver") {
@@ -102,20 +140,18 @@ int run_bench(const CLI::App& cmd, const BenchOptions& o) {
         solver.tiny = o.accuracy_tiny;
         if (solver.tiny) solver.repeats = 1;
         solver.cases = o.cases;
-        solver.csv = csv_for(cmd, perf.csv, solver.tiny ? "results/bench_solver_quick.csv" : "results/bench_solver.csv",
-                             !o.cases.empty() && !solver.tiny);
+        solver.csv = csv_for(cmd, perf.csv, "results/bench_solver.csv", partial);
         return solver_bench_command(solver);
     }
     if (o.suite == "mesh_io") return run_tiny_or_full<MeshIoBenchOptions>(cmd, o, mesh_io_bench_command);
     if (o.suite == "cut") {
         CutBenchOptions cut = o.cut;
         cut.sizes = perf.sizes;
-        cut.csv = csv_for(cmd, perf.csv, "results/bench_cut.csv", cmd.count("--sizes") > 0);
+        cut.csv = csv_for(cmd, perf.csv, "results/bench_cut.csv", partial);
         return cut_bench_command(cut);
     }
     PerfBenchOptions full = perf;
-    full.csv = csv_for(cmd, perf.csv, PerfBenchOptions{}.csv,
-                       cmd.count("--sizes") > 0 || cmd.count("--steps") > 0 || cmd.count("--threads") > 0);
+    full.csv = csv_for(cmd, perf.csv, PerfBenchOptions{}.csv, partial);
     return perf_bench_command(full);
 }
 

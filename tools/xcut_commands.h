@@ -35,6 +35,7 @@ struct SceneOptions {
     std::vector<std::string> overrides;  ///< --set field.path=value
     bool quiet = false;
     std::string cutter;                  ///< --cutter: sets cutter.type
+    std::vector<std::string> allow;      ///< --allow: plausibility checks silenced (the scene's "allow")
     /// The overrides with --cutter folded in.
     std::vector<std::string> all_overrides() const;
 };

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdlib>
 
+#include "engine/io/scene_checks.h"
 #include "engine/parallel.h"
 #include "systems/enrichment_system.h"
 #include "systems/pipeline.h"
@@ -54,7 +55,13 @@ int run_scene(const RunOptions& o) {
     }
     Scene scene = load_scene(o.scene.scene, overrides);
     if (!o.output.empty()) scene.output.directory = o.output;
-    const int steps = o.scene.steps >= 0 ? o.scene.steps : scene.steps;
+    // A replay runs to the end of its recording (a session recorded past the scene's duration
+    // holds what was done there); --steps still decides when given.
+    const int recorded = o.replay.empty() ? 0 : static_cast<int>(read_session_steps(o.replay).size());
+    const int steps = o.scene.steps >= 0 ? o.scene.steps : recorded > 0 ? recorded : scene.steps;
+    if (o.scene.steps < 0 && recorded > 0 && recorded != scene.steps)
+        fmt::print("replay: {} steps, as recorded (the scene says {})\n", recorded, scene.steps);
+    scene.steps = steps;  // what the run takes: the output's bound is checked against it
     auto sim = make_simulation(scene, true, o.replay);
     if (!o.record.empty()) sim->recorder = std::make_unique<SessionRecorder>(sim->world, o.record, SessionInfo{o.scene.scene, overrides});
     std::unique_ptr<HapticLoop> haptics = start_haptics(*sim, o.haptics);
@@ -65,6 +72,7 @@ int run_scene(const RunOptions& o) {
                o.scene.scene, w.nodes.count(), w.elements.count(), w.elements.dim == 3 ? "tetrahedra" : "triangles",
                thread_count(), wait ? wait : "active", w.solver.dt, w.solver.realtime ? "real-time" : "fixed", steps);
     for (const std::string& note : w.mesh_notes) fmt::print(stderr, "warning: {}\n", note);
+    for (const std::string& note : plausibility_warnings(scene, w, steps)) fmt::print(stderr, "warning: {}\n", note);
     fmt::print("{}", sim->scheduler.describe(w));
     if (w.linear.load_setup_ms > 0.0)
         fmt::print("linear solver: {} built at load in {:.0f} ms\n",
@@ -80,6 +88,7 @@ int run_scene(const RunOptions& o) {
     }
     if (!o.record.empty()) fmt::print("session recorded: {}/<tool>.csv\n", o.record);
     print_result(w, steps, secs);
+    for (const std::string& note : end_of_run_notes(w)) fmt::print(stderr, "warning: {}\n", note);
     if (sim->output && w.visual.vertex_count() > 0) {
         const std::string png = sim->output->directory() + "/" + scene.name + ".png";
         render_scene_png(scene, w, png);

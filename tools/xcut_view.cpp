@@ -11,14 +11,16 @@ Command add_view_command(CLI::App& app) {
     struct Options {
         SceneOptions scene;
         int width = 1280, height = 800;
-        bool paused = false, panels = false;
+        bool paused = false, panels = false, run_on = false;
         std::string record, input, screenshot, reference, bench_csv;
         double bench = 0.0, fps = 60.0;
     };
     auto o = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand("view", "Open a scene in a window: watch it, cut it with the mouse (docs/viewer.md)");
     add_scene_options(*cmd, o->scene);
-    cmd->add_option("--steps", o->scene.steps, "Pause after this many steps")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--steps", o->scene.steps, "Pause after this many steps (default: the scene's duration)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--run-on", o->run_on, "Do not pause at the scene's duration (play also goes on past it)");
     cmd->add_flag("--paused", o->paused, "Open paused (space plays)");
     cmd->add_option("--size", o->width, "Window width in pixels (height: 5/8 of it)")->check(CLI::Range(320, 8192));
     cmd->add_option("--record", o->record, "Record the session to DIR (xcut run SCENE --replay DIR replays it)");
@@ -36,6 +38,7 @@ Command add_view_command(CLI::App& app) {
                 viewer::ViewerOptions v;
                 v.scene = o->scene.scene, v.overrides = o->scene.all_overrides(), v.threads = o->scene.threads;
                 v.width = o->width, v.height = o->width * 5 / 8, v.steps = o->scene.steps, v.paused = o->paused;
+                v.run_on = o->run_on;
                 v.record = o->record, v.input = o->input, v.screenshot = o->screenshot, v.reference = o->reference;
                 v.panels = o->panels, v.fps = o->fps, v.fps_given = fps->count() > 0;
                 v.bench_seconds = o->bench, v.bench_csv = o->bench_csv;

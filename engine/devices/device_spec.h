@@ -17,6 +17,7 @@ struct DeviceSpec {
     double units = 1e-3;           ///< igtl: metres per unit of the translations received (mm, as trackers send)
     bool sync = false;             ///< igtl: each step waits for the pose stamped at its time (replays, tests)
     double timeout = 2.0;          ///< igtl sync: wait at most this long for a pose [s] of wall time
+    double connect_timeout = 60.0; ///< igtl sync: wait at most this long for the peer to connect [s]
 };
 
 }  // namespace xcut

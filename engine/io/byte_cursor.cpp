@@ -28,6 +28,23 @@ double ByteCursor::real(const char* what) {
     return v;
 }
 
+std::string ByteCursor::clip(std::string_view s) {
+    std::string out;
+    for (const char ch : s.substr(0, 40)) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (c >= 0x20 && c < 0x7f) out += ch;
+        else out += fmt::format("\\x{:02X}", c);
+    }
+    return out + (s.size() > 40 ? "..." : "");
+}
+
+bool ByteCursor::is_binary(std::string_view s) {
+    return std::any_of(s.begin(), s.end(), [](char ch) {
+        const auto c = static_cast<unsigned char>(ch);
+        return c < 0x20 || c >= 0x7f;
+    });
+}
+
 std::string ByteCursor::where() const {
     const size_t at = std::min(mark_, data_.size());
     const long long line = 1 + std::count(data_.begin(), data_.begin() + static_cast<std::ptrdiff_t>(at), '\n');

@@ -101,7 +101,11 @@ public:
         std::memcpy(&b, &one, 1);
         return b == 0;
     }
-    static std::string clip(std::string_view s) { return std::string(s.substr(0, 40)) + (s.size() > 40 ? "..." : ""); }
+    /// A token as a message quotes it: at most 40 bytes, a byte outside printable ASCII as \xNN (a
+    /// binary file's bytes would otherwise reach the terminal raw).
+    static std::string clip(std::string_view s);
+    /// Whether a token holds a byte outside printable ASCII (binary data where text was expected).
+    static bool is_binary(std::string_view s);
 
 private:
     static bool is_space(char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t' || c == '\v' || c == '\f'; }

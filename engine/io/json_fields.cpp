@@ -35,11 +35,18 @@ JsonFields JsonFields::object(const std::string& key) const {
     return JsonFields(get(key), file_, field(key));
 }
 
-std::vector<JsonFields> JsonFields::array_of_objects(const std::string& key) const {
+/// Fails when the array at `key` holds more than `max_items` entries.
+static void check_length(const JsonFields& f, const std::string& key, const nlohmann::json& v, size_t max_items) {
+    if (v.size() > max_items)
+        f.fail(key, fmt::format("holds {} entries, above the limit of {}", v.size(), max_items));
+}
+
+std::vector<JsonFields> JsonFields::array_of_objects(const std::string& key, size_t max_items) const {
     std::vector<JsonFields> out;
     if (!has(key)) return out;
     if (!get(key).is_array()) fail(key, "expected an array");
     const auto& arr = get(key);
+    check_length(*this, key, arr, max_items);
     for (size_t i = 0; i < arr.size(); ++i) {
         const std::string item = fmt::format("{}[{}]", key, i);
         if (!arr[i].is_object()) fail(item, "expected an object");
@@ -80,7 +87,10 @@ bool JsonFields::boolean(const std::string& key, bool fallback) const {
 std::string JsonFields::string(const std::string& key, const std::string& fallback) const {
     if (!has(key)) return fallback;
     if (!get(key).is_string()) fail(key, fmt::format("expected a string, got {}", shown(get(key))));
-    return get(key).get<std::string>();
+    const auto& s = get(key).get_ref<const std::string&>();
+    if (s.size() > kMaxJsonString)
+        fail(key, fmt::format("is {} characters long, above the limit of {}", s.size(), kMaxJsonString));
+    return s;
 }
 
 std::string JsonFields::choice(const std::string& key, const std::string& fallback,
@@ -112,11 +122,12 @@ Eigen::Vector3d JsonFields::vec3(const std::string& key, const Eigen::Vector3d& 
     return has(key) ? required_vec3(key) : fallback;
 }
 
-std::vector<int> JsonFields::int_list(const std::string& key) const {
+std::vector<int> JsonFields::int_list(const std::string& key, size_t max_items) const {
     std::vector<int> out;
     if (!has(key)) return out;
     const auto& v = get(key);
     if (!v.is_array()) fail(key, "expected an array of integers");
+    check_length(*this, key, v, max_items);
     for (size_t i = 0; i < v.size(); ++i) {
         if (!v[i].is_number_integer() || v[i].get<long long>() < 0 || v[i].get<long long>() > 2147483647)
             fail(fmt::format("{}[{}]", key, i), "expected a non-negative integer");
@@ -125,11 +136,12 @@ std::vector<int> JsonFields::int_list(const std::string& key) const {
     return out;
 }
 
-std::vector<Eigen::Vector3d> JsonFields::vec3_list(const std::string& key) const {
+std::vector<Eigen::Vector3d> JsonFields::vec3_list(const std::string& key, size_t max_items) const {
     std::vector<Eigen::Vector3d> out;
     if (!has(key)) return out;
     const auto& v = get(key);
     if (!v.is_array()) fail(key, "expected an array of [x, y, z] points");
+    check_length(*this, key, v, max_items);
     for (size_t i = 0; i < v.size(); ++i) {
         const std::string item = fmt::format("{}[{}]", key, i);
         if (!v[i].is_array() || v[i].size() != 3) fail(item, fmt::format("expected [x, y, z], got {}", shown(v[i])));
@@ -151,7 +163,8 @@ void JsonFields::allow_only(std::initializer_list<const char*> known) const {
         if (ok) continue;
         std::string list;
         for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-        fail(it.key(), fmt::format("unknown field (known here: {})", list));
+        const std::string& key = it.key();
+        fail(key.size() > 80 ? key.substr(0, 80) + "..." : key, fmt::format("unknown field (known here: {})", list));
     }
 }
 

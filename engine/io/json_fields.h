@@ -11,6 +11,11 @@
 
 namespace xcut {
 
+/// The most characters a string field may hold (paths included): longer is an error naming the bound.
+inline constexpr size_t kMaxJsonString = 4096;
+/// The most entries a list field may hold unless its reader names another bound.
+inline constexpr size_t kMaxJsonList = 4'000'000;
+
 class JsonFields {
 public:
     JsonFields(const nlohmann::json& object, std::string file, std::string path);
@@ -18,7 +23,8 @@ public:
     bool has(const std::string& key) const;
     /// A nested object; throws if present and not an object. Missing: an empty object.
     JsonFields object(const std::string& key) const;
-    std::vector<JsonFields> array_of_objects(const std::string& key) const;
+    /// At most `max_items` objects: more is an error naming the bound.
+    std::vector<JsonFields> array_of_objects(const std::string& key, size_t max_items = 100000) const;
 
     double number(const std::string& key, double fallback, double min = -std::numeric_limits<double>::max(),
                   double max = std::numeric_limits<double>::max()) const;
@@ -33,9 +39,9 @@ public:
                        std::initializer_list<const char*> choices) const;
     Eigen::Vector3d vec3(const std::string& key, const Eigen::Vector3d& fallback) const;
     Eigen::Vector3d required_vec3(const std::string& key) const;
-    std::vector<int> int_list(const std::string& key) const;
+    std::vector<int> int_list(const std::string& key, size_t max_items = kMaxJsonList) const;
     /// An array of [x, y, z] points.
-    std::vector<Eigen::Vector3d> vec3_list(const std::string& key) const;
+    std::vector<Eigen::Vector3d> vec3_list(const std::string& key, size_t max_items = 1'000'000) const;
 
     /// Throws if the object has a key not in `known`.
     void allow_only(std::initializer_list<const char*> known) const;

@@ -228,6 +228,10 @@ void LegacyVtkReader::read() {
         } else if (kw == "FIELD") {  // dataset-level field data (e.g. TIME): read and dropped
             read_attributes(0, false);
         } else {
+            if (ByteCursor::is_binary(kw))
+                c_.fail(fmt::format("binary data (\"{}\") where a section keyword belongs: a count before it (POINTS n, "
+                                    "CELLS n size, CELL_TYPES n) is smaller than the data that follows",
+                                    ByteCursor::clip(kw)));
             c_.fail(fmt::format("\"{}\" is not a legacy VTK section xcut reads", ByteCursor::clip(kw)));
         }
     }
@@ -274,11 +278,11 @@ ClosedSurface LegacyVtkReader::surface() {
 
 }  // namespace
 
-MeshData read_legacy_vtk(const std::string& path, double max_volume) {
+MeshData read_legacy_vtk(const std::string& path, double max_volume, double volume_to_m3) {
     const std::string text = read_input_file(path, "file", "mesh");
     LegacyVtkReader r(path, text);
     r.read();
-    if (r.poly()) return tetrahedralize_surface(path, r.surface(), max_volume);
+    if (r.poly()) return tetrahedralize_surface(path, r.surface(), max_volume, 1.5, volume_to_m3);
     return r.grid();
 }
 

@@ -27,10 +27,13 @@ double enclosed_volume(const ClosedSurface& surface);
 
 MeshData read_gmsh(const std::string& path);
 MeshData read_tetgen(const std::string& node_path, const std::string& ele_path);
-MeshData read_surface_tetrahedralize(const std::string& path, double max_volume, double min_ratio = 1.5);
-/// Tetrahedralizes a closed surface (file units; max_volume in their cube, 0: no bound).
+/// `volume_to_m3`: cubic metres in a cubed file unit, so messages quote volumes in m^3.
+MeshData read_surface_tetrahedralize(const std::string& path, double max_volume, double min_ratio = 1.5,
+                                     double volume_to_m3 = 1.0);
+/// Tetrahedralizes a closed surface (file units; max_volume in their cube, 0: no bound;
+/// `volume_to_m3` as above).
 MeshData tetrahedralize_surface(const std::string& path, const ClosedSurface& surface, double max_volume,
-                                double min_ratio = 1.5);
+                                double min_ratio = 1.5, double volume_to_m3 = 1.0);
 /// Most points TetGen may add to a surface for its quality mesh (its S switch); past it the surface
 /// is refused with an InputError naming the limit. Default kMaxMeshCells / 4: a mesh at the cell
 /// limit has about a fifth as many nodes. A surface with a feature far smaller than its size (a gap
@@ -41,8 +44,9 @@ long long mesher_point_limit();
 MeshData read_vtu(const std::string& path);
 /// Legacy VTK, ASCII or BINARY: an UNSTRUCTURED_GRID, or a POLYDATA closed surface tetrahedralized
 /// like an OBJ/STL (max_volume in file units cubed).
-MeshData read_legacy_vtk(const std::string& path, double max_volume);
-/// Dispatches on the extension (.msh, .vtu, .vtk, .node, .ele, .obj, .stl), drops unused nodes,
+MeshData read_legacy_vtk(const std::string& path, double max_volume, double volume_to_m3 = 1.0);
+/// Dispatches on the extension (.msh, .vtu, .vtk, .node, .ele, .obj, .stl; VTK files by their
+/// content, XML or legacy, whatever their name says), drops unused nodes,
 /// places the mesh (units, rotation, translation), reorients if asked, and validates the result.
 /// `max_volume` [m^3] bounds TetGen's tets for surfaces.
 MeshData read_mesh_file(const std::string& path, double max_volume, const MeshPlacement& placement = {});

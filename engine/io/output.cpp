@@ -50,6 +50,12 @@ void write_vtu(const World& world, const std::string& path) {
     for (int i = 0; i < n.count(); ++i) fixed[i] = n.fixed[i], enriched[i] = i >= world.mesh_nodes;
     for (size_t i = n.count(); i < points; ++i) enriched[i] = 2;
     vtu.point_data("fixed", fixed);
+    // Each mesh node's index in the input files (a mesh read with unused nodes dropped is numbered
+    // apart from its file); -1 for enriched DOFs and clipped points.
+    std::vector<int32_t> file_node(points, -1);
+    for (int i = 0; i < world.mesh_nodes; ++i)
+        file_node[i] = world.mesh_file_index.empty() ? i : world.mesh_file_index[i];
+    vtu.point_data("file_node", file_node);
     vtu.point_data("enriched_dof", enriched);
     std::vector<int32_t> side_of, parent_of, region, material, body, conn, offsets;
     std::vector<double> fraction, mises, stress;
@@ -180,14 +186,19 @@ void OutputWriter::metrics_row(const World& world) {
                             m.gravity_work, m.step_ms, m.solve_flag, m.substeps);
         for (double ms : m.system_ms) csv_ << fmt::format(",{:.4f}", ms);
         if (cut_columns_) {
-            // Delays of the elements split in this step (the tail of the run-long list).
+            // Delays of the splits queued in this step (the tail of the run-long list). The
+            // elements_split column counts what the cutter applied (a queued split whose nodes an
+            // earlier cut already put on one side is not one), so the column sums to the run's total.
             const CutState& cs = world.cut_state;
+            const int split_total = world.cuts.count() + world.snap.elements_split;
+            const int split_now = split_total - split_total_;
+            split_total_ = split_total;
             double sum = 0.0, max = 0.0;
             const size_t n = static_cast<size_t>(cs.elements_split);
             for (size_t i = cs.delay_sim.size() - std::min(n, cs.delay_sim.size()); i < cs.delay_sim.size(); ++i)
                 sum += cs.delay_sim[i], max = std::max(max, cs.delay_sim[i]);
             csv_ << fmt::format(",{},{},{},{},{:.4f},{:.6g},{:.6g},{}", cs.quads_built, cs.elements_tested,
-                                cs.crossings_found, cs.elements_split, cs.update_ms, n > 0 ? sum / n : 0.0, max,
+                                cs.crossings_found, split_now, cs.update_ms, n > 0 ? sum / n : 0.0, max,
                                 world.enriched.count());
         }
         if (force_columns_) {

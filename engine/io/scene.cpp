@@ -9,12 +9,14 @@
 #include <cstdlib>
 #include <limits>
 #include <sstream>
+#include <unordered_set>
 
 #include "engine/error.h"
 #include "engine/io/input_file.h"
 #include "engine/io/json_fields.h"
 #include "engine/io/mesh_io.h"
 #include "engine/io/scene_mesh.h"
+#include "engine/io/scene_checks.h"
 #include "engine/io/scene_node_sets.h"
 #include "engine/mesh_repair.h"
 #include "engine/setup.h"
@@ -135,7 +137,7 @@ DeviceSpec read_device(const JsonFields& tool, const std::string& file) {
     d.field = tool.field("device");
     if (!tool.has("device")) return d;
     const JsonFields dev = tool.object("device");
-    dev.allow_only({"type", "host", "port", "stream", "units", "sync", "timeout"});
+    dev.allow_only({"type", "host", "port", "stream", "units", "sync", "timeout", "connect_timeout"});
     d.type = dev.choice("type", "scripted", {"scripted", "igtl", "viewer"});
     d.host = dev.string("host", "");
     d.port = dev.integer("port", 18944, 1, 65535);
@@ -144,6 +146,7 @@ DeviceSpec read_device(const JsonFields& tool, const std::string& file) {
     d.units = units_to_metres(units);
     d.sync = dev.boolean("sync", false);
     d.timeout = dev.number("timeout", 2.0, 1e-3, 3600.0);
+    d.connect_timeout = dev.number("connect_timeout", 60.0, 1e-3, 86400.0);
     return d;
 }
 
@@ -161,7 +164,7 @@ void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) 
         cutter.fail("snap_threshold", fmt::format("{} is out of range (0, 0.5): a fraction of the crossed edge's length",
                                                   scene.snap_threshold));
     ToolBodies& tb = scene.tools;
-    const auto tools = top.array_of_objects("tools");
+    const auto tools = top.array_of_objects("tools", kMaxTools);
     for (size_t i = 0; i < tools.size(); ++i) {
         const JsonFields& t = tools[i];
         t.allow_only({"name", "blade", "shape", "contact", "trajectory", "trajectory_csv", "device"});
@@ -185,7 +188,7 @@ void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) 
         if (t.has("trajectory_csv")) {
             keys = read_trajectory_csv(beside_scene(scene_dir, t.string("trajectory_csv", "")).string());
         } else {
-            const auto frames = t.array_of_objects("trajectory");
+            const auto frames = t.array_of_objects("trajectory", kMaxTrajectoryRows);
             for (const JsonFields& k : frames) {
                 k.allow_only({"time", "position", "orientation"});
                 Keyframe key;
@@ -222,7 +225,7 @@ void check_trajectory(std::vector<Keyframe>& keys, const std::string& file, cons
 }
 
 std::vector<Keyframe> read_trajectory_csv(const std::string& path) {
-    std::istringstream in(read_input_file(path, "file", "trajectory"));
+    std::istringstream in(read_input_file(path, "file", "trajectory", kMaxTrajectoryBytes));
     std::string line;
     std::vector<Keyframe> keys;
     int line_no = 0;
@@ -246,6 +249,9 @@ std::vector<Keyframe> read_trajectory_csv(const std::string& path) {
             ++n;
         }
         if (n != 8) throw InputError(path, fmt::format("line {}", line_no), "expected 8 columns: time,x,y,z,qw,qx,qy,qz");
+        if (keys.size() >= kMaxTrajectoryRows)
+            throw InputError(path, fmt::format("line {}", line_no),
+                             fmt::format("more than {} poses, the limit (2.8 hours at 1 kHz)", kMaxTrajectoryRows));
         Keyframe k;
         k.time = v[0];
         k.position = Vec3(v[1], v[2], v[3]);
@@ -261,14 +267,16 @@ namespace {
 /// The scene's JSON. A key given twice in one object is an error naming its field path (JSON
 /// leaves duplicates undefined; nlohmann's parser would silently keep the later one).
 nlohmann::json parse_scene_json(const std::string& path) {
-    const std::string text = read_input_file(path, "file", "scene");
+    const std::string text = read_input_file(path, "file", "scene", kMaxSceneBytes);
     struct Container {
         bool object;
-        std::string name;               ///< its field path
-        std::vector<std::string> keys;  ///< objects: the keys seen so far
-        int next_index = 0;             ///< arrays: the index of the next element
-        std::string key;                ///< objects: the key of the value being read
+        std::string name;                         ///< its field path
+        std::unordered_set<std::string> keys;     ///< objects: the keys seen so far
+        int next_index = 0;                       ///< arrays: the index of the next element
+        std::string key;                          ///< objects: the key of the value being read
     };
+    // The stack is bounded by kMaxSceneDepth, so the field paths it keeps (one per level) are too:
+    // a file of 200,000 nested arrays is refused at its 65th level, not parsed into gigabytes.
     std::vector<Container> stack;
     const auto child_name = [&stack]() -> std::string {
         if (stack.empty()) return "";
@@ -277,19 +285,22 @@ nlohmann::json parse_scene_json(const std::string& path) {
         return c.object ? c.name + sep + c.key : fmt::format("{}[{}]", c.name, c.next_index++);
     };
     using Event = nlohmann::json::parse_event_t;
-    const nlohmann::json::parser_callback_t check = [&](int, Event event, nlohmann::json& value) {
+    const nlohmann::json::parser_callback_t check = [&](int depth, Event event, nlohmann::json& value) {
         if (event == Event::object_start || event == Event::array_start) {
+            if (depth >= kMaxSceneDepth)
+                throw InputError(path, child_name(),
+                                 fmt::format("nested more than {} levels deep (the limit; a scene needs fewer than 8)",
+                                             kMaxSceneDepth));
             stack.push_back({event == Event::object_start, child_name(), {}, 0, ""});
         } else if (event == Event::object_end || event == Event::array_end) {
             stack.pop_back();
         } else if (event == Event::key) {
             Container& c = stack.back();
-            const std::string key = value.get<std::string>();
-            if (std::find(c.keys.begin(), c.keys.end(), key) != c.keys.end())
+            std::string key = value.get<std::string>();
+            if (!c.keys.insert(key).second)
                 throw InputError(path, c.name.empty() ? key : c.name + "." + key,
                                  "the key is given twice in one object (JSON keeps only one: remove the other)");
-            c.keys.push_back(key);
-            c.key = key;
+            c.key = std::move(key);
         } else if (event == Event::value && !stack.empty() && !stack.back().object) {
             ++stack.back().next_index;
         }
@@ -314,8 +325,35 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     scene.file = path;
     const JsonFields top(root, path, "");
     top.allow_only({"name", "description", "mesh", "material", "region_materials", "bodies", "gravity", "constraints",
-                    "solver", "steps", "duration", "output", "cuts", "tools", "cutter", "visual", "collision", "camera"});
+                    "solver", "steps", "duration", "output", "cuts", "tools", "cutter", "visual", "collision", "camera",
+                    "allow"});
+    if (top.has("allow")) {
+        const nlohmann::json& allow = top.raw("allow");
+        if (!allow.is_array()) top.fail("allow", "expected an array of check names");
+        for (size_t i = 0; i < allow.size(); ++i) {
+            const std::string item = fmt::format("allow[{}]", i);
+            if (!allow[i].is_string()) top.fail(item, "expected a check name");
+            const std::string name = allow[i].get<std::string>();
+            std::string list;
+            bool known = false;
+            for (const char* c : kPlausibilityChecks) {
+                list += (list.empty() ? "" : ", ") + std::string(c);
+                known = known || name == c;
+            }
+            if (!known) top.fail(item, fmt::format("\"{}\" is not a check (known: {})", name.substr(0, 40), list));
+            scene.allow.push_back(name);
+        }
+    }
     scene.name = top.string("name", fs::path(path).stem().string());
+    // The name is the output's file stem: short, one path component, printable.
+    if (scene.name.size() > kMaxSceneNameLength)
+        top.fail("name", fmt::format("is {} characters long, above the limit of {} (it names the output files)",
+                                     scene.name.size(), kMaxSceneNameLength));
+    for (const char ch : scene.name)
+        if (ch == '/' || ch == '\\' || static_cast<unsigned char>(ch) < 0x20)
+            top.fail("name", "names the output files: no '/', '\\' or control characters");
+    if (scene.name.empty() || scene.name == "." || scene.name == "..")
+        top.fail("name", "names the output files: give a name other than \"\", \".\" or \"..\"");
     read_bodies(top, fs::path(path).parent_path(), scene);
 
     scene.gravity = top.vec3("gravity", Eigen::Vector3d::Zero());
@@ -359,15 +397,20 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     s.energy_factor = sol.number("energy_factor", 100.0, 1.0);
 
     if (top.has("steps") && top.has("duration")) top.fail("duration", "give \"steps\" or \"duration\", not both");
-    scene.steps = top.integer("steps", 100, 0, 100000000);
-    if (top.has("duration"))
-        scene.steps = static_cast<int>(std::ceil(top.required_number("duration", 0.0, 1e6) / s.dt - 1e-9));
+    scene.steps = top.integer("steps", 100, 0, static_cast<int>(kMaxSteps));
+    if (top.has("duration")) {
+        const double steps = std::ceil(top.required_number("duration", 0.0, 1e6) / s.dt - 1e-9);
+        if (steps > static_cast<double>(kMaxSteps))
+            top.fail("duration", fmt::format("is {:.3g} steps of solver.dt {:.3g} s, above the limit of {} steps", steps,
+                                             s.dt, kMaxSteps));
+        scene.steps = static_cast<int>(steps);
+    }
 
-    for (const JsonFields& c : top.array_of_objects("cuts")) {
+    for (const JsonFields& c : top.array_of_objects("cuts", kMaxScriptedCuts)) {
         c.allow_only({"time", "polygon"});
         ScriptedCut cut;
         cut.time = c.number("time", 0.0, 0.0);
-        cut.polygon = c.vec3_list("polygon");
+        cut.polygon = c.vec3_list("polygon", 1000);
         if (cut.polygon.size() < 2) c.fail("polygon", "needs 2 points (a segment, 2D) or at least 3 (a planar polygon, 3D)");
         check_cut_polygon(c, cut.polygon);
         scene.cuts.push_back(cut);
@@ -400,7 +443,8 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     }
 
     const JsonFields out = top.object("output");
-    out.allow_only({"directory", "every", "vtu", "metrics_csv", "format"});
+    out.allow_only({"directory", "every", "vtu", "metrics_csv", "format", "max_gb"});
+    scene.max_output_gb = out.number("max_gb", kDefaultMaxOutputBytes / 1e9, 1e-6, 1e6);
     scene.output.ascii = out.choice("format", "binary", {"binary", "ascii"}) == "ascii";
     scene.output.directory = out.string("directory", "out/" + scene.name);
     scene.output.name = scene.name;
@@ -419,11 +463,10 @@ World build_world(const Scene& scene) {
     SceneBodies bodies = load_scene_bodies(scene);
     const MeshData& mesh = bodies.mesh;
     world.materials.list = bodies.materials;
+    // Node indices in a scene count the files' nodes, as the files list them, whatever reading dropped.
     for (size_t i = 0; i < scene.constraints.nodes.size(); ++i)
-        if (scene.constraints.nodes[i] >= static_cast<int>(mesh.points.size()))
-            throw InputError(scene.file, fmt::format("constraints.fixed_nodes[{}]", i),
-                             fmt::format("node {} does not exist (mesh has {} nodes)", scene.constraints.nodes[i],
-                                         mesh.points.size()));
+        world.constraints.nodes[i] = node_of_file_index(bodies, scene.file, fmt::format("constraints.fixed_nodes[{}]", i),
+                                                        scene.constraints.nodes[i]);
     if (mesh.dim == 2 && world.gravity.z() != 0.0)
         throw InputError(scene.file, "gravity", "a 2D (plate) scene lies in the xy plane: gravity[2] must be 0");
     for (size_t i = 0; i < scene.cuts.size(); ++i) {
@@ -446,6 +489,7 @@ World build_world(const Scene& scene) {
     build_bodies(world, mesh, bodies.material_of_cell);
     world.elements.body = std::move(bodies.body_of_cell);
     world.body_names = std::move(bodies.names);
+    world.mesh_file_index = std::move(bodies.file_index);
     // Several bodies are apart in the mesh: a blade leaving one must find the next by position, not
     // by the crossed elements' neighbours (systems/cut_system.h).
     world.cut_state.bvh_every_quad = world.body_names.size() > 1;

@@ -15,6 +15,20 @@
 
 namespace xcut {
 
+/// Bounds on what a scene file may ask for, so that every input has a bounded cost: past one, the
+/// load stops with an InputError naming the field and the bound (docs/scene-format.md#limits).
+inline constexpr size_t kMaxSceneBytes = 16u << 20;  ///< a scene file [bytes]
+inline constexpr int kMaxSceneDepth = 64;            ///< JSON nesting levels
+inline constexpr size_t kMaxSceneNameLength = 128;   ///< "name": a file stem of the output
+inline constexpr int kMaxTools = 64;                 ///< entries of "tools"
+inline constexpr int kMaxScriptedCuts = 100000;      ///< entries of "cuts"
+inline constexpr long long kMaxSteps = 100'000'000;  ///< "steps", or "duration" / dt
+inline constexpr size_t kMaxTrajectoryRows = 10'000'000;   ///< poses of a trajectory (CSV or inline)
+inline constexpr size_t kMaxTrajectoryBytes = size_t{1} << 30;  ///< a trajectory CSV [bytes]
+/// What a run may write [bytes] (VTU frames, surfaces, the CSV), estimated at load from the mesh,
+/// the steps and output.every; "output.max_gb" raises it.
+inline constexpr double kDefaultMaxOutputBytes = 20e9;
+
 struct MeshSpec {
     std::string generator;     ///< "box" | "plate"; empty when a file is given
     GridSpec grid;
@@ -75,6 +89,9 @@ struct Scene {
     int visual_subdivisions = -1;    ///< "visual.subdivisions"; -1: no visual surface
     int collision_subdivisions = -1; ///< "collision.subdivisions"; -1: no collision surface
     Camera camera;                   ///< "camera"; automatic framing unless given
+    /// "allow": plausibility checks the scene silences (engine/io/scene_checks.h), by name.
+    std::vector<std::string> allow;
+    double max_output_gb = kDefaultMaxOutputBytes / 1e9;  ///< "output.max_gb": what a run may write [GB]
 };
 
 /// Reads a recorded trajectory: CSV with header time,x,y,z,qw,qx,qy,qz (SI units; quaternion
@@ -98,7 +115,15 @@ struct SceneBodies {
     std::vector<int> body_of_cell;
     std::vector<std::string> names;         ///< per body
     std::vector<std::map<int, std::string>> region_names;  ///< per body
+    /// Per point of `mesh`: its index in the files' numbering, 0-based through the bodies in order
+    /// (what "fixed_nodes" and node-set files count); `file_points`: the files' points together.
+    std::vector<int> file_index;
+    long long file_points = 0;
 };
+/// The mesh point a scene's node index (the files' numbering) names; throws InputError naming
+/// `scene_file` and `field` when the files have no such node or no element uses it (dropped).
+int node_of_file_index(const SceneBodies& bodies, const std::string& scene_file, const std::string& field,
+                       long long index);
 SceneBodies load_scene_bodies(const Scene& scene);
 /// The world for a scene: components, constraints, settings.
 World build_world(const Scene& scene);

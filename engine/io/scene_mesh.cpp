@@ -24,6 +24,7 @@ MeshPlacement read_placement(const JsonFields& m) {
     const std::string units = m.choice("units", "m", {"m", "cm", "mm"});
     p.scale = units_to_metres(units);
     p.scale = m.number("scale", p.scale, 1e-12, 1e12);
+    p.units_given = m.has("units") || m.has("scale");
     p.translate = m.vec3("translate", Eigen::Vector3d::Zero());
     p.rotate_deg = m.vec3("rotate", Eigen::Vector3d::Zero());
     for (int k = 0; k < 3; ++k) {
@@ -71,22 +72,23 @@ MeshSpec read_mesh_spec(const JsonFields& m, const fs::path& scene_dir) {
         g.cells = cells_for_size(g.size, h);
     }
     if (dims == 2) g.cells.z() = 1;
-    // Doubles near the origin must resolve a cell: their spacing there, 2.2e-16 (|origin| + size),
-    // is held below 1e-9 of the cell size (an origin of 1e300 would collapse every cell).
-    for (int k = 0; k < dims; ++k) {
-        const double h = g.size[k] / g.cells[k], far = std::abs(g.origin[k]) + g.size[k];
-        if (!(far * std::numeric_limits<double>::epsilon() <= 1e-9 * h))
-            m.fail(fmt::format("origin[{}]", k), fmt::format("{:.6g} m is too far from 0 for cells of {:.3g} m: doubles "
-                                                          "there are {:.3g} m apart (keep |origin| below {:.3g} m)",
-                                                          g.origin[k], h, far * std::numeric_limits<double>::epsilon(),
-                                                          1e-9 * h / std::numeric_limits<double>::epsilon()));
-    }
     const double count = double(g.cells.x()) * g.cells.y() * g.cells.z();
     const double elements = count * (dims == 3 ? 6 : 2);
     if (elements > static_cast<double>(kMaxMeshCells))
         m.fail(m.has("cells") ? "cells" : "element_size",
                fmt::format("gives {:.3g} elements, above the limit of {} (about {:.0f} GB): refused before allocating",
                            elements, kMaxMeshCells, elements * 5e3 / 1e9));
+    // Doubles near the origin must resolve a cell: their spacing there, 2.2e-16 (|origin| + size),
+    // is held below 1e-9 of the cell size (an origin of 1e300 would collapse every cell). Checked
+    // after the element count, which refuses a tiny cell in a box of sane size first.
+    for (int k = 0; k < dims; ++k) {
+        const double h = g.size[k] / g.cells[k], far = std::abs(g.origin[k]) + g.size[k];
+        if (!(far * std::numeric_limits<double>::epsilon() <= 1e-9 * h))
+            m.fail(fmt::format("origin[{}]", k), fmt::format("{:.6g} m puts the box too far from 0 for cells of {:.3g} m: doubles "
+                                                          "there are {:.3g} m apart (keep |origin| + size below {:.3g} m)",
+                                                          g.origin[k], h, far * std::numeric_limits<double>::epsilon(),
+                                                          1e-9 * h / std::numeric_limits<double>::epsilon()));
+    }
     g.jitter = m.number("jitter", 0.0, 0.0, 0.3);
     g.seed = static_cast<uint64_t>(m.integer("seed", 1, 0));
     g.bend_radius = m.number("bend_radius", 0.0, 0.0);
@@ -230,6 +232,9 @@ SceneBodies load_scene_bodies(const Scene& scene) {
         for (const RegionMaterial& r : regions) out.materials.push_back(r.material);
         out.names.push_back(name);
         all.points.insert(all.points.end(), m.points.begin(), m.points.end());
+        for (size_t i = 0; i < m.points.size(); ++i)
+            out.file_index.push_back(static_cast<int>(out.file_points + (m.file_index.empty() ? i : m.file_index[i])));
+        out.file_points += m.file_points >= 0 ? m.file_points : static_cast<long long>(m.points.size());
         for (size_t e = 0; e < m.cells.size(); ++e) {
             std::array<int, 4> c = m.cells[e];
             for (int a = 0; a < m.nodes_per_cell(); ++a) c[a] += first;

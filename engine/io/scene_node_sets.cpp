@@ -88,7 +88,8 @@ std::vector<int> region_nodes(const Scene& scene, const SceneBodies& b, const Fi
     return nodes;
 }
 
-std::vector<int> file_nodes(const Scene& scene, const FixedSetSpec& spec, size_t node_count) {
+std::vector<int> file_nodes(const Scene& scene, const FixedSetSpec& spec, const SceneBodies& b) {
+    const long long node_count = b.file_points;
     std::istringstream text(read_input_file(spec.file, spec.field + ".file", "node index"));
     std::vector<int> nodes;
     std::string line;
@@ -99,10 +100,10 @@ std::vector<int> file_nodes(const Scene& scene, const FixedSetSpec& spec, size_t
         while (words >> w) {
             char* end = nullptr;
             const long long v = std::strtoll(w.c_str(), &end, 10);
-            if (end == w.c_str() || *end != '\0' || v < 0 || v >= static_cast<long long>(node_count))
+            if (end == w.c_str() || *end != '\0' || v < 0 || v >= node_count)
                 throw InputError(spec.file, fmt::format("line {}", n),
                                  fmt::format("\"{}\" is not a node index of the scene (0 to {}; {})", w, node_count - 1, scene.file));
-            nodes.push_back(static_cast<int>(v));
+            nodes.push_back(node_of_file_index(b, spec.file, fmt::format("line {}", n), v));
         }
     }
     if (nodes.empty()) throw InputError(spec.file, spec.field + ".file", "lists no node");
@@ -112,6 +113,18 @@ std::vector<int> file_nodes(const Scene& scene, const FixedSetSpec& spec, size_t
 }
 
 }  // namespace
+
+int node_of_file_index(const SceneBodies& b, const std::string& scene_file, const std::string& field, long long index) {
+    if (index < 0 || index >= b.file_points)
+        throw InputError(scene_file, field,
+                         fmt::format("node {} does not exist (the mesh files have {} nodes, 0 to {})", index,
+                                     b.file_points, b.file_points - 1));
+    const auto it = std::lower_bound(b.file_index.begin(), b.file_index.end(), index);
+    if (it == b.file_index.end() || *it != index)
+        throw InputError(scene_file, field,
+                         fmt::format("node {} of the mesh files is used by no element (it was dropped on reading)", index));
+    return static_cast<int>(it - b.file_index.begin());
+}
 
 std::vector<FixedSet> resolve_fixed_sets(const Scene& scene, const SceneBodies& b) {
     std::vector<FixedSet> out;
@@ -127,7 +140,7 @@ std::vector<FixedSet> resolve_fixed_sets(const Scene& scene, const SceneBodies& 
             if (set.nodes.empty())
                 throw InputError(scene.file, spec.field + ".sphere", "holds no node of the mesh (at rest)");
         } else {
-            set.nodes = file_nodes(scene, spec, b.mesh.points.size());
+            set.nodes = file_nodes(scene, spec, b);
         }
         out.push_back(std::move(set));
     }

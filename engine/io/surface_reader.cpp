@@ -182,8 +182,8 @@ double enclosed_volume(const ClosedSurface& s) {
     return volume;
 }
 
-MeshData read_surface_tetrahedralize(const std::string& path, double max_volume, double min_ratio) {
-    return tetrahedralize_surface(path, read_closed_surface(path), max_volume, min_ratio);
+MeshData read_surface_tetrahedralize(const std::string& path, double max_volume, double min_ratio, double volume_to_m3) {
+    return tetrahedralize_surface(path, read_closed_surface(path), max_volume, min_ratio, volume_to_m3);
 }
 
 namespace {
@@ -299,15 +299,17 @@ long long g_mesher_point_limit = kMaxMeshCells / 4;
 void set_mesher_point_limit(long long points) { g_mesher_point_limit = std::max(1LL, points); }
 long long mesher_point_limit() { return g_mesher_point_limit; }
 
-MeshData tetrahedralize_surface(const std::string& path, const ClosedSurface& input, double max_volume, double min_ratio) {
+MeshData tetrahedralize_surface(const std::string& path, const ClosedSurface& input, double max_volume, double min_ratio,
+                                double volume_to_m3) {
     const ClosedSurface s = conditioned(path, input);
     if (max_volume > 0.0) {
         // Every tet is at most max_volume, so the enclosed volume over it is a lower bound on the count.
         const double at_least = std::abs(enclosed_volume(s)) / max_volume;
         if (at_least > static_cast<double>(kMaxMeshCells))
             throw InputError(path, "mesh.max_volume",
-                             fmt::format("{:.3g} would make at least {:.3g} tetrahedra, above the limit of {} "
-                                         "(docs/scene-format.md): raise max_volume", max_volume, at_least, kMaxMeshCells));
+                             fmt::format("{:.3g} m^3 would make at least {:.3g} tetrahedra, above the limit of {} "
+                                         "(docs/scene-format.md): raise max_volume", max_volume * volume_to_m3, at_least,
+                                         kMaxMeshCells));
     }
     return run_isolated_mesher(path, [&] { return run_tetgen(path, s, max_volume, min_ratio); });
 }

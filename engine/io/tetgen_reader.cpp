@@ -31,6 +31,7 @@ void check_tetgen_index(const ByteCursor& t, long long idx, long long expected) 
 MeshData read_tetgen(const std::string& node_path, const std::string& ele_path) {
     MeshData mesh;
     mesh.source = ele_path;
+    mesh.points_source = node_path;
     const std::string node_text = read_input_file(node_path, "file", "mesh");
     ByteCursor tn(node_path, node_text, true);
     const long long n = tn.count("node count", 8);

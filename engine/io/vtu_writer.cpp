@@ -68,6 +68,9 @@ void VtuWriter::point_data(const std::string& name, int components, const std::v
 void VtuWriter::point_data(const std::string& name, const std::vector<uint8_t>& values) {
     point_data_.push_back(make(name, "UInt8", 1, values));
 }
+void VtuWriter::point_data(const std::string& name, const std::vector<int32_t>& values) {
+    point_data_.push_back(make(name, "Int32", 1, values));
+}
 void VtuWriter::cell_data(const std::string& name, int components, const std::vector<double>& values) {
     cell_data_.push_back(make(name, "Float64", components, values));
 }

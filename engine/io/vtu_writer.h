@@ -21,6 +21,7 @@ public:
                const std::vector<uint8_t>& types);
     void point_data(const std::string& name, int components, const std::vector<double>& values);
     void point_data(const std::string& name, const std::vector<uint8_t>& values);
+    void point_data(const std::string& name, const std::vector<int32_t>& values);
     void cell_data(const std::string& name, int components, const std::vector<double>& values);
     void cell_data(const std::string& name, const std::vector<int32_t>& values);
     void cell_data(const std::string& name, const std::vector<uint8_t>& values);

@@ -157,6 +157,24 @@ TEST(CutSystem, LongQuadsAndFastBladeMissNothing) {
     EXPECT_EQ(split, expected_split(w, 0.001, 0.017));
 }
 
+// A graded mesh, as real ones are: 0.25 mm cells along the incision, 5 mm cells beyond it. The
+// search depth is sized by the mean edge (about 3 mm here), which is a dozen of the small cells: the
+// search follows the swept quad's own extent instead, so every crossed element is split.
+TEST(CutSystem, GradedMeshSplitsEveryCrossedElement) {
+    std::array<std::vector<double>, 3> lines;
+    for (int i = 0; i <= 20; ++i) lines[0].push_back(0.002 * i);
+    for (int i = 0; i <= 40; ++i) lines[1].push_back(0.00025 * i);
+    for (int i = 1; i <= 18; ++i) lines[1].push_back(0.01 + 0.005 * i);
+    lines[2] = {0.0, 0.002};
+    World w = world_from_mesh(generate_box_on_lines(lines));
+    add_scalpel(w, "scalpel", {key(0.0, kX, 0.0005), key(1.0, kX, 0.0095)}, Vec3(0, 0, -0.001), Vec3(0, 0, 0.003));
+    EXPECT_GT(mean_edge_length(w), 0.0025) << "the mean edge is many of the small cells";
+    const std::set<int> split = run_cutter(w, 1.2, 0.01);
+    const std::set<int> expected = expected_split(w, 0.0005, 0.0095);
+    EXPECT_GT(expected.size(), 100u);
+    EXPECT_EQ(split, expected);
+}
+
 TEST(CutSystem, ToolThatNeverTouchesCutsNothing) {
     Keyframe a = key(0.0, kX, 0.003), b = key(1.0, kX, 0.017);
     a.position.z() = b.position.z() = 0.01;  // 1 cm above the slab

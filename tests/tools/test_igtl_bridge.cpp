@@ -121,6 +121,33 @@ TEST(IgtlBridge, MalformedMessageAndLostConnectionHoldTheTool) {
     fs::remove_all(dir);
 }
 
+// In sync the run keeps the peer's time: with no peer it waits (saying so) and stops when none
+// connects in connect_timeout; a peer that falls behind (poses 0.5 s of wall time apart, timeout
+// 0.1 s) stops the run with the stamp it waited for, instead of holding the tool and drifting apart.
+TEST(IgtlBridge, SyncWaitsForThePeerOrStopsTheRun) {
+    const fs::path dir = testing::temp_dir("igtl_wait");
+    std::ofstream(dir / "traj.csv") << kTrajectory;
+    const int port = free_port(4);
+    const std::string device = "\"device\": {\"type\": \"igtl\", \"port\": " + std::to_string(port) + ", \"sync\": true, \"units\": \"m\"";
+    std::string out;
+    EXPECT_EQ(testing::run_command(xcut_run("--steps 5 -o " + (dir / "none").string() + " " +
+                                            scalpel(device + ", \"connect_timeout\": 0.3}")), out), 2) << out;
+    EXPECT_NE(out.find("waiting for the OpenIGTLink peer (listening on port " + std::to_string(port)), std::string::npos) << out;
+    EXPECT_NE(out.find("tools[0].device.connect_timeout: no OpenIGTLink peer connected within 0.3 s"), std::string::npos) << out;
+    std::string out_client;
+    auto client = std::async(std::launch::async, [&] {
+        return testing::run_command(std::string(XCUT_IGTL_PLAY) + " " + (dir / "traj.csv").string() + " --port " +
+                                        std::to_string(port) + " --units m --rate 2",
+                                    out_client);
+    });
+    EXPECT_EQ(testing::run_command(xcut_run("--steps 50 -o " + (dir / "slow").string() + " " +
+                                            scalpel(device + ", \"timeout\": 0.1}")), out), 2) << out;
+    client.get();
+    EXPECT_NE(out.find("tools[0].device.timeout: no pose stamped at"), std::string::npos) << out;
+    EXPECT_NE(out.find("sync stops the run rather than let the tool and the stream drift apart"), std::string::npos) << out;
+    fs::remove_all(dir);
+}
+
 TEST(IgtlBridge, APortAlreadyTakenNamesTheField) {
     DeviceSpec spec;
     spec.type = "igtl", spec.file = "scene.json", spec.field = "tools[0].device", spec.port = free_port(3);

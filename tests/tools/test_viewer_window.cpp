@@ -139,6 +139,18 @@ TEST(ViewerWindow, RealMouseDragFromXdotoolCuts) {
     fs::remove_all(dir);
 }
 
+// Without --steps the viewer stops at the scene's duration, as a headless run does (it used to step
+// on for ever: a screenshot waiting for it to be idle never came).
+TEST(ViewerWindow, StopsAtTheScenesDuration) {
+    const fs::path dir = testing::temp_dir("viewer_duration");
+    std::string out;
+    ASSERT_EQ(testing::run_command(view("--set duration=0.12 --set 'tools=[]' --screenshot " + (dir / "end.png").string()), out),
+              0) << out;
+    EXPECT_NE(out.find(", 12 steps;"), std::string::npos) << out;
+    EXPECT_TRUE(fs::exists(dir / "end.png"));
+    fs::remove_all(dir);
+}
+
 TEST(ViewerWindow, NoDisplayIsAClearError) {
     std::string out;
     EXPECT_EQ(testing::run_command("env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(XCUT_BINARY) + " view " + XCUT_SOURCE_DIR +

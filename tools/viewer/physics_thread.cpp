@@ -24,6 +24,8 @@ void PhysicsThread::stop() {
 }
 
 void PhysicsThread::play(bool on) {
+    // Play at the step limit (the scene's duration) is the user telling it to go on.
+    if (on && step_limit_ >= 0 && steps_done_ >= step_limit_) step_limit_ = -1;
     playing_ = on;
     wake_.notify_all();
 }

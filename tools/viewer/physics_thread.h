@@ -31,7 +31,7 @@ public:
     /// Lockstep: steps only when allowed (scripted input: one step per frame, reproducible).
     void set_lockstep(bool on) { lockstep_ = on; }
     void allow_steps(int n);
-    /// Pauses once this many steps are done (< 0: never).
+    /// Pauses once this many steps are done (< 0: never); play() past it lifts it.
     void set_step_limit(int steps) { step_limit_ = steps; }
     /// The fixed dt of the next steps [s] (ignored in real-time mode, where dt follows the clock).
     void set_dt(double dt) { dt_request_ = dt; }

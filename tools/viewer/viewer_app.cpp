@@ -219,7 +219,9 @@ int run_viewer(const ViewerOptions& o) {
     const bool scripted = !o.input.empty();
     PhysicsThread& physics = *session.physics;
     physics.set_lockstep(scripted);
-    physics.set_step_limit(o.steps);
+    // The scene's duration ends the run as it does headless (play goes on past it); a benchmark
+    // measures the rate for as long as it is asked, so it has no limit.
+    physics.set_step_limit(o.steps >= 0 ? o.steps : o.run_on || o.bench_seconds > 0.0 ? -1 : session.scene.steps);
     physics.play(!o.paused);
     physics.set_paced(o.bench_seconds <= 0.0 && !scripted);
     physics.start();

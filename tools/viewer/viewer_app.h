@@ -13,7 +13,8 @@ struct ViewerOptions {
     std::vector<std::string> overrides;  ///< --set, --cutter
     int threads = 2;
     int width = 1280, height = 800;      ///< window size [pixels]
-    int steps = -1;                      ///< pause after this many steps (< 0: run on)
+    int steps = -1;                      ///< pause after this many steps (< 0: the scene's duration)
+    bool run_on = false;                 ///< --run-on: do not pause at the scene's duration
     bool paused = false;                 ///< start paused
     std::string record;                  ///< session directory
     std::string input;                   ///< scripted input (tools/viewer/scripted_input.h)

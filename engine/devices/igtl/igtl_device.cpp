@@ -142,6 +142,7 @@ void IgtlDevice::serve() {
             ++stats_.connections;
             stream_ended_ = false;
         }
+        arrived_.notify_all();  // a sync step waiting for its first peer goes on
         peer_ = fd;
         std::string why;
         while (!quit_ && why.empty()) {
@@ -208,12 +209,31 @@ void IgtlDevice::serve() {
 Keyframe IgtlDevice::pose(double t) {
     if (!spec_.sync) return LiveDevice::pose(t);
     std::unique_lock<std::mutex> lock(mutex_);
+    // In sync the run keeps the peer's time: it waits for the peer to connect (two processes started
+    // apart), then for each step's pose; a peer that never comes or stops sending mid-stream stops the
+    // run with this message rather than letting the tool hold still and the two drift apart. A stream
+    // that ended (the peer closed it) holds the tool at its last pose, as a finished recording does.
+    if (stats_.connections == 0 && !quit_) {
+        fmt::print(stderr, "igtl tool {}: waiting for the OpenIGTLink peer ({}; sync: at most {} s)\n", tool_,
+                   spec_.host.empty() ? fmt::format("listening on port {}", spec_.port)
+                                      : fmt::format("connecting to {}:{}", spec_.host, spec_.port),
+                   spec_.connect_timeout);
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(spec_.connect_timeout);
+        while (stats_.connections == 0 && !quit_)
+            if (arrived_.wait_until(lock, until) == std::cv_status::timeout && stats_.connections == 0)
+                throw InputError(spec_.file, spec_.field + ".connect_timeout",
+                                 fmt::format("no OpenIGTLink peer connected within {} s (start the sender, or raise "
+                                             "connect_timeout)", spec_.connect_timeout));
+    }
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(spec_.timeout);
     while ((received_.empty() || received_.back().time < t) && !stream_ended_ && !quit_) {
         if (arrived_.wait_until(lock, deadline) == std::cv_status::timeout) {
-            warn(fmt::format("no pose stamped at {} s within {} s", t, spec_.timeout), stats_.timeouts);
-            stream_ended_ = true;  // hold from here on, without waiting each step, until a peer connects again
-            break;
+            ++stats_.timeouts;
+            throw InputError(spec_.file, spec_.field + ".timeout",
+                             fmt::format("no pose stamped at {} s arrived within {} s of wall time (the last was stamped "
+                                         "{} s): the peer is behind or stopped; sync stops the run rather than let the "
+                                         "tool and the stream drift apart (raise timeout to wait longer)",
+                                         t, spec_.timeout, received_.empty() ? 0.0 : received_.back().time));
         }
     }
     if (received_.empty()) {

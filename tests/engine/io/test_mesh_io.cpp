@@ -348,8 +348,13 @@ TEST_F(MeshIo, SurfaceMeshedTooFinelyIsRefusedBeforeMeshing) {
     const std::string cube = write("cube.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
                                                "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
     const std::string msg = error_of([&] { read_mesh_file(cube, 1e-15); });
-    EXPECT_NE(msg.find("mesh.max_volume: 1e-15 would make at least 1e+15 tetrahedra, above the limit of 4000000"),
+    EXPECT_NE(msg.find("mesh.max_volume: 1e-15 m^3 would make at least 1e+15 tetrahedra, above the limit of 4000000"),
               std::string::npos) << msg;
+    // A surface in millimetres: the bound is quoted in m^3, as the scene gives it, not in mm^3.
+    MeshPlacement mm;
+    mm.scale = 1e-3;
+    const std::string in_mm = error_of([&] { read_mesh_file(cube, 1e-24, mm); });
+    EXPECT_NE(in_mm.find("mesh.max_volume: 1e-24 m^3 would make at least 1e+15 tetrahedra"), std::string::npos) << in_mm;
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "engine/error.h"
 #include "engine/io/scene.h"
+#include "engine/io/scene_checks.h"
 #include "tests/test_helpers.h"
 
 namespace xcut {
@@ -31,6 +32,8 @@ TEST(SceneLoader, EveryShippedSceneLoadsAndBuilds) {
         EXPECT_GT(scene.steps, 0);
         const bool plate = scene.mesh.generator == "plate";
         EXPECT_EQ(w.elements.dim, plate ? 2 : 3);
+        // A shipped scene is plausible, or says in its "allow" what it knowingly is not.
+        for (const std::string& warning : plausibility_warnings(scene, w, scene.steps)) ADD_FAILURE() << warning;
         ++count;
     }
     EXPECT_GE(count, 6);  // skin_slab, slab_planar_cut, cantilever, face_skin_2d, tissue_block, hand_dorsum
