@@ -10,7 +10,7 @@
 #include <fcl/narrowphase/detail/traversal/collision/mesh_shape_collision_traversal_node.h>
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 
-#include "systems/force_system.h"
+#include "systems/kernels/block_sparse.h"
 #include "systems/mapping_system.h"
 #include "systems/kernels/tool_shape_depth.h"
 
@@ -192,6 +192,47 @@ void add_contact_stiffness_product(const World& w, const Eigen::VectorXd& p, Eig
         for (int a = 0; a < npe; ++a) out.segment<3>(3 * nodes[a]) += c.bary[k][a] * t;
     }
 }
+
+namespace {
+
+/// The penalty contacts' term of the step (systems/step_term.h): K_c between each contact's element
+/// nodes, held at the step's start (contacts are found once a step).
+class ContactTerm final : public StepTerm {
+public:
+    const char* name() const override { return "contact"; }
+    bool active(const World& world) const override { return world.contacts.count() > 0; }
+    bool held() const override { return true; }
+    void product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
+        if (first) out.setZero(p.size());
+        add_contact_stiffness_product(world, p, out);
+    }
+    void product_in_team(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
+#pragma omp single
+        {
+            if (first) out.setZero();
+            add_contact_stiffness_product(world, p, out);
+        }
+    }
+    /// K_c = k (w_a w_b) n n^T between the element's nodes, scaled.
+    void add_scattered(const World& w, double scale, LinearSystem& A) const override {
+        const Contacts& c = w.contacts;
+        const int npe = w.elements.nodes_per_element();
+        for (int k = 0; k < c.count(); ++k) {
+            const auto& nodes = w.elements.nodes[c.element[k]];
+            const Eigen::Matrix3d nn = c.stiffness[k] * c.normal[k] * c.normal[k].transpose();
+            for (int a = 0; a < npe; ++a)
+                for (int b = 0; b < npe; ++b) {
+                    const int blk = find_block(A, nodes[a], nodes[b]);
+                    if (blk < 0) throw std::logic_error("contact on an element outside the linear system's pattern");
+                    block_at(A, blk) += scale * c.bary[k][a] * c.bary[k][b] * nn;
+                }
+        }
+    }
+};
+
+}  // namespace
+
+std::shared_ptr<StepTerm> contact_step_term() { return std::make_shared<ContactTerm>(); }
 
 SystemDesc collision_system(std::shared_ptr<CollisionModel> model) {
     return {"CollisionSystem", kNodes | kElements | kForces | kShapedTools | kCollision, kForces | kTools,

@@ -19,6 +19,7 @@
 
 #include "engine/scheduler.h"
 #include "engine/world.h"
+#include "systems/step_term.h"
 
 namespace xcut {
 
@@ -33,6 +34,10 @@ void detect_contacts(World& world, CollisionModel& model);
 void apply_contact_forces(World& world);
 /// out += K_contact p (K_contact = sum over contacts of k w w^T (x) n n^T).
 void add_contact_stiffness_product(const World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out);
+
+/// The contacts' term of the implicit step (systems/step_term.h): held at the step's start, its
+/// product and its blocks (after the mass) of the assembled A.
+std::shared_ptr<StepTerm> contact_step_term();
 
 SystemDesc collision_system(std::shared_ptr<CollisionModel> model);
 

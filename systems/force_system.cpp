@@ -1,7 +1,8 @@
 #include "systems/force_system.h"
 
+#include <stdexcept>
+
 #include "engine/parallel.h"
-#include "systems/collision_system.h"
 #include "systems/kernels/corotational_kernel.h"
 #include "systems/kernels/polar_decomposition.h"
 
@@ -167,11 +168,6 @@ void compute_forces(World& world) {
     if (stiffness_diagonal_used(world)) compute_stiffness_diagonal(world);
 }
 
-bool stiffness_diagonal_used(const World& world) {
-    const std::string& method = world.linear.method;
-    return method.empty() || method == "jacobi";
-}
-
 void compute_stiffness_diagonal(World& world) {
     ensure_buffers(world);
     if (world.elements.dim == 3) {
@@ -186,7 +182,7 @@ double elastic_energy_now(const World& world) {
     return world.elements.dim == 3 ? elastic_energy_dim<3>(world) : elastic_energy_dim<2>(world);
 }
 
-void stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) {
+void elastic_stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) {
     ensure_buffers(world);
     if (world.elements.dim == 3) {
         stiffness_product_dim<3>(world, p);
@@ -194,26 +190,95 @@ void stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& 
         stiffness_product_dim<2>(world, p);
     }
     gather_element_terms(world, out);
-    if (world.contacts.count() > 0) add_contact_stiffness_product(world, p, out);
 }
 
-void prepare_stiffness_product(World& world) { ensure_buffers(world); }
+namespace {
 
-void stiffness_product_in_team(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) {
-    const Vec3* pv = reinterpret_cast<const Vec3*>(p.data());
-    const int elements = world.elements.count(), nodes = world.nodes.count();
-#pragma omp for schedule(static)
-    for (int e = 0; e < elements; ++e) {
-        if (world.elements.dim == 3) stiffness_product_element<3>(world, pv, e);
-        else stiffness_product_element<2>(world, pv, e);
-    }
-#pragma omp for schedule(static)
-    for (int i = 0; i < nodes; ++i) out.segment<3>(3 * i) = gathered(world, i);
-    if (world.contacts.count() > 0) {
-#pragma omp single
-        add_contact_stiffness_product(world, p, out);
-    }
+/// Per element, what its stiffness blocks are made of: the rotated shape gradients r_j = R g_j [1/m]
+/// and stiff_scale V lambda, stiff_scale V mu. Since R is a rotation, g_j . g_k = r_j . r_k, so a
+/// block needs nothing else (add_corotational_stiffness_block).
+struct ElementTerms {
+    std::array<Vec3, 4> r;
+    double lambda_v = 0.0, mu_v = 0.0;
+};
+
+template <int D>
+void element_terms(const World& w, double scale, std::vector<ElementTerms>& terms) {
+    const Elements& el = w.elements;
+    terms.resize(el.count());
+    parallel_for(el.count(), [&](int e) {
+        ElementTerms& t = terms[e];
+        const double volume = scale * el.rest_volume[e] * el.weight[e];
+        const LameParameters lame = lame_of(w.materials.list[el.material[e]], D);
+        t.lambda_v = volume * lame.lambda, t.mu_v = volume * lame.mu;
+        const MatD<D> dm_inv = el.dm_inv[e].template topLeftCorner<D, D>();
+        const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
+        for (int j = 0; j < 4; ++j) {
+            t.r[j].setZero();
+            if (j <= D) t.r[j].template head<D>() = R * shape_gradient<D>(dm_inv, j);
+        }
+    }, 2048);
 }
+
+/// The elastic term of the step (systems/step_term.h): the corotational stiffness of every element,
+/// mesh and virtual, at the rotations of the step's start (paper App. B), and the elastic and
+/// gravity forces.
+class ElasticTerm final : public StepTerm {
+public:
+    const char* name() const override { return "elastic"; }
+    bool active(const World&) const override { return true; }
+    void linearize(World& world) override { update_rotations(world); }
+    void force(World& world, bool first) override {
+        if (!first) throw std::logic_error("the elastic term writes the step's force: it comes first");
+        compute_forces(world);
+    }
+    void prepare_product(World& world) override { ensure_buffers(world); }
+    void product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
+        if (first) return elastic_stiffness_product(world, p, out);
+        Eigen::VectorXd own;
+        elastic_stiffness_product(world, p, own);
+        out += own;
+    }
+    void product_in_team(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
+        const Vec3* pv = reinterpret_cast<const Vec3*>(p.data());
+        const int elements = world.elements.count(), nodes = world.nodes.count();
+#pragma omp for schedule(static)
+        for (int e = 0; e < elements; ++e) {
+            if (world.elements.dim == 3) stiffness_product_element<3>(world, pv, e);
+            else stiffness_product_element<2>(world, pv, e);
+        }
+#pragma omp for schedule(static)
+        for (int i = 0; i < nodes; ++i) {
+            if (first) out.segment<3>(3 * i) = gathered(world, i);
+            else out.segment<3>(3 * i) += gathered(world, i);
+        }
+    }
+    bool by_rows() const override { return true; }
+    void prepare_rows(const World& world, double stiff_scale) override {
+        if (world.elements.dim == 3) element_terms<3>(world, stiff_scale, terms_);
+        else element_terms<2>(world, stiff_scale, terms_);
+    }
+    /// Row i's blocks, each element's row summed in incidence order (the matrix-free gather's).
+    void add_row(const World& world, int i, LinearSystem& A) const override {
+        const int dim = world.elements.dim, npe = world.elements.nodes_per_element();
+        for_incident(world, i, [&](bool virt, int k, int entry) {
+            const ElementTerms& t = terms_[entry >> 2];
+            if (t.lambda_v == 0.0 && t.mu_v == 0.0) return;
+            const int a = entry & 3;
+            const std::array<int, 4>& slot = virt ? A.virtual_slot[k] : A.mesh_slot[k];
+            const Vec3 lambda_ra = t.lambda_v * t.r[a], mu_ra = t.mu_v * t.r[a];  // the scales folded in once per row
+            for (int b = 0; b < npe; ++b)
+                add_corotational_stiffness_block(lambda_ra, mu_ra, t.r[b], dim, A.value.data() + 9 * slot[b]);
+        });
+    }
+
+private:
+    std::vector<ElementTerms> terms_;
+};
+
+}  // namespace
+
+std::shared_ptr<StepTerm> elastic_step_term() { return std::make_shared<ElasticTerm>(); }
 
 SystemDesc force_system() {
     return {"ForceSystem", kNodes | kElements | kMaterials, kForces | kElements, [](World& w) {

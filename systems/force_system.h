@@ -8,6 +8,7 @@
 #include "engine/scheduler.h"
 #include "engine/world.h"
 #include "systems/kernels/corotational_kernel.h"
+#include "systems/step_term.h"
 
 namespace xcut {
 
@@ -18,23 +19,19 @@ void update_rotations(World& world);
 /// world.forces.{force, elastic_energy} from positions, rotations and gravity, and
 /// stiffness_diagonal when stiffness_diagonal_used.
 void compute_forces(World& world);
-/// Whether the step uses world.forces.stiffness_diagonal: the matrix-free jacobi method's
-/// preconditioner (or no method chosen yet); the assembled methods take theirs from the matrix.
-/// The contact stiffness is added to it on the same condition (systems/collision_system.h).
-bool stiffness_diagonal_used(const World& world);
 /// world.forces.stiffness_diagonal: diag(K) of the elements at the current rotations.
 void compute_stiffness_diagonal(World& world);
 /// Strain energy [J] at the current positions, each element's rotation extracted from them (the
 /// stored rotations, forces and energy are those of the step's start and are left untouched).
 double elastic_energy_now(const World& world);
-/// out = K p (K = -df/dx with rotations frozen, positive semi-definite), 3 entries per node.
-void stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out);
-/// stiffness_product for the threads of an OpenMP team, each calling it (systems/kernels/team_cg.h):
-/// the element pass and the gather are worksharing loops (a barrier after each), the contacts one
-/// thread's. Same sums in the same order: the same bits as stiffness_product. Before the team,
-/// prepare_stiffness_product sizes the element buffers; `out` is sized by the caller.
-void stiffness_product_in_team(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out);
-void prepare_stiffness_product(World& world);
+/// out = K_el p (K_el = -df/dx of the elements with rotations frozen, positive semi-definite), 3
+/// entries per node.
+void elastic_stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out);
+/// The elastic term of the implicit step (systems/step_term.h): linearize = update_rotations,
+/// force = compute_forces, its product (inside a team: the element pass and the gather are
+/// worksharing loops, a barrier after each; the same sums in the same order as
+/// elastic_stiffness_product), and its block rows of the assembled A.
+std::shared_ptr<StepTerm> elastic_step_term();
 /// Sums per-element nodal terms into per-node entries in a fixed order (node -> element incidence).
 void gather_element_terms(const World& world, Eigen::VectorXd& out);
 

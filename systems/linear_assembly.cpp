@@ -5,8 +5,7 @@
 #include <stdexcept>
 
 #include "engine/parallel.h"
-#include "systems/force_system.h"
-#include "systems/kernels/corotational_kernel.h"
+#include "systems/kernels/block_sparse.h"
 
 namespace xcut {
 namespace {
@@ -17,76 +16,6 @@ uint64_t topology_hash(const World& w) {
     for (const auto& n : w.elements.nodes)
         for (int id : n) h = (h ^ static_cast<uint64_t>(static_cast<uint32_t>(id))) * 1099511628211ull;
     return h;
-}
-
-/// Calls f(k, entry) for every incidence entry of node i: the mesh incidence (k indexes mesh_slot),
-/// then the virtual one (k + offset into virtual_slot, flagged by `virt`).
-template <class F>
-void for_incident(const World& w, int i, F&& f) {
-    if (i < w.mesh_nodes)
-        for (int k = w.incidence.offset[i]; k < w.incidence.offset[i + 1]; ++k) f(false, k, w.incidence.entry[k]);
-    for (int k = w.virtual_incidence.offset[i]; k < w.virtual_incidence.offset[i + 1]; ++k)
-        f(true, k, w.virtual_incidence.entry[k]);
-}
-
-/// The block (i, j) of the pattern, or -1.
-int find_block(const LinearSystem& A, int i, int j) {
-    const auto begin = A.column.begin() + A.row_offset[i], end = A.column.begin() + A.row_offset[i + 1];
-    const auto it = std::lower_bound(begin, end, j);
-    return it != end && *it == j ? static_cast<int>(it - A.column.begin()) : -1;
-}
-
-Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> block_at(LinearSystem& A, int b) {
-    return Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(A.value.data() + 9 * b);
-}
-
-/// Per element, what its stiffness blocks are made of: the rotated shape gradients r_j = R g_j [1/m]
-/// and stiff_scale V lambda, stiff_scale V mu. Since R is a rotation, g_j . g_k = r_j . r_k, so a
-/// block needs nothing else (add_corotational_stiffness_block).
-struct ElementTerms {
-    std::array<Vec3, 4> r;
-    double lambda_v = 0.0, mu_v = 0.0;
-};
-
-template <int D>
-void element_terms(const World& w, double scale, std::vector<ElementTerms>& terms) {
-    const Elements& el = w.elements;
-    terms.resize(el.count());
-    parallel_for(el.count(), [&](int e) {
-        ElementTerms& t = terms[e];
-        const double volume = scale * el.rest_volume[e] * el.weight[e];
-        const LameParameters lame = lame_of(w.materials.list[el.material[e]], D);
-        t.lambda_v = volume * lame.lambda, t.mu_v = volume * lame.mu;
-        const MatD<D> dm_inv = el.dm_inv[e].template topLeftCorner<D, D>();
-        const MatD<D> R = el.rotation[e].template topLeftCorner<D, D>();
-        for (int j = 0; j < 4; ++j) {
-            t.r[j].setZero();
-            if (j <= D) t.r[j].template head<D>() = R * shape_gradient<D>(dm_inv, j);
-        }
-    }, 2048);
-}
-
-/// Adds row a of element e's stiffness (its terms `t`) to the blocks `slot` of row node a
-/// (add_corotational_stiffness_block, the scales folded into r_a once per row).
-void add_element_row(const ElementTerms& t, int a, int npe, int dim, const std::array<int, 4>& slot, LinearSystem& A) {
-    if (t.lambda_v == 0.0 && t.mu_v == 0.0) return;
-    const Vec3 lambda_ra = t.lambda_v * t.r[a], mu_ra = t.mu_v * t.r[a];
-    for (int b = 0; b < npe; ++b) add_corotational_stiffness_block(lambda_ra, mu_ra, t.r[b], dim, A.value.data() + 9 * slot[b]);
-}
-
-void add_contacts(const World& w, double scale, LinearSystem& A) {
-    const Contacts& c = w.contacts;
-    const int npe = w.elements.nodes_per_element();
-    for (int k = 0; k < c.count(); ++k) {  // K_c = k (w_a w_b) n n^T between the element's nodes
-        const auto& nodes = w.elements.nodes[c.element[k]];
-        const Eigen::Matrix3d nn = c.stiffness[k] * c.normal[k] * c.normal[k].transpose();
-        for (int a = 0; a < npe; ++a)
-            for (int b = 0; b < npe; ++b) {
-                const int blk = find_block(A, nodes[a], nodes[b]);
-                if (blk < 0) throw std::logic_error("contact on an element outside the linear system's pattern");
-                block_at(A, blk) += scale * c.bary[k][a] * c.bary[k][b] * nn;
-            }
-    }
 }
 
 /// Held axes: their rows and columns are dropped and their diagonal set to 1.
@@ -140,20 +69,18 @@ bool ensure_linear_pattern(World& w) {
     return true;
 }
 
-void assemble_step_matrix(World& w, double mass_scale, double stiff_scale) {
+void assemble_step_matrix(World& w, const StepOperator& op, double mass_scale, double stiff_scale) {
     LinearSystem& A = w.linear;
-    const int dim = w.elements.dim, npe = w.elements.nodes_per_element();
-    std::vector<ElementTerms> terms;
-    if (dim == 3) element_terms<3>(w, stiff_scale, terms);
-    else element_terms<2>(w, stiff_scale, terms);
+    for (const auto& t : op.terms)
+        if (t->by_rows()) t->prepare_rows(w, stiff_scale);
     parallel_for(A.rows(), [&](int i) {
         std::fill(A.value.begin() + 9 * A.row_offset[i], A.value.begin() + 9 * A.row_offset[i + 1], 0.0);
-        for_incident(w, i, [&](bool virt, int k, int entry) {
-            add_element_row(terms[entry >> 2], entry & 3, npe, dim, virt ? A.virtual_slot[k] : A.mesh_slot[k], A);
-        });
+        for (const auto& t : op.terms)
+            if (t->by_rows()) t->add_row(w, i, A);
         block_at(A, A.diagonal[i]).diagonal().array() += mass_scale * w.nodes.mass[i];
     }, 512);
-    if (w.contacts.count() > 0) add_contacts(w, stiff_scale, A);
+    for (const auto& t : op.terms)
+        if (!t->by_rows() && t->active(w)) t->add_scattered(w, stiff_scale, A);
     filter_held_axes(w, A);
 }
 

@@ -13,6 +13,7 @@
 #include <Eigen/SparseCore>
 
 #include "engine/world.h"
+#include "systems/step_term.h"
 
 namespace xcut {
 
@@ -20,8 +21,9 @@ namespace xcut {
 /// remesh); returns whether it did.
 bool ensure_linear_pattern(World& world);
 
-/// Fills the values for this step's rotations, masses and contacts (the pattern must be current).
-void assemble_step_matrix(World& world, double mass_scale, double stiff_scale);
+/// Fills the values for this step's terms (systems/step_term.h: row terms, then the mass, then the
+/// scattered terms) at their current linearization (the pattern must be current).
+void assemble_step_matrix(World& world, const StepOperator& op, double mass_scale, double stiff_scale);
 
 /// y = A x for the assembled A (3 entries per DOF node).
 void linear_multiply(const LinearSystem& A, const Eigen::VectorXd& x, Eigen::VectorXd& y);

@@ -10,7 +10,6 @@
 #include <fmt/format.h>
 
 #include "engine/parallel.h"
-#include "systems/force_system.h"
 #include "systems/kernels/amg.h"
 #include "systems/kernels/projected_guess.h"
 #include "systems/kernels/team_cg.h"
@@ -127,15 +126,15 @@ void no_whole(const Eigen::VectorXd&, Eigen::VectorXd&) {}
 
 /// The jacobi method: matrix-free, A p = mass_scale M p + stiff_scale K p (stiffness_product_in_team),
 /// preconditioned by diag(A)^-1 (the paper's solver).
-CgResult jacobi_cg(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b, const Eigen::VectorXd& mask,
-                   const CgLimits& limits, Eigen::VectorXd& x) {
+CgResult jacobi_cg(World& w, const StepOperator& op, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
+                   const Eigen::VectorXd& mask, const CgLimits& limits, Eigen::VectorXd& x) {
     const int nodes = w.nodes.count();
     Eigen::VectorXd inverse(3 * nodes);
     for (int i = 0; i < 3 * nodes; ++i)
         inverse[i] = 1.0 / (mass_scale * w.nodes.mass[i / 3] + stiff_scale * w.forces.stiffness_diagonal[i]);
-    prepare_stiffness_product(w);
+    op.prepare_product(w);
     const auto product = [&](const Eigen::VectorXd& p, Eigen::VectorXd& q) {
-        stiffness_product_in_team(w, p, q);
+        op.stiffness_product_in_team(w, p, q);
 #pragma omp for schedule(static)
         for (int i = 0; i < 3 * nodes; ++i) q[i] = mass_scale * w.nodes.mass[i / 3] * p[i] + stiff_scale * q[i];
     };
@@ -266,13 +265,14 @@ private:
 namespace {
 
 /// AV = A V, column by column, with this step's A: the assembled matrix, or matrix-free for jacobi.
-void step_product(World& w, double mass_scale, double stiff_scale, const Eigen::MatrixXd& V, Eigen::MatrixXd& AV) {
+void step_product(World& w, const StepOperator& op, double mass_scale, double stiff_scale, const Eigen::MatrixXd& V,
+                  Eigen::MatrixXd& AV) {
     if (w.linear.method != "jacobi") return linear_multiply_columns(w.linear, V, AV);
     AV.resize(V.rows(), V.cols());
     Eigen::VectorXd v, out;
     for (Eigen::Index j = 0; j < V.cols(); ++j) {
         v = V.col(j);
-        stiffness_product(w, v, out);
+        op.stiffness_product(w, v, out);
         for (Eigen::Index i = 0; i < v.size(); ++i) out[i] = mass_scale * w.nodes.mass[i / 3] * v[i] + stiff_scale * out[i];
         AV.col(j) = out;
     }
@@ -280,20 +280,21 @@ void step_product(World& w, double mass_scale, double stiff_scale, const Eigen::
 
 /// A solve; with `history`, x's first guess is projected from the kept solutions when they were
 /// solved for the same system, and the solution is kept (systems/kernels/projected_guess.h).
-LinearSolve solve(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b, const Eigen::VectorXd& mask,
-                  Eigen::VectorXd& x, const CgLimits& limits, SolutionHistory* history, const StepMatrix* filled) {
+LinearSolve solve(World& w, const StepOperator& op, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
+                  const Eigen::VectorXd& mask, Eigen::VectorXd& x, const CgLimits& limits, SolutionHistory* history,
+                  const StepMatrix* filled) {
     LinearSystem& A = w.linear;
-    const bool new_pattern = filled ? filled->new_pattern : fill_step_matrix(w, mass_scale, stiff_scale).new_pattern;
+    const bool new_pattern = filled ? filled->new_pattern : fill_step_matrix(w, op, mass_scale, stiff_scale).new_pattern;
     const bool matrix_free = A.method == "jacobi";  // resolved by fill_step_matrix
     const GuessKey key{static_cast<int>(b.size()), w.elements.count(), matrix_free ? 0 : A.topology};
     if (history && history->key == key &&
         projected_guess(*history, [&](const Eigen::MatrixXd& V, Eigen::MatrixXd& AV) {
-            step_product(w, mass_scale, stiff_scale, V, AV);
+            step_product(w, op, mass_scale, stiff_scale, V, AV);
         }, b, x))
         ++A.projected_guesses;
     LinearSolve out;
     if (matrix_free) {
-        accepted(jacobi_cg(w, mass_scale, stiff_scale, b, mask, limits, x), limits, out);
+        accepted(jacobi_cg(w, op, mass_scale, stiff_scale, b, mask, limits, x), limits, out);
     } else {
         AssembledSolve solve(w, b, mask, limits, x, out);
         if (A.method == "block_jacobi") solve.accept(solve.block_jacobi());
@@ -306,38 +307,39 @@ LinearSolve solve(World& w, double mass_scale, double stiff_scale, const Eigen::
 
 }  // namespace
 
-void prepare_linear_solver(World& w) {
+void prepare_linear_solver(World& w, const StepOperator& op) {
     LinearSystem& A = w.linear;
     if (A.method.empty()) A.method = resolve_linear_method(w);
     if (w.nodes.count() == 0 || (A.method != "cholesky" && A.method != "amg")) return;
     const double start = wall_seconds();
     const StepScales scales = step_scales(w.solver, w.solver.dt);
-    update_rotations(w);
-    fill_step_matrix(w, scales.mass, scales.stiffness);
+    op.linearize(w);
+    fill_step_matrix(w, op, scales.mass, scales.stiffness);
     if (A.method == "amg") build_hierarchy(w, free_mask(w), scales.stiffness / scales.mass);
     else factorize(w);
     A.load_setup_ms = 1e3 * (wall_seconds() - start);
 }
 
-LinearSolve solve_linear(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
-                         const Eigen::VectorXd& mask, Eigen::VectorXd& x, const CgLimits& limits) {
-    return solve(w, mass_scale, stiff_scale, b, mask, x, limits, nullptr, nullptr);
+LinearSolve solve_linear(World& w, const StepOperator& op, double mass_scale, double stiff_scale,
+                         const Eigen::VectorXd& b, const Eigen::VectorXd& mask, Eigen::VectorXd& x, const CgLimits& limits) {
+    return solve(w, op, mass_scale, stiff_scale, b, mask, x, limits, nullptr, nullptr);
 }
 
-LinearSolve solve_step_linear(World& w, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
-                              const Eigen::VectorXd& mask, Eigen::VectorXd& x, const StepMatrix* filled) {
-    return solve(w, mass_scale, stiff_scale, b, mask, x,
+LinearSolve solve_step_linear(World& w, const StepOperator& op, double mass_scale, double stiff_scale,
+                              const Eigen::VectorXd& b, const Eigen::VectorXd& mask, Eigen::VectorXd& x,
+                              const StepMatrix* filled) {
+    return solve(w, op, mass_scale, stiff_scale, b, mask, x,
                  CgLimits{w.solver.cg_tolerance, w.solver.cg_max_iterations}, &w.linear.history, filled);
 }
 
-StepMatrix fill_step_matrix(World& w, double mass_scale, double stiff_scale) {
+StepMatrix fill_step_matrix(World& w, const StepOperator& op, double mass_scale, double stiff_scale) {
     LinearSystem& A = w.linear;
     if (A.method.empty()) A.method = resolve_linear_method(w);
     StepMatrix out;
     if (A.method == "jacobi") return out;
     out.assembled = true;
     out.new_pattern = ensure_linear_pattern(w);
-    assemble_step_matrix(w, mass_scale, stiff_scale);
+    assemble_step_matrix(w, op, mass_scale, stiff_scale);
     return out;
 }
 

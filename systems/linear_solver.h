@@ -21,7 +21,8 @@
 #include <string>
 
 #include "engine/world.h"
-#include "systems/solver_system.h"
+#include "systems/kernels/cg_result.h"
+#include "systems/step_term.h"
 
 namespace xcut {
 
@@ -31,7 +32,7 @@ namespace xcut {
 /// waits on (SOFA builds its solvers' data at init for the same reason). The first step takes it
 /// into use as the kept policy says (it renews it if the step's A has another pattern or a larger
 /// stiffness weight). Records the time in LinearSystem::load_setup_ms. Nothing for the others.
-void prepare_linear_solver(World& world);
+void prepare_linear_solver(World& world, const StepOperator& op);
 
 /// The method "auto" (or a named method) stands for on this world, and why (for the schedule line).
 std::string resolve_linear_method(const World& world, std::string* why = nullptr);
@@ -52,12 +53,12 @@ struct CgLimits {
     double tolerance = 1e-6;   ///< relative residual [-]
     int max_iterations = 200;
 };
-LinearSolve solve_linear(World& world, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
-                         const Eigen::VectorXd& mask, Eigen::VectorXd& x, const CgLimits& limits);
+LinearSolve solve_linear(World& world, const StepOperator& op, double mass_scale, double stiff_scale,
+                         const Eigen::VectorXd& b, const Eigen::VectorXd& mask, Eigen::VectorXd& x, const CgLimits& limits);
 /// The same at the scene's `solver.cg_tolerance` and `solver.cg_max_iterations`.
-inline LinearSolve solve_linear(World& world, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
-                                const Eigen::VectorXd& mask, Eigen::VectorXd& x) {
-    return solve_linear(world, mass_scale, stiff_scale, b, mask, x,
+inline LinearSolve solve_linear(World& world, const StepOperator& op, double mass_scale, double stiff_scale,
+                                const Eigen::VectorXd& b, const Eigen::VectorXd& mask, Eigen::VectorXd& x) {
+    return solve_linear(world, op, mass_scale, stiff_scale, b, mask, x,
                         CgLimits{world.solver.cg_tolerance, world.solver.cg_max_iterations});
 }
 
@@ -68,14 +69,15 @@ struct StepMatrix {
 };
 /// Assembles A = mass_scale M + stiff_scale (K + K_c) into world.linear for the state as it is, if
 /// the method assembles it (the pattern first, if the topology changed).
-StepMatrix fill_step_matrix(World& world, double mass_scale, double stiff_scale);
+StepMatrix fill_step_matrix(World& world, const StepOperator& op, double mass_scale, double stiff_scale);
 
 /// The step's first solve: as solve_linear at the scene's tolerance and cap, with x's first guess
 /// projected from the solutions of the last `solver.guess_history` steps when they were solved for
 /// the same system (systems/kernels/projected_guess.h; otherwise x's own guess stands), and this
 /// step's solution kept for the next. `filled`: A as fill_step_matrix left it for these scales and
 /// this state (it is not filled again), or null.
-LinearSolve solve_step_linear(World& world, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
-                              const Eigen::VectorXd& mask, Eigen::VectorXd& x, const StepMatrix* filled = nullptr);
+LinearSolve solve_step_linear(World& world, const StepOperator& op, double mass_scale, double stiff_scale,
+                              const Eigen::VectorXd& b, const Eigen::VectorXd& mask, Eigen::VectorXd& x,
+                              const StepMatrix* filled = nullptr);
 
 }  // namespace xcut

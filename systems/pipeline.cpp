@@ -28,14 +28,17 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
     scheduler.add(world.snap.enabled ? snap_cut_system(world) : enrichment_system());
     scheduler.add(force_system());
     scheduler.add(collision_system(make_collision_model()));
-    scheduler.add(solver_system(world));
-    prepare_linear_solver(world);
+    const auto terms = std::make_shared<const StepOperator>(xcut_step_terms());
+    scheduler.add(solver_system(world, terms));
+    prepare_linear_solver(world, *terms);
     scheduler.add(watchdog_system());
     scheduler.add(mapping_system());
     scheduler.add({"OutputSystem", kNodes | kElements | kOutput, 0, [&sim](World& w) {
                        if (sim.output) sim.output->frame_if_due(w);
                    }});
 }
+
+StepOperator xcut_step_terms() { return StepOperator{{elastic_step_term(), contact_step_term()}}; }
 
 std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output, const std::string& replay_directory) {
     return build_simulation(scene, xcut_pipeline, with_output, replay_directory);

@@ -9,12 +9,18 @@
 #include <string>
 
 #include "engine/simulation.h"
+#include "systems/step_term.h"
 
 namespace xcut {
 
 /// Builds the scene's visual and collision surfaces, the cut search and the enrichment state the
 /// scene needs, and adds every system of the pipeline to `scheduler` in order.
 void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim);
+
+/// The terms of xcut's implicit step, in order (systems/step_term.h): the ForceSystem's elastic
+/// term, then the CollisionSystem's contacts. What the SolverSystem is handed, and what a test or a
+/// study that calls the solver directly hands it.
+StepOperator xcut_step_terms();
 
 /// build_simulation with xcut_pipeline: the simulation `xcut run` steps.
 std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output = true,

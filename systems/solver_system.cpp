@@ -9,20 +9,10 @@
 
 #include "engine/error.h"
 #include "engine/parallel.h"
-#include "systems/linear_solver.h"
-#include "systems/collision_system.h"
-#include "systems/force_system.h"
 #include "systems/linear_assembly.h"
+#include "systems/linear_solver.h"
 
 namespace xcut {
-
-Eigen::VectorXd free_mask(const World& world) {
-    const Nodes& nodes = world.nodes;
-    Eigen::VectorXd mask(3 * nodes.count());
-    for (int i = 0; i < nodes.count(); ++i)
-        for (int k = 0; k < 3; ++k) mask[3 * i + k] = (nodes.fixed[i] >> k) & 1 ? 0.0 : 1.0;
-    return mask;
-}
 
 void project_constraints(const World& world, Eigen::Ref<Eigen::VectorXd> v) {
     const Nodes& nodes = world.nodes;
@@ -36,34 +26,35 @@ namespace {
 /// rhs = h f(x_n + h v_k) - h beta K_k v_k - h alpha M v_k - M (v_k - v_n): minus the implicit Euler
 /// residual at velocity v_k, with forces, rotations and K_k at x_k = x_n + h v_k (already computed).
 /// Contacts are held at their start-of-step linearization: f_c0 - K_c (x_k - x_n).
-Eigen::VectorXd newton_rhs(World& w, double h, const Eigen::VectorXd& m3, const Eigen::VectorXd& vn,
-                           const Eigen::VectorXd& vk, const Eigen::VectorXd& contact_force) {
+Eigen::VectorXd newton_rhs(World& w, const StepOperator& op, double h, const Eigen::VectorXd& m3, const Eigen::VectorXd& vn,
+                           const Eigen::VectorXd& vk, const Eigen::VectorXd& held_force) {
     const SolverSettings& s = w.solver;
     Eigen::VectorXd kv;
-    stiffness_product(w, vk, kv);  // K_el + K_c
-    Eigen::VectorXd rhs = h * (w.forces.force + contact_force) - h * s.damping_stiffness * kv -
+    op.stiffness_product(w, vk, kv);  // every term's K
+    Eigen::VectorXd rhs = h * (w.forces.force + held_force) - h * s.damping_stiffness * kv -
                           h * s.damping_mass * m3.cwiseProduct(vk) - m3.cwiseProduct(vk - vn);
-    if (w.contacts.count() > 0) {  // contact stiffness times the step's displacement h v_k
+    if (op.any_held(w)) {  // the held terms' stiffness times the step's displacement h v_k
         Eigen::VectorXd kc = Eigen::VectorXd::Zero(vk.size());
-        add_contact_stiffness_product(w, vk, kc);
+        op.add_held_product(w, vk, kc);
         rhs -= h * h * kc;
     }
     return rhs;
 }
 
-/// The contact part of the forces at the step's start: forces as the CollisionSystem left them,
-/// less the elastic and gravity forces recomputed at the same state (which this leaves in place).
-Eigen::VectorXd contact_part(World& w) {
-    Eigen::VectorXd contact = w.forces.force;
-    compute_forces(w);
-    contact -= w.forces.force;
-    return contact;
+/// The held terms' part of the forces at the step's start (the contacts'): forces as the systems left
+/// them, less those of the other terms recomputed at the same state (which this leaves in place).
+Eigen::VectorXd held_part(World& w, const StepOperator& op) {
+    Eigen::VectorXd held = w.forces.force;
+    op.forces(w);
+    held -= w.forces.force;
+    return held;
 }
 
 /// One backward Euler step of length h from the current state, forces and rotations (paper §4.3):
 /// the linearized solve, then Newton iterations when asked. Commits v and x only if every solve
 /// converged; returns the solves' sum.
-LinearSolve euler_substep(World& world, double h, const Eigen::VectorXd& m3, const Eigen::VectorXd& mask) {
+LinearSolve euler_substep(World& world, const StepOperator& op, double h, const Eigen::VectorXd& m3,
+                          const Eigen::VectorXd& mask) {
     Nodes& nodes = world.nodes;
     const SolverSettings& s = world.solver;
     const int n3 = 3 * nodes.count();
@@ -75,17 +66,17 @@ LinearSolve euler_substep(World& world, double h, const Eigen::VectorXd& m3, con
     // b = h f - (h^2 + h beta) K v - h alpha M v. With A assembled, and v 0 on the held axes (A's
     // held rows and columns are filtered), that is h f + M v - A v on the free rows (CG masks the
     // others): one block product instead of the matrix-free K v.
-    const StepMatrix filled = fill_step_matrix(world, mass_scale, stiff_scale);
+    const StepMatrix filled = fill_step_matrix(world, op, mass_scale, stiff_scale);
     Eigen::VectorXd b, kv;
     if (filled.assembled && (v.array() * (1.0 - mask.array()) == 0.0).all()) {
         linear_multiply(world.linear, v, kv);
         b = h * world.forces.force + m3.cwiseProduct(v) - kv;
     } else {
-        stiffness_product(world, v, kv);
+        op.stiffness_product(world, v, kv);
         b = h * world.forces.force - stiff_scale * kv - h * s.damping_mass * m3.cwiseProduct(v);
     }
     Eigen::VectorXd dv = world.forces.last_dv.size() == n3 ? world.forces.last_dv : Eigen::VectorXd::Zero(n3);
-    LinearSolve total = solve_step_linear(world, mass_scale, stiff_scale, b, mask, dv, &filled);
+    LinearSolve total = solve_step_linear(world, op, mass_scale, stiff_scale, b, mask, dv, &filled);
     int newton = 1;
     if (total.converged && s.newton_iterations > 1) {
         // Newton on the nonlinear step (rotations, forces and K re-evaluated at x_n + h v_k) until
@@ -93,19 +84,18 @@ LinearSolve euler_substep(World& world, double h, const Eigen::VectorXd& m3, con
         // itself, which the once-linearized step only approximates (it gains energy on large
         // rotations at large dt: docs/verification.md problem 9).
         const Eigen::VectorXd xn = x, vn = v;
-        const Eigen::VectorXd contact_force = contact_part(world);
+        const Eigen::VectorXd held_force = held_part(world, op);
         const double r0 = std::sqrt(deterministic_dot(b.cwiseProduct(mask), b.cwiseProduct(mask)));
         Eigen::VectorXd vk = vn + dv;
         for (; newton < s.newton_iterations && total.converged; ++newton) {
             project_constraints(world, vk);
             x = xn + h * vk;
-            update_rotations(world);
-            compute_forces(world);
-            b = newton_rhs(world, h, m3, vn, vk, contact_force);
+            op.relinearize(world);
+            b = newton_rhs(world, op, h, m3, vn, vk, held_force);
             const double r = std::sqrt(deterministic_dot(b.cwiseProduct(mask), b.cwiseProduct(mask)));
             if (!(r > s.newton_tolerance * r0)) break;
             Eigen::VectorXd delta = Eigen::VectorXd::Zero(n3);
-            const LinearSolve step = solve_linear(world, mass_scale, stiff_scale, b, mask, delta);
+            const LinearSolve step = solve_linear(world, op, mass_scale, stiff_scale, b, mask, delta);
             total.cg.iterations += step.cg.iterations;
             total.cg.relative_residual = step.cg.relative_residual;
             total.converged = step.converged;
@@ -144,17 +134,16 @@ void restore_step(World& w, const StepStart& s) {
 }
 
 /// The step in `substeps` equal parts; false as soon as one part's solve fails.
-bool run_substeps(World& world, int substeps, const Eigen::VectorXd& m3, const Eigen::VectorXd& mask,
-                  const Eigen::VectorXd& contact_force, LinearSolve& total) {
+bool run_substeps(World& world, const StepOperator& op, int substeps, const Eigen::VectorXd& m3,
+                  const Eigen::VectorXd& mask, const Eigen::VectorXd& held_force, LinearSolve& total) {
     const double h = world.solver.dt / substeps;
     total = LinearSolve{};
     for (int k = 0; k < substeps; ++k) {
-        if (k > 0) {  // forces and rotations at the substep's start; contacts as linearized at the step's
-            update_rotations(world);
-            compute_forces(world);
-            world.forces.force += contact_force;
+        if (k > 0) {  // forces and rotations at the substep's start; held terms as linearized at the step's
+            op.relinearize(world);
+            world.forces.force += held_force;
         }
-        const LinearSolve part = euler_substep(world, h, m3, mask);
+        const LinearSolve part = euler_substep(world, op, h, m3, mask);
         total.cg.iterations += part.cg.iterations;
         total.cg.relative_residual = std::isnan(part.cg.relative_residual)
                                          ? part.cg.relative_residual
@@ -185,7 +174,7 @@ bool run_substeps(World& world, int substeps, const Eigen::VectorXd& m3, const E
 
 }  // namespace
 
-void implicit_euler_step(World& world) {
+void implicit_euler_step(World& world, const StepOperator& op) {
     Nodes& nodes = world.nodes;
     const SolverSettings& s = world.solver;
     const int n3 = 3 * nodes.count();
@@ -200,15 +189,15 @@ void implicit_euler_step(World& world) {
     // up front only if Newton iterations move rotations and forces on the way.
     std::optional<StepStart> start;
     if (s.newton_iterations > 1) start = save_step(world);
-    Eigen::VectorXd contact_force;
+    Eigen::VectorXd held_force;
     LinearSolve total;
     int substeps = 1;
-    while (!run_substeps(world, substeps, m3, mask, contact_force, total)) {
+    while (!run_substeps(world, op, substeps, m3, mask, held_force, total)) {
         if (2 * substeps > s.max_substeps) fail_step(world, total, substeps);
         if (!start) start = save_step(world);
         restore_step(world, *start);
-        if (contact_force.size() == 0) {
-            contact_force = world.contacts.count() > 0 ? contact_part(world) : Eigen::VectorXd::Zero(n3);
+        if (held_force.size() == 0) {
+            held_force = op.any_held(world) ? held_part(world, op) : Eigen::VectorXd::Zero(n3);
             restore_step(world, *start);
         }
         substeps *= 2;
@@ -237,7 +226,7 @@ void implicit_euler_step(World& world) {
     });
 }
 
-StaticResult static_solve(World& world, double tolerance, int max_newton, double cg_tolerance,
+StaticResult static_solve(World& world, const StepOperator& op, double tolerance, int max_newton, double cg_tolerance,
                           int cg_max_iterations, const Eigen::VectorXd& load) {
     const int n3 = 3 * world.nodes.count();
     Eigen::Map<Eigen::VectorXd> x(world.nodes.position[0].data(), n3);
@@ -254,8 +243,7 @@ StaticResult static_solve(World& world, double tolerance, int max_newton, double
     double last_update = 1.0;
     const Eigen::Map<const Eigen::VectorXd> rest(world.nodes.rest[0].data(), n3);
     for (; result.newton_iterations < max_newton; ++result.newton_iterations) {
-        update_rotations(world);
-        compute_forces(world);
+        op.relinearize(world);
         if (load.size() > 0) world.forces.force += load;
         const Eigen::VectorXd f = world.forces.force.cwiseProduct(mask);
         const double fnorm = std::sqrt(deterministic_dot(f, f));
@@ -268,7 +256,7 @@ StaticResult static_solve(World& world, double tolerance, int max_newton, double
         }
         // K dx = f by the scene's linear method (A = 0 M + 1 K), at the caller's tolerance and cap.
         Eigen::VectorXd dx = Eigen::VectorXd::Zero(n3);
-        const LinearSolve solve = solve_linear(world, 0.0, 1.0, f, mask, dx, CgLimits{cg_tolerance, cg_max_iterations});
+        const LinearSolve solve = solve_linear(world, op, 0.0, 1.0, f, mask, dx, CgLimits{cg_tolerance, cg_max_iterations});
         result.cg_iterations += solve.cg.iterations;
         x += dx;
         const Eigen::VectorXd u = (x - rest).cwiseProduct(mask);
@@ -281,10 +269,10 @@ StaticResult static_solve(World& world, double tolerance, int max_newton, double
     return result;
 }
 
-SystemDesc solver_system(const World& world) {
+SystemDesc solver_system(const World& world, std::shared_ptr<const StepOperator> op) {
     std::string why;
     const std::string method = resolve_linear_method(world, &why);
-    return {"SolverSystem", kNodes | kElements | kForces, kNodes, implicit_euler_step,
+    return {"SolverSystem", kNodes | kElements | kForces, kNodes, [op](World& w) { implicit_euler_step(w, *op); },
             "linear: " + method + " (" + why + ")"};
 }
 

@@ -20,36 +20,16 @@
 
 #include "engine/scheduler.h"
 #include "engine/world.h"
+#include "systems/kernels/cg_result.h"
+#include "systems/step_term.h"
 
 namespace xcut {
 
-struct CgResult {
-    int iterations = 0;
-    double relative_residual = 0.0;
-};
-
-/// Solves A x = b for SPD A given as a product, with held entries projected out. `x` holds the first
-/// guess on entry. Stops at |r| <= tol |b| or max_iterations.
-template <class Product>
-CgResult conjugate_gradient(Product&& apply, const Eigen::VectorXd& b, const Eigen::VectorXd& inv_diag,
-                            const Eigen::VectorXd& free_mask, double tol, int max_iterations,
-                            Eigen::VectorXd& x);
-
 /// Applies the constraint filter: zero the velocity of held axes.
 void project_constraints(const World& world, Eigen::Ref<Eigen::VectorXd> v);
-/// The 3N mask (1 free, 0 held) from the nodes' fixed flags.
-Eigen::VectorXd free_mask(const World& world);
 
-/// The scales of a backward Euler step of length h [s]: A = mass M + stiffness K, with Rayleigh
-/// damping, mass = 1 + h alpha [-], stiffness = h^2 + h beta [s^2].
-struct StepScales {
-    double mass = 1.0, stiffness = 0.0;
-};
-inline StepScales step_scales(const SolverSettings& s, double h) {
-    return {1.0 + h * s.damping_mass, h * h + h * s.damping_stiffness};
-}
-
-void implicit_euler_step(World& world);
+/// One step of the scene's dt with the step's terms (systems/step_term.h).
+void implicit_euler_step(World& world, const StepOperator& op);
 
 struct StaticResult {
     int newton_iterations = 0;
@@ -63,11 +43,11 @@ struct StaticResult {
 /// (`solver.linear`, systems/linear_solver.h) to `cg_tolerance` within `cg_max_iterations`. For
 /// verification problems (patch test, cantilever); velocities are left untouched. `load`: external
 /// nodal forces [N], 3 per DOF node (a traction spread on boundary nodes), or empty.
-StaticResult static_solve(World& world, double tolerance, int max_newton, double cg_tolerance,
+StaticResult static_solve(World& world, const StepOperator& op, double tolerance, int max_newton, double cg_tolerance,
                           int cg_max_iterations, const Eigen::VectorXd& load = Eigen::VectorXd());
-/// The SolverSystem; its schedule line says which linear method runs and why.
-SystemDesc solver_system(const World& world);
+/// The SolverSystem over the step's terms, handed in by the pipeline (it names none of their
+/// systems); its schedule line says which linear method runs and why.
+SystemDesc solver_system(const World& world, std::shared_ptr<const StepOperator> op);
 
 }  // namespace xcut
 
-#include "systems/kernels/conjugate_gradient.h"

@@ -17,6 +17,7 @@
 #include "systems/enrichment_system.h"
 #include "systems/force_system.h"
 #include "systems/scripted_cut_system.h"
+#include "systems/pipeline.h"
 #include "systems/solver_system.h"
 
 namespace xcut::testing {
@@ -79,7 +80,7 @@ inline void step_world(World& world) {
     apply_cut_events(world);
     update_rotations(world);
     compute_forces(world);
-    implicit_euler_step(world);
+    implicit_euler_step(world, xcut_step_terms());
 }
 
 /// A square of half-size `half` on the plane through `centre` with normal `normal`.

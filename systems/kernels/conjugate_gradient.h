@@ -1,10 +1,11 @@
 #pragma once
 // Conjugate gradients for the implicit step (systems/solver_system.h, systems/linear_solver.h).
+#include <Eigen/Core>
 #include <cmath>
 #include <limits>
 
 #include "engine/parallel.h"
-#include "systems/solver_system.h"
+#include "systems/kernels/cg_result.h"
 
 namespace xcut {
 

@@ -24,7 +24,7 @@ constexpr double kMassScale = 1.0, kStiffScale = 1e-4;  // A = M + 1e-4 s^2 K: a
 World block_with_matrix() {
     World w = deformed(false, Eigen::Vector3i(20, 12, 10));
     ensure_linear_pattern(w);
-    assemble_step_matrix(w, kMassScale, kStiffScale);
+    assemble_step_matrix(w, xcut_step_terms(), kMassScale, kStiffScale);
     return w;
 }
 
@@ -128,7 +128,7 @@ TEST(Amg, ConvergesInAFractionOfBlockJacobisIterations) {
     for (int k = 0; k < 2; ++k) {
         w.linear.method = k == 0 ? "amg" : "block_jacobi";
         Eigen::VectorXd x = Eigen::VectorXd::Zero(mask.size());
-        const LinearSolve s = solve_linear(w, kMassScale, kStiffScale, b, mask, x);
+        const LinearSolve s = solve_linear(w, xcut_step_terms(), kMassScale, kStiffScale, b, mask, x);
         EXPECT_TRUE(s.converged) << w.linear.method;
         iterations[k] = s.cg.iterations;
         Eigen::VectorXd ax;
@@ -147,7 +147,7 @@ TEST(Amg, HierarchyIsRenewedWhenTheStiffnessWeightGrows) {
     w.linear.method = "amg";
     const auto solve = [&](double stiff_scale) {
         Eigen::VectorXd x = Eigen::VectorXd::Zero(mask.size());
-        EXPECT_TRUE(solve_linear(w, kMassScale, stiff_scale, b, mask, x).converged);
+        EXPECT_TRUE(solve_linear(w, xcut_step_terms(), kMassScale, stiff_scale, b, mask, x).converged);
         return w.linear.factorizations;
     };
     EXPECT_EQ(solve(kStiffScale), 1);

@@ -42,7 +42,7 @@ void run_patch_test(World world, const Vec3& size, int dims) {
     }
     ASSERT_GT(interior, 3);
     apply_constraints(world);
-    const StaticResult r = static_solve(world, 1e-12, 50, 1e-14, 5000);
+    const StaticResult r = static_solve(world, xcut_step_terms(), 1e-12, 50, 1e-14, 5000);
     EXPECT_TRUE(r.converged) << "residual " << r.residual;
 
     double max_u = 0.0, max_err = 0.0;
@@ -93,7 +93,7 @@ TEST(StaticSolve, StopsAtTheRoundOffFloor) {
         w.gravity = Vec3(0, 0, -9.81);
         w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
         apply_constraints(w);
-        r = static_solve(w, tolerance, 30, 1e-12, 5000);
+        r = static_solve(w, xcut_step_terms(), tolerance, 30, 1e-12, 5000);
         return w.nodes.position;
     };
     StaticResult reachable, floor;

@@ -26,7 +26,7 @@ using testing::deformed;
 double assembled_error(World& w) {
     const double mass_scale = 1.02, stiff_scale = 3e-4;
     ensure_linear_pattern(w);
-    assemble_step_matrix(w, mass_scale, stiff_scale);
+    assemble_step_matrix(w, xcut_step_terms(), mass_scale, stiff_scale);
     const int n3 = 3 * w.nodes.count();
     const Eigen::VectorXd mask = free_mask(w);
     std::mt19937_64 rng(7);
@@ -35,7 +35,7 @@ double assembled_error(World& w) {
     for (int i = 0; i < n3; ++i) p[i] = u(rng) * mask[i];
     Eigen::VectorXd assembled, reference;
     linear_multiply(w.linear, p, assembled);
-    stiffness_product(w, p, reference);
+    xcut_step_terms().stiffness_product(w, p, reference);
     for (int i = 0; i < w.nodes.count(); ++i)
         reference.segment<3>(3 * i) = (mass_scale * w.nodes.mass[i] * p.segment<3>(3 * i) +
                                        stiff_scale * reference.segment<3>(3 * i)).cwiseProduct(mask.segment<3>(3 * i));
@@ -54,7 +54,7 @@ TEST(LinearAssembly, MatchesTheMatrixFreeProductUncut) {
 TEST(LinearAssembly, ColumnsProductEqualsOneProductAColumn) {
     World w = deformed(false);
     ensure_linear_pattern(w);
-    assemble_step_matrix(w, 1.0, 1e-4);
+    assemble_step_matrix(w, xcut_step_terms(), 1.0, 1e-4);
     const int n3 = 3 * w.nodes.count();
     for (int columns : {6, 8, 1}) {
         SCOPED_TRACE(columns);
@@ -235,7 +235,7 @@ TEST(TeamCg, MatchesPcgAndIsThreadIndependent) {
     const int n3 = 3 * w.nodes.count();
     ASSERT_GE(n3, kParallelMin) << "large enough for a team of two";
     ensure_linear_pattern(w);
-    assemble_step_matrix(w, 1.0, 1e-4);
+    assemble_step_matrix(w, xcut_step_terms(), 1.0, 1e-4);
     const Eigen::VectorXd mask = free_mask(w);
     const Eigen::VectorXd b = (w.forces.force + Eigen::VectorXd::Constant(n3, 1e-3)).cwiseProduct(mask);
     std::vector<double> inverse;
@@ -284,11 +284,12 @@ TEST(TeamCg, MatrixFreeProductInTeamMatchesTheProduct) {
     World w = deformed(false, Eigen::Vector3i(12, 8, 6));
     const int n3 = 3 * w.nodes.count();
     Eigen::VectorXd p = Eigen::VectorXd::LinSpaced(n3, -1.0, 1.0), reference, in_team;
-    stiffness_product(w, p, reference);
-    prepare_stiffness_product(w);
+    xcut_step_terms().stiffness_product(w, p, reference);
+    const StepOperator op = xcut_step_terms();
+    op.prepare_product(w);
     in_team.resize(n3);
 #pragma omp parallel num_threads(2)
-    stiffness_product_in_team(w, p, in_team);
+    op.stiffness_product_in_team(w, p, in_team);
     EXPECT_TRUE(in_team == reference);
 }
 

@@ -106,13 +106,13 @@ TEST_P(FullyCutBar, ClampedPartDeflectsLikeShorterBar) {
     w.materials.list[0].young = 1e7;  // small deflection: the bars stay in the linear range
     cut_now(w, cut_across_bar(dim));
     for (int i : free_part(w)) w.nodes.fixed[i] = 7;  // the free part is gone for the static problem
-    ASSERT_TRUE(static_solve(w, 1e-8, 30, 1e-12, 20000).converged);
+    ASSERT_TRUE(static_solve(w, xcut_step_terms(), 1e-8, 30, 1e-12, 20000).converged);
     const double cut_bar = -deflection_at(w, 0.05);  // sag, positive down [m]
     World short_bar = clamped_bar(dim, 0.05, 5), long_bar = clamped_bar(dim, 0.06, 6), full = clamped_bar(dim);
     for (World* b : {&short_bar, &long_bar, &full}) b->materials.list[0].young = 1e7;
-    ASSERT_TRUE(static_solve(short_bar, 1e-8, 30, 1e-12, 20000).converged);
-    ASSERT_TRUE(static_solve(long_bar, 1e-8, 30, 1e-12, 20000).converged);
-    ASSERT_TRUE(static_solve(full, 1e-8, 30, 1e-12, 20000).converged);
+    ASSERT_TRUE(static_solve(short_bar, xcut_step_terms(), 1e-8, 30, 1e-12, 20000).converged);
+    ASSERT_TRUE(static_solve(long_bar, xcut_step_terms(), 1e-8, 30, 1e-12, 20000).converged);
+    ASSERT_TRUE(static_solve(full, xcut_step_terms(), 1e-8, 30, 1e-12, 20000).converged);
     const double lo = -deflection_at(short_bar, 0.05), hi = -deflection_at(long_bar, 0.05);
     EXPECT_GT(cut_bar, lo) << "sags more than the 50 mm bar";
     EXPECT_LT(cut_bar, hi) << "sags less than the 60 mm bar";
@@ -174,7 +174,7 @@ TEST(XfemCrackFront, PartialCutOpensOnlyWhereCut) {
             w.nodes.position[i].x() += x < 0.02 ? -1e-3 : 1e-3;
         }
     }
-    ASSERT_TRUE(static_solve(w, 1e-8, 30, 1e-12, 20000).converged);
+    ASSERT_TRUE(static_solve(w, xcut_step_terms(), 1e-8, 30, 1e-12, 20000).converged);
     double max_open = 0.0;
     for (int j = 0; j < w.mesh_nodes; ++j) {
         const double a = enriched_displacement(w, j).norm();

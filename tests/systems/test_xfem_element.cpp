@@ -154,7 +154,7 @@ void check_against_paper(const Vec3& normal, double offset, uint64_t seed) {
     }
     Eigen::VectorXd kxy;
     World& wm = t.world;
-    stiffness_product(wm, dxy, kxy);
+    elastic_stiffness_product(wm, dxy, kxy);
     Vec12 ku, kaa;
     engine_forces_in_enriched_dofs(w, kxy, ku, kaa);
     const double kscale = std::max(ref_ku.norm(), ref_ka.norm());

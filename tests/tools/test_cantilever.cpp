@@ -20,7 +20,7 @@ double reference_deflection() { return cantilever_reference(kBeam); }
 /// Static tip deflection (mean downward displacement of the nodes at x = L) with n cells across.
 double tip_deflection(int n) {
     World w = cantilever_world(kBeam, n);
-    const StaticResult r = static_solve(w, 1e-7, 20, 1e-9, 100000);
+    const StaticResult r = static_solve(w, xcut_step_terms(), 1e-7, 20, 1e-9, 100000);
     EXPECT_TRUE(r.converged) << "n = " << n;
     return cantilever_tip_deflection(w, kBeam);
 }

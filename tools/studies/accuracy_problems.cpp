@@ -10,6 +10,7 @@
 #include "engine/setup.h"
 #include "systems/enrichment_system.h"
 #include "systems/mapping_system.h"
+#include "systems/pipeline.h"
 #include "systems/scripted_cut_system.h"
 #include "systems/snap_cut_system.h"
 
@@ -52,7 +53,7 @@ Eigen::Vector4d barycentric(const World& w, int e, const Vec3& X) {
 }  // namespace
 
 StaticResult solve_equilibrium(World& world, const Eigen::VectorXd& load) {
-    return static_solve(world, 1e-6, 30, 1e-10, 50000, load);
+    return static_solve(world, xcut_step_terms(), 1e-6, 30, 1e-10, 50000, load);
 }
 
 // ---- Problem 3 ---------------------------------------------------------------------------------------
