@@ -1,5 +1,5 @@
 # CHOLMOD (SuiteSparse; Debian: libsuitesparse-dev) as the imported target xcut::cholmod, for the
-# Cholesky linear solver (systems/linear_solver.h, through Eigen's CholmodSupport). Debian 12's
+# Cholesky linear solver (systems/solver/linear_solver.h, through Eigen's CholmodSupport). Debian 12's
 # SuiteSparse 5.12 ships no CMake config, so the library and headers are found directly. Used by
 # the build and, installed beside xcutConfig.cmake, by find_package(xcut).
 if(NOT TARGET xcut::cholmod)

@@ -3,7 +3,7 @@
 // corotational stiffness of every element (mesh and virtual) and the contact stiffness, stored as
 // 3x3 blocks in block compressed rows (BSR). The pattern is built once and again only when the
 // topology changes (an XFEM split adds DOFs and virtual elements, a snap cut remeshes); the values
-// are refilled each step (systems/solver_system.h). Held axes are filtered: their rows and columns
+// are refilled each step (systems/solver/solver_system.h). Held axes are filtered: their rows and columns
 // are dropped and the diagonal set to 1, so A stays SPD.
 //
 // Why blocks: a node couples its 3 axes to the same neighbours, so one column index serves 9

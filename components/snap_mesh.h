@@ -1,6 +1,6 @@
 #pragma once
 // State of the snapping-and-subdivision cutter (the baseline the paper compares XFEM against,
-// §4.1-4.2; systems/snap_cut_system.h). The mesh elements [0, mesh_elements) keep their node ids,
+// §4.1-4.2; systems/cut/snap_cut_system.h). The mesh elements [0, mesh_elements) keep their node ids,
 // so the CutSystem decides on the same mesh for both cutters; a mesh element the cutter touched
 // gets weight 0 and is carried by its *pieces*, force elements appended after the mesh elements.
 // New DOF nodes (edge points and the copies made when a node is duplicated across a cut) are

@@ -43,7 +43,7 @@ struct SurfaceMesh {
     /// one vertex); any other point {side + 4, quantized rest position}.
     std::map<std::array<int64_t, 4>, int> cut_point;
     /// Front points split since the surface was last made: {vertex, node a, node b} (a == b for a
-    /// node). The pieces still using such a vertex are made again (systems/surface_cut.cpp).
+    /// node). The pieces still using such a vertex are made again (systems/surface/surface_cut.cpp).
     std::vector<std::array<int, 3>> opened;
     int cuts_mapped = 0;                     ///< cut elements already mapped (CutElements index)
     int crossings_mapped = 0;                ///< CutElements::crossed_log entries already mapped

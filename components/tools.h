@@ -57,9 +57,5 @@ struct ToolBodies {
     int count() const { return static_cast<int>(name.size()); }
 };
 
-/// Pose at time t: clamped to the first/last keyframe outside the trajectory.
-Keyframe sample_trajectory(const std::vector<Keyframe>& keys, double t);
-/// Pose at time t on the segment a -> b (clamped to its ends): linear position, slerp orientation.
-Keyframe interpolate_pose(const Keyframe& a, const Keyframe& b, double t);
 
 }  // namespace xcut

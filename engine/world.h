@@ -56,7 +56,7 @@ struct SolverSettings {
     double damping_stiffness = 0.0;  ///< Rayleigh beta [s]
     int newton_iterations = 1;       ///< "newton.iterations": 1 = the once-linearized step (paper)
     double newton_tolerance = 1e-6;  ///< "newton.tolerance": residual relative to the first [-]
-    /// "linear": how the step's system is solved (systems/linear_solver.h): "auto", "jacobi"
+    /// "linear": how the step's system is solved (systems/solver/linear_solver.h): "auto", "jacobi"
     /// (matrix-free Jacobi CG), "block_jacobi" (assembled, 3x3 block Jacobi CG), "amg" (CG
     /// preconditioned by a kept smoothed-aggregation multigrid), "cholesky" (CG preconditioned by a
     /// kept Cholesky factor), "direct" (factor and solve every step).

@@ -11,7 +11,6 @@
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 
 #include "systems/kernels/block_sparse.h"
-#include "systems/mapping_system.h"
 #include "systems/kernels/tool_shape_depth.h"
 
 namespace xcut {
@@ -120,8 +119,6 @@ void detect_contacts(World& w, CollisionModel& m) {
     SurfaceMesh& s = w.collision;
     if (s.vertex_count() == 0) return;
     m.tool_shape.resize(tb.count());
-    map_cuts(w, s);  // bindings follow this step's splits before any force lands on them
-    update_surface_positions(w, s);
     refit_surface(s, m);
     for (int i = 0; i < tb.count(); ++i) {
         if (!shaped(tb, i)) continue;

@@ -1,14 +1,14 @@
 #include "systems/pipeline.h"
 
 #include "systems/collision_system.h"
-#include "systems/cut_system.h"
-#include "systems/enrichment_system.h"
+#include "systems/cut/cut_system.h"
+#include "systems/cut/enrichment_system.h"
 #include "systems/force_system.h"
-#include "systems/linear_solver.h"
-#include "systems/mapping_system.h"
-#include "systems/scripted_cut_system.h"
-#include "systems/snap_cut_system.h"
-#include "systems/solver_system.h"
+#include "systems/solver/linear_solver.h"
+#include "systems/surface/mapping_system.h"
+#include "systems/cut/scripted_cut_system.h"
+#include "systems/cut/snap_cut_system.h"
+#include "systems/solver/solver_system.h"
 #include "systems/tool_system.h"
 #include "systems/watchdog_system.h"
 
@@ -27,6 +27,7 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
     scheduler.add(scripted_cut_system());
     scheduler.add(world.snap.enabled ? snap_cut_system(world) : enrichment_system());
     scheduler.add(force_system());
+    scheduler.add(rebind_system());
     scheduler.add(collision_system(make_collision_model()));
     const auto terms = std::make_shared<const StepOperator>(xcut_step_terms());
     scheduler.add(solver_system(world, terms));

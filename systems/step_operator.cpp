@@ -1,6 +1,24 @@
 #include "systems/step_term.h"
 
 namespace xcut {
+namespace {
+
+/// Calls f(term, first) for each active term that `keep` keeps, in order; `first` for the first.
+template <class Keep, class F>
+void in_order(const std::vector<std::shared_ptr<StepTerm>>& terms, const World& world, Keep&& keep, F&& f) {
+    bool first = true;
+    for (const auto& t : terms)
+        if (keep(*t) && t->active(world)) {
+            f(*t, first);
+            first = false;
+        }
+}
+
+bool every(const StepTerm&) { return true; }
+bool not_held(const StepTerm& t) { return !t.held(); }
+bool held(const StepTerm& t) { return t.held(); }
+
+}  // namespace
 
 void StepOperator::linearize(World& world) const {
     for (const auto& t : terms) t->linearize(world);
@@ -12,30 +30,15 @@ void StepOperator::relinearize(World& world) const {
 }
 
 void StepOperator::forces(World& world) const {
-    bool first = true;
-    for (const auto& t : terms)
-        if (!t->held() && t->active(world)) {
-            t->force(world, first);
-            first = false;
-        }
+    in_order(terms, world, not_held, [&](StepTerm& t, bool first) { t.force(world, first); });
 }
 
 void StepOperator::stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) const {
-    bool first = true;
-    for (const auto& t : terms)
-        if (t->active(world)) {
-            t->product(world, p, out, first);
-            first = false;
-        }
+    in_order(terms, world, every, [&](StepTerm& t, bool first) { t.product(world, p, out, first); });
 }
 
 void StepOperator::stiffness_product_in_team(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) const {
-    bool first = true;
-    for (const auto& t : terms)
-        if (t->active(world)) {
-            t->product_in_team(world, p, out, first);
-            first = false;
-        }
+    in_order(terms, world, every, [&](StepTerm& t, bool first) { t.product_in_team(world, p, out, first); });
 }
 
 void StepOperator::prepare_product(World& world) const {
@@ -43,14 +46,13 @@ void StepOperator::prepare_product(World& world) const {
 }
 
 void StepOperator::add_held_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) const {
-    for (const auto& t : terms)
-        if (t->held() && t->active(world)) t->product(world, p, out, false);
+    in_order(terms, world, held, [&](StepTerm& t, bool) { t.product(world, p, out, false); });
 }
 
 bool StepOperator::any_held(const World& world) const {
-    for (const auto& t : terms)
-        if (t->held() && t->active(world)) return true;
-    return false;
+    bool any = false;
+    in_order(terms, world, held, [&](StepTerm&, bool) { any = true; });
+    return any;
 }
 
 }  // namespace xcut

@@ -2,39 +2,11 @@
 
 #include <algorithm>
 
-#include "systems/cut_system.h"
+#include "engine/trajectory.h"
+#include "systems/kernels/blade_pose.h"
+#include "systems/kernels/mesh_measures.h"
 
 namespace xcut {
-
-Keyframe sample_trajectory(const std::vector<Keyframe>& keys, double t) {
-    if (keys.empty()) return Keyframe{};
-    if (t <= keys.front().time) return keys.front();
-    if (t >= keys.back().time) return keys.back();
-    const auto hi = std::upper_bound(keys.begin(), keys.end(), t,
-                                     [](double v, const Keyframe& k) { return v < k.time; });
-    return interpolate_pose(*(hi - 1), *hi, t);
-}
-
-Keyframe interpolate_pose(const Keyframe& a, const Keyframe& b, double t) {
-    Keyframe out = t <= a.time ? a : b;
-    out.time = t;
-    if (t <= a.time || t >= b.time || !(b.time > a.time)) return out;
-    const double s = (t - a.time) / (b.time - a.time);
-    out.position = (1.0 - s) * a.position + s * b.position;
-    out.orientation = a.orientation.slerp(s, b.orientation);
-    return out;
-}
-
-void blade_in_world(const World& world, int i, Vec3& tip, Vec3& heel) {
-    const ToolBodies& tb = world.tools;
-    tip = tb.position[i] + tb.orientation[i] * tb.blade_tip[i];
-    heel = tb.position[i] + tb.orientation[i] * tb.blade_heel[i];
-}
-
-void blade_at(const ToolBodies& tb, int i, const Keyframe& k, Vec3& tip, Vec3& heel) {
-    tip = k.position + k.orientation * tb.blade_tip[i];
-    heel = k.position + k.orientation * tb.blade_heel[i];
-}
 
 namespace {
 
@@ -66,7 +38,7 @@ void sample_between(const ToolBodies& tb, int i, const Keyframe& a, const Keyfra
 double sweep_spacing(World& world) {
     CutState& cs = world.cut_state;
     if (cs.threshold > 0.0) return cs.threshold;
-    if (cs.mean_edge == 0.0 && world.elements.count() > 0) cs.mean_edge = mean_edge_length(world);
+    if (cs.mean_edge == 0.0 && world.elements.count() > 0) cs.mean_edge = mean_edge_length(world.elements, world.nodes.rest, world.mesh_elements);
     return cs.mean_edge;
 }
 

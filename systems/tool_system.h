@@ -13,10 +13,6 @@
 
 namespace xcut {
 
-/// World-space cutting edge of tool `i`: tip (deep end) and heel.
-void blade_in_world(const World& world, int tool, Vec3& tip, Vec3& heel);
-/// The same at pose `k` of the tool.
-void blade_at(const ToolBodies& tools, int tool, const Keyframe& k, Vec3& tip, Vec3& heel);
 /// At most this many samples of one tool's sweep per step: beyond it, sweep segments are longer
 /// than the threshold (the CutSystem still cuts them, with a deeper search).
 constexpr int kMaxSweepSamples = 4097;

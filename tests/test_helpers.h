@@ -14,11 +14,11 @@
 #include "engine/io/generators.h"
 #include "engine/setup.h"
 #include "engine/world.h"
-#include "systems/enrichment_system.h"
+#include "systems/cut/enrichment_system.h"
 #include "systems/force_system.h"
-#include "systems/scripted_cut_system.h"
+#include "systems/cut/scripted_cut_system.h"
 #include "systems/pipeline.h"
-#include "systems/solver_system.h"
+#include "systems/solver/solver_system.h"
 
 namespace xcut::testing {
 

@@ -6,7 +6,14 @@
 - no source file is over 600 lines;
 - no function in systems/ is over 80 lines (a definition at namespace or class scope, counted from
   the line of its opening brace to its closing one, lambdas included);
-- no file cites a document outside the project (the project's own documents are in docs/).
+- no file cites a document outside the project (the project's own documents are in docs/);
+- systems/kernels/ includes components/, other kernels and the engine utilities in KERNEL_ENGINE
+  only: kernels take plain arrays and components, never the World or a system;
+- no system includes another system's header: a unit of systems/ (a group folder, systems/solver,
+  systems/surface, systems/cut, or a top-level system's .h/.cpp pair) includes its own headers, the
+  kernels and the documented seams (SEAMS) only; the pipeline, the composition root, includes any.
+  Any other include is an arrow back up, counted and printed; one is allowed only from ALLOWED,
+  where its reason is written.
 
 Usage: check_layout.py [ROOT]  (default: the repository holding this script)
 """
@@ -21,6 +28,58 @@ MAX_FUNCTION_LINES = 80
 OUTSIDE_DOCS = re.compile(r"\b(VERIFICATION\.md|DESIGN\.md|STYLE\.md|seed-paper\.txt)|\.\./shared/")
 TEXT_EXT = SOURCE_EXT + (".md", ".py", ".sh", ".json", ".txt", ".cmake", ".in")
 CONTROL = {"if", "for", "while", "switch", "catch", "do", "else", "try", "return"}
+GROUPS = ("systems/solver/", "systems/surface/", "systems/cut/")
+# The headers through which units of systems/ reach each other (docs/architecture.md).
+SEAMS = {
+    "systems/step_term.h": "the implicit step's terms: the ForceSystem's and the CollisionSystem's, walked by the solver",
+    "systems/xfem_queries.h": "where the crack crosses an edge, a node's enriched displacement: read by the surface code",
+}
+# Engine headers a kernel may include: pure utilities that hold no World.
+KERNEL_ENGINE = {
+    "engine/parallel.h": "parallel_for and the fixed-order sums: results independent of the thread count",
+    "engine/error.h": "InputError, for a tool mesh that cannot make a BVH",
+}
+# Arrows back up inside systems/ that stay, each with its reason.
+ALLOWED = {
+    ("systems/cut/snap_cut_system.cpp", "systems/surface/mapping_system.h"):
+        "the snapping baseline remeshes the tissue, so it rebuilds the surfaces as the boundary of its live "
+        "pieces at the split (build_surface); deferring that would make the surface code know the snapping "
+        "cutter's pieces instead",
+}
+
+
+def unit_of(rel):
+    """The unit of systems/ a file belongs to: its group folder, or its own stem at the top level."""
+    for g in GROUPS:
+        if rel.startswith(g):
+            return g
+    return os.path.splitext(rel)[0]
+
+
+def system_arrows(root):
+    """(arrows, back_up, allowed_used, kernel_breaches) over the includes of systems/."""
+    arrows, back_up, allowed, kernel = 0, [], [], []
+    for path in source_files(root, "systems"):
+        rel = os.path.relpath(path, root)
+        for n, text in enumerate(open(path, encoding="utf-8"), 1):
+            m = re.match(r'\s*#\s*include\s+"([^"]+)"', text)
+            if not m:
+                continue
+            inc = m.group(1)
+            if rel.startswith("systems/kernels/"):
+                if not (inc.startswith(("components/", "systems/kernels/")) or inc in KERNEL_ENGINE):
+                    kernel.append(f"{rel}:{n}: a kernel includes {inc} (kernels include components and kernels)")
+                continue
+            if not inc.startswith("systems/") or inc.startswith("systems/kernels/"):
+                continue
+            arrows += 1
+            if unit_of(inc) == unit_of(rel) or inc in SEAMS or rel.startswith("systems/pipeline."):
+                continue
+            if (rel, inc) in ALLOWED:
+                allowed.append((rel, inc))
+            else:
+                back_up.append(f"{rel}:{n}: includes {inc}, another system's header (not a seam: {', '.join(SEAMS)})")
+    return arrows, back_up, allowed, kernel
 
 
 def source_files(root, folder):
@@ -133,6 +192,12 @@ def main():
             for n, text in enumerate(open(path, encoding="utf-8", errors="replace"), 1):
                 if OUTSIDE_DOCS.search(text):
                     breaches.append(f"{os.path.relpath(path, root)}:{n}: cites a document outside the project")
+    arrows, back_up, allowed, kernel = system_arrows(root)
+    breaches += back_up + kernel
+    print(f"systems/ include arrows: {arrows} between headers of systems/; {len(back_up)} back up; "
+          f"{len(allowed)} allowed with a reason")
+    for rel, inc in allowed:
+        print(f"  allowed: {rel} -> {inc}: {ALLOWED[(rel, inc)]}")
     for b in breaches:
         print(b)
     print(f"check_layout: {len(breaches)} breach{'es' if len(breaches) != 1 else ''}")

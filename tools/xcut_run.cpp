@@ -7,7 +7,7 @@
 
 #include "engine/io/scene_checks.h"
 #include "engine/parallel.h"
-#include "systems/enrichment_system.h"
+#include "systems/cut/enrichment_system.h"
 #include "systems/pipeline.h"
 #include "tools/xcut_commands.h"
 

@@ -1,5 +1,7 @@
 #include "engine/devices/device.h"
 
+#include "engine/trajectory.h"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>

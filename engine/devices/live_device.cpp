@@ -1,5 +1,7 @@
 #include "engine/devices/live_device.h"
 
+#include "engine/trajectory.h"
+
 namespace xcut {
 
 LiveDevice::LiveDevice(const Keyframe& start, const char* kind) : kind_(kind), target_(start), from_(start), to_(start) {}

@@ -491,7 +491,7 @@ World build_world(const Scene& scene) {
     world.body_names = std::move(bodies.names);
     world.mesh_file_index = std::move(bodies.file_index);
     // Several bodies are apart in the mesh: a blade leaving one must find the next by position, not
-    // by the crossed elements' neighbours (systems/cut_system.h).
+    // by the crossed elements' neighbours (systems/cut/cut_system.h).
     world.cut_state.bvh_every_quad = world.body_names.size() > 1;
     for (const std::string& note : mesh.notes) world.mesh_notes.push_back(note);
     return world;

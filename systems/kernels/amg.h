@@ -1,6 +1,6 @@
 #pragma once
 // Smoothed-aggregation algebraic multigrid for the step's elasticity system, used as the CG
-// preconditioner of the "amg" linear method (systems/linear_solver.h).
+// preconditioner of the "amg" linear method (systems/solver/linear_solver.h).
 //
 // Method: Vaněk, Mandel & Brezina, "Algebraic multigrid by smoothed aggregation for second and
 // fourth order elliptic problems", Computing 56 (1996), with the rigid-body near-null space of

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "systems/kernels/amg.h"
-#include "systems/linear_assembly.h"
+#include "systems/kernels/block_sparse.h"
 
 namespace xcut {
 namespace {

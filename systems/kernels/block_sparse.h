@@ -1,7 +1,9 @@
 #pragma once
 // Block access to the step's 3x3-block sparse matrix (components/linear_system.h): finding block
-// (i, j) in a row's sorted columns, and a block's values as a row-major 3x3 map.
+// (i, j) in a row's sorted columns, a block's values as a row-major 3x3 map, and the scalar copy a
+// sparse factorization or a multigrid setup takes.
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 #include <algorithm>
 
 #include "components/linear_system.h"
@@ -18,6 +20,38 @@ inline int find_block(const LinearSystem& A, int i, int j) {
 /// Block b's nine values, row-major.
 inline Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> block_at(LinearSystem& A, int b) {
     return Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(A.value.data() + 9 * b);
+}
+
+/// The scalar matrix of A: row 3i + r holds, block by block in column order, entries 3j + c.
+/// Symmetric, so its CSR arrays are its CSC ones: either storage order takes them. `structure`:
+/// (re)build the pattern too, else refill the values only.
+template <class Sparse>
+void copy_to_scalar(const LinearSystem& A, Sparse& S, bool structure) {
+    const int n = A.rows();
+    if (structure) {
+        S.resize(3 * n, 3 * n);
+        S.resizeNonZeros(9 * A.blocks());
+        int* outer = S.outerIndexPtr();
+        int* inner = S.innerIndexPtr();
+        outer[0] = 0;
+        for (int i = 0; i < n; ++i) {
+            const int width = 3 * (A.row_offset[i + 1] - A.row_offset[i]);
+            for (int r = 0; r < 3; ++r) {
+                int at = outer[3 * i + r];
+                for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b)
+                    for (int c = 0; c < 3; ++c) inner[at++] = 3 * A.column[b] + c;
+                outer[3 * i + r + 1] = outer[3 * i + r] + width;
+            }
+        }
+    }
+    double* value = S.valuePtr();
+    const int* outer = S.outerIndexPtr();
+    for (int i = 0; i < n; ++i)
+        for (int r = 0; r < 3; ++r) {
+            int at = outer[3 * i + r];
+            for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b)
+                for (int c = 0; c < 3; ++c) value[at++] = A.value[9 * b + 3 * r + c];
+        }
 }
 
 }  // namespace xcut

@@ -1,5 +1,5 @@
 #pragma once
-// Conjugate gradients for the implicit step (systems/solver_system.h, systems/linear_solver.h).
+// Conjugate gradients for the implicit step (systems/solver/solver_system.h, systems/solver/linear_solver.h).
 #include <Eigen/Core>
 #include <cmath>
 #include <limits>

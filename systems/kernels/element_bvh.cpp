@@ -55,26 +55,27 @@ ElementBvh::~ElementBvh() {
     if (impl_->device) rtcReleaseDevice(impl_->device);
 }
 
-bool ElementBvh::ensure(const World& world, double margin) {
-    bool valid = impl_->scene != nullptr && impl_->built_at.size() == static_cast<size_t>(world.mesh_nodes);
-    for (int i = 0; valid && i < world.mesh_nodes; ++i)
-        valid = (world.nodes.position[i] - impl_->built_at[i]).squaredNorm() <= impl_->margin * impl_->margin;
+bool ElementBvh::ensure(const MeshView& mesh, double margin) {
+    bool valid = impl_->scene != nullptr && impl_->built_at.size() == static_cast<size_t>(mesh.mesh_nodes);
+    for (int i = 0; valid && i < mesh.mesh_nodes; ++i)
+        valid = ((*mesh.position)[i] - impl_->built_at[i]).squaredNorm() <= impl_->margin * impl_->margin;
     if (valid) return false;
-    build(world, margin);
+    build(mesh, margin);
     return true;
 }
 
-void ElementBvh::build(const World& world, double margin) {
+void ElementBvh::build(const MeshView& mesh, double margin) {
+    const std::vector<Vec3>& x = *mesh.position;
     impl_->margin = margin;
-    impl_->built_at.assign(world.nodes.position.begin(), world.nodes.position.begin() + world.mesh_nodes);
-    const Elements& el = world.elements;
+    impl_->built_at.assign(x.begin(), x.begin() + mesh.mesh_nodes);
+    const Elements& el = *mesh.elements;
     const int npe = el.nodes_per_element();
-    impl_->boxes.resize(world.mesh_elements);
-    for (int e = 0; e < world.mesh_elements; ++e) {
-        Vec3 lo = world.nodes.position[el.nodes[e][0]], hi = lo;
+    impl_->boxes.resize(mesh.mesh_elements);
+    for (int e = 0; e < mesh.mesh_elements; ++e) {
+        Vec3 lo = x[el.nodes[e][0]], hi = lo;
         for (int a = 1; a < npe; ++a) {
-            lo = lo.cwiseMin(world.nodes.position[el.nodes[e][a]]);
-            hi = hi.cwiseMax(world.nodes.position[el.nodes[e][a]]);
+            lo = lo.cwiseMin(x[el.nodes[e][a]]);
+            hi = hi.cwiseMax(x[el.nodes[e][a]]);
         }
         const double pad = margin + 1e-5 * (hi - lo).norm() + 1e-12;
         RTCBounds& b = impl_->boxes[e];

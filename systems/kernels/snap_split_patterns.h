@@ -1,6 +1,6 @@
 #pragma once
 // Conforming subdivision of a simplex along points on its edges, for the snapping-and-subdivision
-// cutter (systems/snap_cut_system.h). Pure functions on node ids: no world, no geometry.
+// cutter (systems/cut/snap_cut_system.h). Pure functions on node ids: no world, no geometry.
 //
 // The split is made by bisecting the marked edges one after another in a global order (the order of
 // the mesh edge they lie on), each bisection replacing every current piece that holds the edge by

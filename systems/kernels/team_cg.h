@@ -1,5 +1,5 @@
 #pragma once
-// Preconditioned conjugate gradients for every linear method (systems/linear_solver.h) with
+// Preconditioned conjugate gradients for every linear method (systems/solver/linear_solver.h) with
 // one synchronisation structure for the whole solve: a single OpenMP team, opened once per solve,
 // runs every iteration, which is one product, one preconditioner application, one fused reduction
 // and the vector updates, separated by barriers (three an iteration with the assembled product and
@@ -74,7 +74,7 @@ enum class Preconditioning { kRows, kSingle, kTeam };
 /// With kSingle and kTeam, z's held entries are projected out after the product A z, in its
 /// reduction's loop (no loop and barrier of their own): `product` must not carry a held input entry
 /// into a free row, as the assembled A does not (its held rows and columns are dropped,
-/// filter_held_axes in systems/linear_assembly.cpp).
+/// filter_held_axes in systems/solver/linear_assembly.cpp).
 template <class Product, class PreconditionRows, class PreconditionAll>
 CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, PreconditionRows&& precondition_rows,
                  PreconditionAll&& precondition_all, const Eigen::VectorXd& b, const Eigen::VectorXd& mask, double tol,

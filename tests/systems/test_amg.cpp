@@ -9,8 +9,8 @@
 #include <random>
 
 #include "systems/kernels/amg.h"
-#include "systems/linear_assembly.h"
-#include "systems/linear_solver.h"
+#include "systems/solver/linear_assembly.h"
+#include "systems/solver/linear_solver.h"
 #include "tests/test_helpers.h"
 
 namespace xcut {

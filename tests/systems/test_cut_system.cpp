@@ -5,7 +5,8 @@
 #include <set>
 
 #include "engine/parallel.h"
-#include "systems/cut_system.h"
+#include "systems/cut/cut_system.h"
+#include "systems/kernels/mesh_measures.h"
 #include "systems/tool_system.h"
 #include "tests/test_helpers.h"
 
@@ -168,7 +169,7 @@ TEST(CutSystem, GradedMeshSplitsEveryCrossedElement) {
     lines[2] = {0.0, 0.002};
     World w = world_from_mesh(generate_box_on_lines(lines));
     add_scalpel(w, "scalpel", {key(0.0, kX, 0.0005), key(1.0, kX, 0.0095)}, Vec3(0, 0, -0.001), Vec3(0, 0, 0.003));
-    EXPECT_GT(mean_edge_length(w), 0.0025) << "the mean edge is many of the small cells";
+    EXPECT_GT(mean_edge_length(w.elements, w.nodes.rest, w.mesh_elements), 0.0025) << "the mean edge is many of the small cells";
     const std::set<int> split = run_cutter(w, 1.2, 0.01);
     const std::set<int> expected = expected_split(w, 0.0005, 0.0095);
     EXPECT_GT(expected.size(), 100u);

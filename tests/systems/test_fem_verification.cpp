@@ -7,7 +7,7 @@
 
 #include "systems/kernels/corotational_kernel.h"
 #include "systems/force_system.h"
-#include "systems/solver_system.h"
+#include "systems/solver/solver_system.h"
 #include "tests/test_helpers.h"
 
 namespace xcut {

@@ -1,5 +1,5 @@
-// The assembled step matrix and the linear-solver stage (systems/linear_assembly.h,
-// systems/linear_solver.h): A v equals the matrix-free product (the reference) to 1e-12 relative,
+// The assembled step matrix and the linear-solver stage (systems/solver/linear_assembly.h,
+// systems/solver/linear_solver.h): A v equals the matrix-free product (the reference) to 1e-12 relative,
 // uncut, cut and with contacts, in 3D and 2D; every method reaches the tolerance; the factor is
 // renewed at a cut; a solve that cannot converge is retried, split into substeps, then stops the run.
 #include <gtest/gtest.h>
@@ -12,8 +12,8 @@
 #include "systems/kernels/amg.h"
 #include "systems/kernels/conjugate_gradient.h"
 #include "systems/kernels/team_cg.h"
-#include "systems/linear_assembly.h"
-#include "systems/linear_solver.h"
+#include "systems/solver/linear_assembly.h"
+#include "systems/solver/linear_solver.h"
 #include "systems/pipeline.h"
 #include "tests/test_helpers.h"
 

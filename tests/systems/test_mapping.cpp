@@ -8,7 +8,7 @@
 #include <numeric>
 #include <set>
 
-#include "systems/mapping_system.h"
+#include "systems/surface/mapping_system.h"
 #include "tests/surface_checks.h"
 #include "tests/test_helpers.h"
 

@@ -5,10 +5,10 @@
 
 #include <set>
 
-#include "systems/cut_system.h"
-#include "systems/enrichment_system.h"
-#include "systems/mapping_system.h"
-#include "systems/surface_cut.h"
+#include "systems/cut/cut_system.h"
+#include "systems/cut/enrichment_system.h"
+#include "systems/surface/mapping_system.h"
+#include "systems/surface/surface_cut.h"
 #include "systems/tool_system.h"
 #include "tests/surface_checks.h"
 #include "tests/test_helpers.h"

@@ -1,4 +1,4 @@
-// The snapping-and-subdivision baseline (systems/snap_cut_system.h): DOF growth counted by hand,
+// The snapping-and-subdivision baseline (systems/cut/snap_cut_system.h): DOF growth counted by hand,
 // a conforming, non-inverted mesh with closed surfaces after an incision, snaps bounded by the
 // threshold, and the same split decisions as the XFEM cutter on the same trajectory.
 #include <gtest/gtest.h>
@@ -10,9 +10,9 @@
 #include "engine/parallel.h"
 #include "systems/pipeline.h"
 #include "tests/surface_checks.h"
-#include "systems/cut_system.h"
-#include "systems/mapping_system.h"
-#include "systems/snap_cut_system.h"
+#include "systems/cut/cut_system.h"
+#include "systems/surface/mapping_system.h"
+#include "systems/cut/snap_cut_system.h"
 #include "systems/tool_system.h"
 #include "tests/test_helpers.h"
 

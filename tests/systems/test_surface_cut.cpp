@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "systems/pipeline.h"
-#include "systems/mapping_system.h"
-#include "systems/surface_cut.h"
+#include "systems/surface/mapping_system.h"
+#include "systems/surface/surface_cut.h"
 #include "tests/surface_checks.h"
 #include "tests/test_helpers.h"
 

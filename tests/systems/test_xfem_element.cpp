@@ -8,9 +8,9 @@
 #include <random>
 
 #include "systems/kernels/cut_geometry.h"
-#include "systems/enrichment_system.h"
+#include "systems/cut/enrichment_system.h"
 #include "systems/force_system.h"
-#include "systems/scripted_cut_system.h"
+#include "systems/cut/scripted_cut_system.h"
 #include "tests/test_helpers.h"
 
 namespace xcut {

@@ -46,7 +46,7 @@ TEST(InstallPackage, ExampleBuildsAndRunsAgainstTheInstalledLibrary) {
     ASSERT_TRUE(run(cmake + " --install " + quote(XCUT_BUILD_DIR) + " --prefix " + quote(prefix.string()), log));
     EXPECT_TRUE(fs::exists(prefix / "include/xcut/engine/simulation.h"));
     EXPECT_TRUE(fs::exists(prefix / "include/xcut/components/nodes.h"));
-    EXPECT_TRUE(fs::exists(prefix / "include/xcut/systems/solver_system.h"));
+    EXPECT_TRUE(fs::exists(prefix / "include/xcut/systems/solver/solver_system.h"));
     ASSERT_TRUE(fs::exists(prefix / "lib/cmake/xcut/xcutConfig.cmake"));
     EXPECT_TRUE(fs::exists(prefix / "share/xcut/scenes/skin_slab.json"));
     EXPECT_TRUE(fs::exists(prefix / "share/xcut/scenes/meshes/abdominal_wall.msh")) << "the mesh files scenes read";

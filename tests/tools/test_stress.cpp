@@ -10,7 +10,7 @@
 
 #include "components/cut_elements.h"
 #include "systems/pipeline.h"
-#include "systems/surface_cut.h"
+#include "systems/surface/surface_cut.h"
 #include "tools/studies/stress.h"
 #include "tests/surface_checks.h"
 

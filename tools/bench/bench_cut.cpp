@@ -10,8 +10,8 @@
 #include "systems/kernels/element_bvh.h"
 #include "engine/io/generators.h"
 #include "engine/setup.h"
-#include "systems/cut_system.h"
-#include "systems/enrichment_system.h"
+#include "systems/cut/cut_system.h"
+#include "systems/cut/enrichment_system.h"
 #include "systems/tool_system.h"
 
 namespace xcut {

@@ -7,9 +7,9 @@
 
 #include "tools/bench/bench_cut.h"
 #include "engine/parallel.h"
-#include "systems/cut_system.h"
-#include "systems/enrichment_system.h"
-#include "systems/mapping_system.h"
+#include "systems/cut/cut_system.h"
+#include "systems/cut/enrichment_system.h"
+#include "systems/surface/mapping_system.h"
 #include "systems/tool_system.h"
 
 namespace xcut {

@@ -1,10 +1,10 @@
 #pragma once
-// `xcut bench --suite solver`: the linear-solver stage (systems/linear_solver.h) method by method on
+// `xcut bench --suite solver`: the linear-solver stage (systems/solver/linear_solver.h) method by method on
 // the same scenes, each ratio measured in one run against solver.linear = jacobi: steps per second,
 // CG iterations per step, the largest residual, steps that needed a renewed factor or substeps, the
 // factor's non-zeros and bytes per tet, peak memory; and the 2-thread step against the 1-thread step
 // while another process keeps one core busy. The timed steps start after load, where the cholesky
-// and amg methods build their kept preconditioner (systems/linear_solver.h, prepare_linear_solver);
+// and amg methods build their kept preconditioner (systems/solver/linear_solver.h, prepare_linear_solver);
 // that time is its own column. Each case runs three times (once with --tiny); its row is the median
 // run, with the range. Two cases run their fastest method again without the projected first guess
 // (solver.guess_history = 0), for the guess's share in the same run. A benchmark: it prints figures

@@ -8,11 +8,11 @@
 
 #include "engine/io/generators.h"
 #include "engine/setup.h"
-#include "systems/enrichment_system.h"
-#include "systems/mapping_system.h"
+#include "systems/cut/enrichment_system.h"
+#include "systems/surface/mapping_system.h"
 #include "systems/pipeline.h"
-#include "systems/scripted_cut_system.h"
-#include "systems/snap_cut_system.h"
+#include "systems/cut/scripted_cut_system.h"
+#include "systems/cut/snap_cut_system.h"
 
 namespace xcut {
 namespace {

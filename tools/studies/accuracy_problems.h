@@ -6,14 +6,14 @@
 //     (tools/studies/crack_reference.h); error = relative L2 norm of the displacement at sample points.
 //  6. Single edge notched tension plate (2D, plane stress): crack-mouth opening against Tada, Paris
 //     & Irwin's handbook formula.
-// Cut worlds are cut by a scripted planar cut (systems/scripted_cut_system.h) with either cutter:
+// Cut worlds are cut by a scripted planar cut (systems/cut/scripted_cut_system.h) with either cutter:
 // XFEM (CutElements + virtual elements) or snapping and subdivision (world.snap.enabled).
 #include <Eigen/Core>
 #include <string>
 #include <vector>
 
 #include "engine/world.h"
-#include "systems/solver_system.h"
+#include "systems/solver/solver_system.h"
 
 namespace xcut {
 
@@ -45,7 +45,7 @@ double cantilever_tip_deflection(const World& world, const CantileverSpec& spec)
 // ---- Probing the displacement at fixed points ------------------------------------------------------
 
 /// A rest point and where it lives: the force element carrying it (for a cut XFEM element, the
-/// virtual element of its side, bound as surface vertices are: systems/mapping_system.h; for the
+/// virtual element of its side, bound as surface vertices are: systems/surface/mapping_system.h; for the
 /// snapping cutter, the live piece holding it) and its barycentric coordinates there.
 struct Probe {
     Vec3 rest = Vec3::Zero();

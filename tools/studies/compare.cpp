@@ -17,11 +17,12 @@
 #include "engine/io/output.h"
 #include "tools/studies/plot_script.h"
 #include "engine/parallel.h"
+#include "systems/kernels/mesh_measures.h"
 #include "systems/pipeline.h"
-#include "systems/cut_system.h"
-#include "systems/enrichment_system.h"
-#include "systems/mapping_system.h"
-#include "systems/snap_cut_system.h"
+#include "systems/cut/cut_system.h"
+#include "systems/cut/enrichment_system.h"
+#include "systems/surface/mapping_system.h"
+#include "systems/cut/snap_cut_system.h"
 #include "systems/tool_system.h"
 
 namespace xcut {
@@ -263,7 +264,7 @@ Incisions repeated_incisions(const Scene& scene, int cuts, double spacing) {
     if (!(spacing > 0.0)) {
         double lo = 1e300, hi = -1e300;
         for (const Vec3& X : body.nodes.rest) lo = std::min(lo, X.dot(side)), hi = std::max(hi, X.dot(side));
-        out.spacing = std::min(1.25 * mean_edge_length(body), 0.9 * (hi - lo) / cuts);
+        out.spacing = std::min(1.25 * mean_edge_length(body.elements, body.nodes.rest, body.mesh_elements), 0.9 * (hi - lo) / cuts);
     }
     // Depth of the body's top (along the blade edge) under an incision offset by o: the highest node
     // within half a spacing of the offset path, between the path's ends.

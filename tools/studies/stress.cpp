@@ -11,7 +11,7 @@
 #include "engine/io/output.h"
 #include "systems/pipeline.h"
 #include "systems/force_system.h"
-#include "systems/surface_cut.h"
+#include "systems/surface/surface_cut.h"
 
 namespace xcut {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "systems/tool_system.h"
+#include "systems/kernels/blade_pose.h"
 
 namespace xcut::viewer {
 
@@ -65,7 +65,7 @@ void snapshot_tools(const World& w, Snapshot& out) {
         t.name = tb.name[i];
         t.position = tb.position[i], t.orientation = tb.orientation[i];
         t.blade = tb.has_blade[i] != 0;
-        if (t.blade) blade_in_world(w, i, t.tip, t.heel);
+        if (t.blade) blade_in_world(w.tools, i, t.tip, t.heel);
         t.force = i < static_cast<int>(tb.reaction_force.size()) ? tb.reaction_force[i] : Vec3::Zero();
         t.shape_vertices.clear(), t.shape_triangles.clear();
         shape_triangles(tb.shape[i], t.shape_vertices, t.shape_triangles);

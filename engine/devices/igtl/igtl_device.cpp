@@ -1,5 +1,7 @@
 #include "engine/devices/igtl/igtl_device.h"
 
+#include "engine/trajectory.h"
+
 #include <arpa/inet.h>
 #include <fmt/format.h>
 #include <igtlMessageHeader.h>

@@ -5,7 +5,7 @@
 
 #include "engine/io/render.h"
 #include "systems/pipeline.h"
-#include "systems/mapping_system.h"
+#include "systems/surface/mapping_system.h"
 #include "tests/test_helpers.h"
 
 namespace xcut {

@@ -34,8 +34,6 @@ void run_cut_system(World& world, ElementBvh& bvh);
 /// Builds the first-contact BVH (boxes grown by one mean edge) before the first step, so the
 /// cut loop does not pay for it.
 void prepare_cut_search(World& world, ElementBvh& bvh);
-/// Mean edge length of the mesh at rest [m].
-double mean_edge_length(const World& world);
 
 SystemDesc cut_system(std::shared_ptr<ElementBvh> bvh);
 

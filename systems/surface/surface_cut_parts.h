@@ -1,5 +1,5 @@
 #pragma once
-// The parts of the surface cut (systems/surface_cut.h) shared by its files:
+// The parts of the surface cut (systems/surface/surface_cut.h) shared by its files:
 //  - surface_points.cpp: the mesh around a cut element, and the surface's points bound to a side;
 //  - surface_rim.cpp: the cut's plane and trace in an element, and its rim ordered around the cut;
 //  - surface_cut_faces.cpp: the cut-face polygons that close the wound;
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "components/cut_elements.h"
-#include "systems/surface_cut.h"
+#include "systems/surface/surface_cut.h"
 
 namespace xcut::surface_cut_detail {
 

@@ -2,13 +2,13 @@
 // cut element and at the crack-front points in a whole one (paper §3.4, Fig. 6). The points and
 // their bindings: surface_points.cpp; the cut face's rim: surface_rim.cpp; the closing faces:
 // surface_cut_faces.cpp.
-#include "systems/surface_cut.h"
+#include "systems/surface/surface_cut.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
-#include "systems/surface_cut_parts.h"
+#include "systems/surface/surface_cut_parts.h"
 
 namespace xcut {
 namespace {

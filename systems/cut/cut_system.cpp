@@ -1,4 +1,4 @@
-#include "systems/cut_system.h"
+#include "systems/cut/cut_system.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,13 +6,17 @@
 #include "components/cut_elements.h"
 #include "engine/parallel.h"
 #include "systems/kernels/intersection.h"
-#include "systems/tool_system.h"
+#include "systems/kernels/blade_pose.h"
+#include "systems/kernels/mesh_measures.h"
 
 namespace xcut {
 namespace {
 
 int edges_of(int dim) { return dim == 3 ? 6 : 3; }
 const int* edge_of(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
+
+/// The world's mesh elements at their current positions, as the BVH takes them.
+MeshView mesh_view(const World& w) { return {&w.elements, &w.nodes.position, w.mesh_elements, w.mesh_nodes}; }
 
 /// Whether element e's box at current positions meets the box [lo, hi].
 bool meets_box(const World& w, int e, const Vec3& lo, const Vec3& hi) {
@@ -273,19 +277,6 @@ void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed) {
 
 }  // namespace
 
-double mean_edge_length(const World& w) {
-    const Elements& el = w.elements;
-    double sum = 0.0;
-    long n = 0;
-    for (int e = 0; e < w.mesh_elements; ++e)
-        for (int k = 0; k < edges_of(el.dim); ++k) {
-            const int* ed = edge_of(el.dim, k);
-            sum += (w.nodes.rest[el.nodes[e][ed[0]]] - w.nodes.rest[el.nodes[e][ed[1]]]).norm();
-            ++n;
-        }
-    return n > 0 ? sum / n : 0.0;
-}
-
 void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
     CutState& cs = w.cut_state;
     if (static_cast<int>(cs.blade.size()) <= tool) cs.blade.resize(tool + 1);
@@ -315,7 +306,7 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
         for (const Vec3& c : q.corner) centre += 0.25 * c;
         double radius = 0.0;
         for (const Vec3& c : q.corner) radius = std::max(radius, (c - centre).norm());
-        bvh.ensure(w, cs.mean_edge);
+        bvh.ensure(mesh_view(w), cs.mean_edge);
         bvh.query_ball(centre, radius, candidates);
         std::sort(candidates.begin(), candidates.end());
         candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
@@ -386,7 +377,7 @@ void run_cut_system(World& w, ElementBvh& bvh) {
     cs.quads.clear();
     cs.quads_built = cs.elements_tested = cs.crossings_found = cs.elements_split = 0;
     cs.update_ms = 0.0;
-    if (cs.mean_edge == 0.0) cs.mean_edge = mean_edge_length(w);
+    if (cs.mean_edge == 0.0) cs.mean_edge = mean_edge_length(w.elements, w.nodes.rest, w.mesh_elements);
     const double threshold = cs.threshold > 0.0 ? cs.threshold : cs.mean_edge;
     const ToolBodies& tb = w.tools;
     cs.anchored.resize(tb.count(), 0);
@@ -407,7 +398,7 @@ void run_cut_system(World& w, ElementBvh& bvh) {
             }
         } else {
             Vec3 tip, heel;
-            blade_in_world(w, i, tip, heel);
+            blade_in_world(w.tools, i, tip, heel);
             path.emplace_back(tip, heel);
         }
         if (!cs.anchored[i]) {
@@ -419,8 +410,8 @@ void run_cut_system(World& w, ElementBvh& bvh) {
 }
 
 void prepare_cut_search(World& w, ElementBvh& bvh) {
-    if (w.cut_state.mean_edge == 0.0) w.cut_state.mean_edge = mean_edge_length(w);
-    bvh.build(w, w.cut_state.mean_edge);
+    if (w.cut_state.mean_edge == 0.0) w.cut_state.mean_edge = mean_edge_length(w.elements, w.nodes.rest, w.mesh_elements);
+    bvh.build(mesh_view(w), w.cut_state.mean_edge);
 }
 
 SystemDesc cut_system(std::shared_ptr<ElementBvh> bvh) {

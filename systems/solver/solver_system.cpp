@@ -1,4 +1,4 @@
-#include "systems/solver_system.h"
+#include "systems/solver/solver_system.h"
 
 #include <fmt/format.h>
 
@@ -9,8 +9,8 @@
 
 #include "engine/error.h"
 #include "engine/parallel.h"
-#include "systems/linear_assembly.h"
-#include "systems/linear_solver.h"
+#include "systems/solver/linear_assembly.h"
+#include "systems/solver/linear_solver.h"
 
 namespace xcut {
 

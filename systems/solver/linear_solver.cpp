@@ -1,4 +1,4 @@
-#include "systems/linear_solver.h"
+#include "systems/solver/linear_solver.h"
 
 #include <omp.h>
 #include <unistd.h>
@@ -13,7 +13,7 @@
 #include "systems/kernels/amg.h"
 #include "systems/kernels/projected_guess.h"
 #include "systems/kernels/team_cg.h"
-#include "systems/linear_assembly.h"
+#include "systems/solver/linear_assembly.h"
 
 namespace xcut {
 

@@ -1,4 +1,4 @@
-#include "systems/scripted_cut_system.h"
+#include "systems/cut/scripted_cut_system.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -10,9 +10,9 @@
 // matrix-free gather uses: the values are bit-identical for any thread count, with no atomics.
 // The matrix-free product (systems/force_system.h) stays the reference this one is tested against.
 #include <Eigen/Core>
-#include <Eigen/SparseCore>
 
 #include "engine/world.h"
+#include "systems/kernels/block_sparse.h"
 #include "systems/step_term.h"
 
 namespace xcut {
@@ -35,37 +35,5 @@ void linear_multiply_rows(const LinearSystem& A, int lo, int hi, const Eigen::Ve
 
 /// The inverses of A's 3x3 diagonal blocks, 9 per node (row-major): the block Jacobi preconditioner.
 void block_diagonal_inverse(const LinearSystem& A, std::vector<double>& inverse);
-
-/// The scalar matrix of A: row 3i + r holds, block by block in column order, entries 3j + c.
-/// Symmetric, so its CSR arrays are its CSC ones: either storage order takes them. `structure`:
-/// (re)build the pattern too, else refill the values only.
-template <class Sparse>
-void copy_to_scalar(const LinearSystem& A, Sparse& S, bool structure) {
-    const int n = A.rows();
-    if (structure) {
-        S.resize(3 * n, 3 * n);
-        S.resizeNonZeros(9 * A.blocks());
-        int* outer = S.outerIndexPtr();
-        int* inner = S.innerIndexPtr();
-        outer[0] = 0;
-        for (int i = 0; i < n; ++i) {
-            const int width = 3 * (A.row_offset[i + 1] - A.row_offset[i]);
-            for (int r = 0; r < 3; ++r) {
-                int at = outer[3 * i + r];
-                for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b)
-                    for (int c = 0; c < 3; ++c) inner[at++] = 3 * A.column[b] + c;
-                outer[3 * i + r + 1] = outer[3 * i + r] + width;
-            }
-        }
-    }
-    double* value = S.valuePtr();
-    const int* outer = S.outerIndexPtr();
-    for (int i = 0; i < n; ++i)
-        for (int r = 0; r < 3; ++r) {
-            int at = outer[3 * i + r];
-            for (int b = A.row_offset[i]; b < A.row_offset[i + 1]; ++b)
-                for (int c = 0; c < 3; ++c) value[at++] = A.value[9 * b + 3 * r + c];
-        }
-}
 
 }  // namespace xcut

@@ -18,6 +18,7 @@
 
 #include "engine/scheduler.h"
 #include "engine/world.h"
+#include "systems/xfem_queries.h"
 
 namespace xcut {
 
@@ -32,19 +33,6 @@ void prepare_enrichment(World& world);
 
 /// Applies `world.pending_cuts` (and clears it). Returns the number of elements split.
 int apply_cut_events(World& world);
-
-/// Mesh edge a-b has been crossed by the blade: some cut element holding it has its bit in
-/// CutElements::crossed. False for an edge no cut element holds.
-bool edge_crossed(const World& world, int a, int b);
-
-/// Where the crack crosses mesh edge a -> b: the parameter from a of the point a cut element holding
-/// the edge put on it, or -1 if no cut element crosses it. One crack has one point per edge: an
-/// element split later takes this one, and the surface cuts along it.
-double crack_edge_param(const World& world, int a, int b);
-
-/// a_j of mesh node j (eq. 6), zero if the node has no phantom.
-Vec3 enriched_displacement(const World& world, int node);
-Vec3 enriched_velocity(const World& world, int node);
 
 SystemDesc enrichment_system();
 

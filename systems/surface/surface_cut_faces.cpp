@@ -1,12 +1,12 @@
 // The wound's closing faces inside a cut element: the cut face as one polygon per side over the
 // element's edge points and the skin's crossings, oriented outward (paper §3.4, Fig. 6;
-// systems/surface_cut_parts.h). Along the crack front the two polygons share their points (one
+// systems/surface/surface_cut_parts.h). Along the crack front the two polygons share their points (one
 // vertex per front point, surface_points.cpp): the lips meet there, with no seam between them.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
-#include "systems/surface_cut_parts.h"
+#include "systems/surface/surface_cut_parts.h"
 
 namespace xcut::surface_cut_detail {
 namespace {

@@ -1,12 +1,12 @@
 // The cut inside one element as the surface sees it: the plane and the trace the cut leaves on each
 // face, the side of a point, and the rim of the cut face in order around the cut (paper §3.4, Fig. 6;
-// systems/surface_cut_parts.h).
+// systems/surface/surface_cut_parts.h).
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "systems/surface_cut_parts.h"
+#include "systems/surface/surface_cut_parts.h"
 
 namespace xcut {
 namespace surface_cut_detail {

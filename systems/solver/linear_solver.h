@@ -2,7 +2,7 @@
 // The linear-solver stage of the implicit step: one interface, several methods, chosen in the scene
 // by `solver.linear` (SOFA's split of a linear system from its solver, without its machinery):
 //  - "jacobi": matrix-free CG with the diagonal of A (the paper's setting; no assembly, least memory);
-//  - "block_jacobi": CG on the assembled A (systems/linear_assembly.h) with its 3x3 diagonal blocks
+//  - "block_jacobi": CG on the assembled A (systems/solver/linear_assembly.h) with its 3x3 diagonal blocks
 //    inverted: cheap per iteration, least memory of the assembled methods;
 //  - "cholesky": CG preconditioned by a CHOLMOD supernodal Cholesky factor of an earlier step's A
 //    (Chen, Davis, Hager & Rajamanickam, ACM TOMS 35(3), 2008). Rotations change slowly, so an old

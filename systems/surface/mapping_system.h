@@ -6,11 +6,11 @@
 //  - Every step: each vertex's position is interpolated from its element's current vertices, so a
 //    vertex on one lip of a wound follows that lip's virtual element (eq. 4, 6).
 //  - The surface is cut along the new cut elements and closed by their cut faces
-//    (systems/surface_cut.h).
+//    (systems/surface/surface_cut.h).
 // Two surfaces are mapped: the visual one and the collision one (coarser, for tool contact).
 #include "engine/scheduler.h"
 #include "engine/world.h"
-#include "systems/surface_cut.h"
+#include "systems/surface/surface_cut.h"
 
 namespace xcut {
 
@@ -45,6 +45,11 @@ void update_surface_positions(const World& world, SurfaceMesh& surface);
 /// Both surfaces.
 void update_surface_positions(World& world);
 
+/// The RebindSystem: before the CollisionSystem, the collision surface follows this step's splits
+/// (its vertices re-bound to the virtual elements on their side) and positions, so the contacts are
+/// found on the tissue as it is and their forces land on the right lip. It runs when the
+/// CollisionSystem does.
+SystemDesc rebind_system();
 SystemDesc mapping_system();
 
 }  // namespace xcut

@@ -1,4 +1,4 @@
-#include "systems/mapping_system.h"
+#include "systems/surface/mapping_system.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -6,7 +6,7 @@
 
 #include "components/cut_elements.h"
 #include "engine/parallel.h"
-#include "systems/surface_cut.h"
+#include "systems/surface/surface_cut.h"
 
 namespace xcut {
 namespace {
@@ -186,6 +186,14 @@ void update_surface_positions(const World& w, SurfaceMesh& s) {
 void update_surface_positions(World& w) {
     update_surface_positions(w, w.visual);
     update_surface_positions(w, w.collision);
+}
+
+SystemDesc rebind_system() {
+    return {"RebindSystem", kNodes | kElements | kShapedTools | kCollision, kCollision, [](World& w) {
+                if (w.collision.vertex_count() == 0) return;
+                map_cuts(w, w.collision);  // bindings follow this step's splits before any force lands on them
+                update_surface_positions(w, w.collision);
+            }};
 }
 
 SystemDesc mapping_system() {

@@ -1,4 +1,4 @@
-#include "systems/snap_cut_system.h"
+#include "systems/cut/snap_cut_system.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "engine/setup.h"
 #include "systems/kernels/cut_geometry.h"
-#include "systems/mapping_system.h"
+#include "systems/surface/mapping_system.h"
 #include "systems/kernels/snap_split_patterns.h"
 
 namespace xcut {

@@ -5,7 +5,7 @@
 //   [(1 + h alpha) M + (h^2 + h beta) K] dv = h f - (h^2 + h beta) K v - h alpha M v,
 //   v <- v + dv,  x <- x + h v.
 //
-// The system is solved by the linear-solver stage (systems/linear_solver.h: matrix-free Jacobi CG,
+// The system is solved by the linear-solver stage (systems/solver/linear_solver.h: matrix-free Jacobi CG,
 // or the assembled matrix with a block-Jacobi or Cholesky-preconditioned CG, per solver.linear).
 // Held axes are removed by projecting residual and search direction (the filter of Baraff &
 // Witkin), so constraints add no stiffness and the system stays SPD. CG starts from the previous
@@ -40,7 +40,7 @@ struct StaticResult {
 };
 /// Static equilibrium f(x) = 0 on the free axes: Newton iterations with the corotational stiffness
 /// (rotations refreshed per iteration), each K dx = f solved by the scene's linear method
-/// (`solver.linear`, systems/linear_solver.h) to `cg_tolerance` within `cg_max_iterations`. For
+/// (`solver.linear`, systems/solver/linear_solver.h) to `cg_tolerance` within `cg_max_iterations`. For
 /// verification problems (patch test, cantilever); velocities are left untouched. `load`: external
 /// nodal forces [N], 3 per DOF node (a traction spread on boundary nodes), or empty.
 StaticResult static_solve(World& world, const StepOperator& op, double tolerance, int max_newton, double cg_tolerance,

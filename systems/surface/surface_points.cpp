@@ -1,11 +1,11 @@
 // The surface's points: the mesh around a cut element, and the vertices a cut makes, one per side
-// and place, bound to the element of their side (paper §3.4; systems/surface_cut_parts.h).
+// and place, bound to the element of their side (paper §3.4; systems/surface/surface_cut_parts.h).
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
-#include "systems/enrichment_system.h"
-#include "systems/surface_cut_parts.h"
+#include "systems/xfem_queries.h"
+#include "systems/surface/surface_cut_parts.h"
 
 namespace xcut {
 namespace surface_cut_detail {

@@ -1,4 +1,4 @@
-#include "systems/linear_assembly.h"
+#include "systems/solver/linear_assembly.h"
 
 #include <Eigen/LU>
 #include <algorithm>
