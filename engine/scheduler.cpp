@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "engine/access_check.h"
+
 namespace xcut {
 
 void Scheduler::build(World& world) {
@@ -22,7 +24,13 @@ void Scheduler::step(World& world) {
     const auto start = Clock::now();
     for (size_t i = 0; i < scheduled_.size(); ++i) {
         const auto t0 = Clock::now();
-        scheduled_[i].run(world);
+        if (access_check_) {
+            const std::vector<uint64_t> before = component_hashes(world);
+            scheduled_[i].run(world);
+            check_declared_writes(scheduled_[i].name, scheduled_[i].writes, before, component_hashes(world));
+        } else {
+            scheduled_[i].run(world);
+        }
         m.system_ms[i] = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     }
     m.step_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();

@@ -34,6 +34,9 @@ public:
     void build(World& world);
     /// One simulation step: runs the scheduled systems in order, timing each into world.metrics.
     void step(World& world);
+    /// With the check on, each system's run is followed by engine/access_check.h's: a component it
+    /// changed without declaring the write stops the step with a std::logic_error. Off by default.
+    void set_access_check(bool on) { access_check_ = on; }
     /// The schedule as printed at start-up.
     std::string describe(const World& world) const;
     /// Every registered system in pipeline order with the components it reads and writes, as a
@@ -46,6 +49,7 @@ public:
 private:
     std::vector<SystemDesc> all_;
     std::vector<SystemDesc> scheduled_;
+    bool access_check_ = false;
 };
 
 }  // namespace xcut

@@ -20,6 +20,10 @@ const char* component_name(uint32_t bit) {
         case kCollision: return "CollisionMesh";
         case kSurfaces: return "Surfaces";
         case kShapedTools: return "ShapedTools";
+        case kLinear: return "LinearSystem";
+        case kContacts: return "Contacts";
+        case kCutState: return "CutState";
+        case kSnap: return "SnapMesh";
         default: return "?";
     }
 }
@@ -36,7 +40,7 @@ std::string component_list(uint32_t mask) {
 
 uint32_t World::present() const {
     uint32_t mask = kForces | kMetrics;
-    if (nodes.count() > 0) mask |= kNodes;
+    if (nodes.count() > 0) mask |= kNodes | kLinear;
     if (elements.count() > 0) mask |= kElements;
     if (!materials.list.empty()) mask |= kMaterials;
     if (!constraints.boxes.empty() || !constraints.nodes.empty()) mask |= kConstraints;
@@ -46,9 +50,10 @@ uint32_t World::present() const {
     if (cuts.count() > 0) mask |= kXfem;
     if (tools.count() > 0) mask |= kTools;
     for (uint8_t blade : tools.has_blade)
-        if (blade) mask |= kCutEvents;
+        if (blade) mask |= kCutEvents | kCutState;
     for (const ToolShape& s : tools.shape)
-        if (s.kind != ToolShape::kNone) mask |= kShapedTools;
+        if (s.kind != ToolShape::kNone) mask |= kShapedTools | kContacts;
+    if (snap.enabled) mask |= kSnap;
     if (visual.vertex_count() > 0) mask |= kVisual | kSurfaces;
     if (collision.vertex_count() > 0) mask |= kCollision | kSurfaces;
     return mask;

@@ -41,6 +41,10 @@ enum ComponentBit : uint32_t {
     kCollision = 1u << 13,   ///< collision surface mesh
     kSurfaces = 1u << 14,    ///< any surface bound to the body (visual or collision)
     kShapedTools = 1u << 15, ///< tools with a contact shape
+    kLinear = 1u << 16,      ///< the step's assembled system and the solver's kept preconditioner
+    kContacts = 1u << 17,    ///< this step's tool contacts
+    kCutState = 1u << 18,    ///< the blades' crossing lists, fronts and cut figures
+    kSnap = 1u << 19,        ///< the snapping cutter's pieces and copies
 };
 const char* component_name(uint32_t bit);
 std::string component_list(uint32_t mask);

@@ -232,7 +232,7 @@ public:
 std::shared_ptr<StepTerm> contact_step_term() { return std::make_shared<ContactTerm>(); }
 
 SystemDesc collision_system(std::shared_ptr<CollisionModel> model) {
-    return {"CollisionSystem", kNodes | kElements | kForces | kShapedTools | kCollision, kForces | kTools,
+    return {"CollisionSystem", kNodes | kElements | kForces | kShapedTools | kCollision, kForces | kTools | kContacts,
             [model](World& w) {
                 detect_contacts(w, *model);
                 apply_contact_forces(w);

@@ -4,7 +4,7 @@
 // pipeline it is handed; this is the one `xcut`, the tests and the benchmarks hand it.
 //
 //   ToolSystem → CutSystem → ScriptedCutSystem → EnrichmentSystem | SnapCutSystem → ForceSystem
-//     → CollisionSystem → SolverSystem → MappingSystem → OutputSystem
+//     → RebindSystem → CollisionSystem → SolverSystem → WatchdogSystem → MappingSystem → OutputSystem
 #include <memory>
 #include <string>
 

@@ -415,7 +415,7 @@ void prepare_cut_search(World& w, ElementBvh& bvh) {
 }
 
 SystemDesc cut_system(std::shared_ptr<ElementBvh> bvh) {
-    return {"CutSystem", kNodes | kElements | kTools | kCutEvents, kCutEvents,
+    return {"CutSystem", kNodes | kElements | kTools | kCutEvents, kCutEvents | kCutState,
             [bvh](World& w) { run_cut_system(w, *bvh); }};
 }
 

@@ -263,7 +263,7 @@ int apply_cut_events(World& w) {
 }
 
 SystemDesc enrichment_system() {
-    return {"EnrichmentSystem", kNodes | kElements | kCutEvents, kNodes | kElements | kXfem,
+    return {"EnrichmentSystem", kNodes | kElements | kCutEvents, kNodes | kElements | kXfem | kCutEvents | kForces,
             [](World& w) {
                 const int dofs_before = 3 * w.nodes.count();
                 const int split = apply_cut_events(w);

@@ -96,7 +96,7 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon) {
 }
 
 SystemDesc scripted_cut_system() {
-    return {"ScriptedCutSystem", kNodes | kElements | kCutPlan, kCutEvents, [](World& w) {
+    return {"ScriptedCutSystem", kNodes | kElements | kCutPlan, kCutEvents | kCutPlan, [](World& w) {
                 for (ScriptedCut& c : w.cut_plan.cuts) {
                     if (c.applied || c.time > w.time + 1e-12) continue;
                     queue_polygon_cut(w, c.polygon);

@@ -482,7 +482,8 @@ int apply_snap_events(World& w) {
 
 SystemDesc snap_cut_system(World& world) {
     prepare_snap_cut(world);
-    return {"SnapCutSystem", kNodes | kElements | kCutEvents, kNodes | kElements | kSurfaces, [](World& w) {
+    return {"SnapCutSystem", kNodes | kElements | kCutEvents, kNodes | kElements | kSurfaces | kCutEvents | kSnap | kForces | kXfem,
+            [](World& w) {
                 const int dofs_before = 3 * w.nodes.count();
                 const int snaps = w.snap.snaps, points = w.snap.points, copies = w.snap.copies;
                 const int split = apply_snap_events(w);

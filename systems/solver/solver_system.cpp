@@ -272,7 +272,9 @@ StaticResult static_solve(World& world, const StepOperator& op, double tolerance
 SystemDesc solver_system(const World& world, std::shared_ptr<const StepOperator> op) {
     std::string why;
     const std::string method = resolve_linear_method(world, &why);
-    return {"SolverSystem", kNodes | kElements | kForces, kNodes, [op](World& w) { implicit_euler_step(w, *op); },
+    // Writes the state, the step's forces and linear system, the rotations (Newton iterations and
+    // substeps relinearize) and the step's metrics.
+    return {"SolverSystem", kNodes | kElements | kForces, kNodes | kElements | kForces | kLinear | kMetrics, [op](World& w) { implicit_euler_step(w, *op); },
             "linear: " + method + " (" + why + ")"};
 }
 
