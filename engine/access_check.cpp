@@ -3,44 +3,11 @@
 #include <fmt/format.h>
 
 #include <stdexcept>
-#include <type_traits>
+
+#include "engine/fnv_hash.h"
 
 namespace xcut {
 namespace {
-
-/// FNV-1a over the bytes of what is added; vectors by their contents, not their pointers. A value
-/// is taken as its bytes: only types without padding are added (numbers, ids, fixed-size Eigen
-/// vectors and matrices, arrays of them), so no uninitialized byte reaches the hash.
-struct Hasher {
-    uint64_t h = 1469598103934665603ull;
-    void bytes(const void* data, size_t n) {
-        const auto* p = static_cast<const unsigned char*>(data);
-        for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
-    }
-    template <class T>
-    void add(const T& v) {
-        if constexpr (std::is_same_v<T, std::string>) {
-            add(v.size());
-            bytes(v.data(), v.size());
-        } else {
-            bytes(&v, sizeof v);
-        }
-    }
-    template <class T>
-    void add(const std::vector<T>& v) {
-        add(v.size());
-        if constexpr (std::is_same_v<T, std::string> || std::is_same_v<T, Keyframe>) {
-            for (const T& x : v) add(x);
-        } else if constexpr (std::is_class_v<T> && requires(const T& x) { x.begin(); x.size(); }) {
-            for (const T& x : v) add(x);
-        } else {
-            bytes(v.data(), v.size() * sizeof(T));
-        }
-    }
-    void add(const Keyframe& k) { all(k.time, k.position, k.orientation.coeffs()); }
-    template <class... T>
-    void all(const T&... v) { (add(v), ...); }
-};
 
 void hash_surface(Hasher& h, const SurfaceMesh& s) {
     h.all(s.position, s.element, s.bary, s.side, s.triangles, s.triangle_owner, s.cut_face, s.bound_to,

@@ -15,6 +15,7 @@
 #include <map>
 #include <sstream>
 
+#include "engine/fnv_hash.h"
 #include "engine/parallel.h"
 #include "systems/pipeline.h"
 
@@ -43,31 +44,20 @@ std::vector<Case> cases() {
     return out;
 }
 
-/// FNV-1a over bytes.
-struct Hash {
-    uint64_t h = 1469598103934665603ull;
-    void add(const void* data, size_t n) {
-        const auto* p = static_cast<const unsigned char*>(data);
-        for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
-    }
-    template <class T>
-    void add(const T& v) { add(&v, sizeof v); }
-};
-
 uint64_t run_and_hash(const Case& c) {
     std::vector<std::string> overrides = c.overrides;
     overrides.push_back("output.vtu=false");
     overrides.push_back("output.metrics_csv=false");
     Scene scene = load_scene(c.scene, overrides);
     auto sim = make_simulation(scene, /*with_output=*/false);
-    Hash h;
+    Hasher h;
     for (int i = 0; i < scene.steps; ++i) {
         step_simulation(*sim);
         h.add(sim->world.metrics.current.cg_iterations);
     }
     const World& w = sim->world;
-    h.add(w.nodes.position.data(), w.nodes.position.size() * sizeof(Vec3));
-    h.add(w.nodes.velocity.data(), w.nodes.velocity.size() * sizeof(Vec3));
+    h.bytes(w.nodes.position.data(), w.nodes.position.size() * sizeof(Vec3));
+    h.bytes(w.nodes.velocity.data(), w.nodes.velocity.size() * sizeof(Vec3));
     h.add(w.cuts.count());
     h.add(w.enriched.count());
     h.add(w.snap.elements_split);
