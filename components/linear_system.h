@@ -19,10 +19,10 @@ namespace xcut {
 
 /// A factor the solver keeps between steps (CHOLMOD's supernodal Cholesky); opaque here.
 struct LinearFactor;
-/// The smoothed-aggregation hierarchy the amg method keeps (systems/kernels/amg.h); opaque here.
+/// The smoothed-aggregation hierarchy the amg method keeps (systems/kernels/solver/amg.h); opaque here.
 struct AmgHierarchy;
 
-/// What the kept solutions of earlier steps belong to (systems/kernels/projected_guess.h): a step
+/// What the kept solutions of earlier steps belong to (systems/kernels/solver/projected_guess.h): a step
 /// with another key starts them again (a cut changes the DOFs, the elements or the pattern). A
 /// change of dt (real-time mode, a substep) keeps them: the projection is formed with the current A,
 /// whatever scales it has.

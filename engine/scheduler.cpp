@@ -41,7 +41,7 @@ std::string Scheduler::describe(const World& world) const {
     std::string out = fmt::format("schedule ({} of {} systems run):\n", scheduled_.size(), all_.size());
     int k = 1;
     for (const SystemDesc& s : scheduled_)
-        out += fmt::format("  {}. {:<16} reads {:<40} writes {}{}\n", k++, s.name, component_list(s.reads),
+        out += fmt::format("  {}. {:<16} reads {:<40} writes {}{}\n", k++, s.name, component_list(s.reads | (s.uses & have)),
                            component_list(s.writes), s.note.empty() ? "" : "; " + s.note);
     for (const SystemDesc& s : all_)
         if ((s.reads & have) != s.reads)
@@ -57,20 +57,21 @@ std::string Scheduler::dataflow_markdown() const {
             if (mask & bit) out.push_back(component_name(bit));
         return out;
     };
-    std::string table = "| # | system | reads | writes |\n|---|---|---|---|\n";
+    std::string table = "| # | system | reads | also reads, when present | writes |\n|---|---|---|---|---|\n";
     std::string chart = "```mermaid\nflowchart LR\n";
     uint32_t used = 0;
     for (size_t i = 0; i < all_.size(); ++i) {
         const SystemDesc& s = all_[i];
-        table += fmt::format("| {} | {} | {} | {} |\n", i + 1, s.name, component_list(s.reads), component_list(s.writes));
+        table += fmt::format("| {} | {} | {} | {} | {} |\n", i + 1, s.name, component_list(s.reads), component_list(s.uses),
+                             component_list(s.writes));
         chart += fmt::format("  S{}[\"{}. {}\"]\n", i, i + 1, s.name);
         if (i > 0) chart += fmt::format("  S{} ==> S{}\n", i - 1, i);
-        used |= s.reads | s.writes;
+        used |= s.reads | s.uses | s.writes;
     }
     for (const std::string& c : names(used)) chart += fmt::format("  {}[({})]\n", c, c);
     for (size_t i = 0; i < all_.size(); ++i) {
         for (const std::string& c : names(all_[i].writes)) chart += fmt::format("  S{} --> {}\n", i, c);
-        for (const std::string& c : names(all_[i].reads & ~all_[i].writes))
+        for (const std::string& c : names((all_[i].reads | all_[i].uses) & ~all_[i].writes))
             chart += fmt::format("  {} -.-> S{}\n", c, i);
     }
     return table + "\n" + chart + "```\n";

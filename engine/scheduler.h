@@ -20,8 +20,16 @@ struct SystemDesc {
                std::string note_ = "")
         : name(std::move(name_)), reads(reads_), writes(writes_), run(std::move(run_)), note(std::move(note_)) {}
 
+    /// Declares components the system reads when the world holds them but does not need to run
+    /// (the XFEM data once something is cut, this step's contacts).
+    SystemDesc& also_reads(uint32_t mask) {
+        uses = mask;
+        return *this;
+    }
+
     std::string name;
     uint32_t reads = 0;     ///< every one must be present for the system to run
+    uint32_t uses = 0;      ///< read when present, not required (also_reads)
     uint32_t writes = 0;
     std::function<void(World&)> run;
     std::string note;       ///< printed after the system in the schedule (a choice it made)

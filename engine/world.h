@@ -68,7 +68,7 @@ struct SolverSettings {
     int refactor_iterations = 8;     ///< "refactor_iterations": cholesky refactors when CG needs more [-]
     int refactor_every = 200;        ///< "refactor_every": ... or when the factor is this many steps old
     /// "guess_history": the step's solve starts from the Galerkin projection onto the solutions of
-    /// this many earlier steps (systems/kernels/projected_guess.h); 0: from the previous step's [-]
+    /// this many earlier steps (systems/kernels/solver/projected_guess.h); 0: from the previous step's [-]
     int guess_history = 6;
     int max_substeps = 16;           ///< a step whose solve fails is retried in up to this many substeps
     /// The watchdog stops a run whose kinetic + elastic energy exceeds this factor times the work

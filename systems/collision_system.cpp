@@ -10,7 +10,7 @@
 #include <fcl/narrowphase/detail/traversal/collision/mesh_shape_collision_traversal_node.h>
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 
-#include "systems/kernels/block_sparse.h"
+#include "systems/kernels/solver/block_sparse.h"
 #include "systems/kernels/tool_shape_depth.h"
 
 namespace xcut {

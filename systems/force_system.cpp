@@ -281,10 +281,11 @@ private:
 std::shared_ptr<StepTerm> elastic_step_term() { return std::make_shared<ElasticTerm>(); }
 
 SystemDesc force_system() {
-    return {"ForceSystem", kNodes | kElements | kMaterials, kForces | kElements, [](World& w) {
-                update_rotations(w);
-                compute_forces(w);
-            }};
+    SystemDesc s{"ForceSystem", kNodes | kElements | kMaterials, kForces | kElements, [](World& w) {
+                     update_rotations(w);
+                     compute_forces(w);
+                 }};
+    return s.also_reads(kGravity);
 }
 
 }  // namespace xcut

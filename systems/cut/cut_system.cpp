@@ -415,8 +415,9 @@ void prepare_cut_search(World& w, ElementBvh& bvh) {
 }
 
 SystemDesc cut_system(std::shared_ptr<ElementBvh> bvh) {
-    return {"CutSystem", kNodes | kElements | kTools | kCutEvents, kCutEvents | kCutState,
-            [bvh](World& w) { run_cut_system(w, *bvh); }};
+    SystemDesc s{"CutSystem", kNodes | kElements | kTools | kCutEvents, kCutEvents | kCutState,
+                 [bvh](World& w) { run_cut_system(w, *bvh); }};
+    return s.also_reads(kXfem);  // an element already cut is not split again
 }
 
 }  // namespace xcut

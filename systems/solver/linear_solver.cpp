@@ -10,9 +10,9 @@
 #include <fmt/format.h>
 
 #include "engine/parallel.h"
-#include "systems/kernels/amg.h"
-#include "systems/kernels/projected_guess.h"
-#include "systems/kernels/team_cg.h"
+#include "systems/kernels/solver/amg.h"
+#include "systems/kernels/solver/projected_guess.h"
+#include "systems/kernels/solver/team_cg.h"
 #include "systems/solver/linear_assembly.h"
 
 namespace xcut {
@@ -146,7 +146,7 @@ CgResult jacobi_cg(World& w, const StepOperator& op, double mass_scale, double s
 }
 
 /// One solve with an assembled method: A filled for this step, CG as one team per solve
-/// (systems/kernels/team_cg.h) with the product by rows.
+/// (systems/kernels/solver/team_cg.h) with the product by rows.
 class AssembledSolve {
 public:
     AssembledSolve(World& w, const Eigen::VectorXd& b, const Eigen::VectorXd& mask, const CgLimits& limits,
@@ -279,7 +279,7 @@ void step_product(World& w, const StepOperator& op, double mass_scale, double st
 }
 
 /// A solve; with `history`, x's first guess is projected from the kept solutions when they were
-/// solved for the same system, and the solution is kept (systems/kernels/projected_guess.h).
+/// solved for the same system, and the solution is kept (systems/kernels/solver/projected_guess.h).
 LinearSolve solve(World& w, const StepOperator& op, double mass_scale, double stiff_scale, const Eigen::VectorXd& b,
                   const Eigen::VectorXd& mask, Eigen::VectorXd& x, const CgLimits& limits, SolutionHistory* history,
                   const StepMatrix* filled) {

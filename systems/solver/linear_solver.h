@@ -11,7 +11,7 @@
 //    symbolically and numerically when the topology changes (a cut). The step at which a new factor
 //    is taken depends only on the iteration counts, never on timing: replays stay bit-identical;
 //  - "direct": the same factor computed every step (CG then converges in one or two iterations);
-//  - "amg": CG preconditioned by a smoothed-aggregation multigrid V-cycle (systems/kernels/amg.h),
+//  - "amg": CG preconditioned by a smoothed-aggregation multigrid V-cycle (systems/kernels/solver/amg.h),
 //    10-20 iterations at any size; the hierarchy is kept, carried over to the new DOFs at a cut
 //    (no setup at the cut step), and renewed when CG needs twice its first count, when it is
 //    `solver.refactor_every` steps old, or when the step's stiffness weight grows;
@@ -21,7 +21,7 @@
 #include <string>
 
 #include "engine/world.h"
-#include "systems/kernels/cg_result.h"
+#include "systems/kernels/solver/cg_result.h"
 #include "systems/step_term.h"
 
 namespace xcut {
@@ -46,7 +46,7 @@ struct LinearSolve {
 /// A x = b for the step, A = mass_scale M + stiff_scale (K + K_c): the jacobi method multiplies
 /// matrix-free (systems/force_system.h) with diag(A)^-1 from world.forces.stiffness_diagonal; the
 /// others assemble A into world.linear first. Every method runs CG as one OpenMP team
-/// (systems/kernels/team_cg.h) to |r| <= `limits.tolerance` |b| within `limits.max_iterations`.
+/// (systems/kernels/solver/team_cg.h) to |r| <= `limits.tolerance` |b| within `limits.max_iterations`.
 /// `x` holds the first guess. A solve above tolerance with a factor older than this step is retried
 /// once with a fresh factor.
 struct CgLimits {
@@ -73,7 +73,7 @@ StepMatrix fill_step_matrix(World& world, const StepOperator& op, double mass_sc
 
 /// The step's first solve: as solve_linear at the scene's tolerance and cap, with x's first guess
 /// projected from the solutions of the last `solver.guess_history` steps when they were solved for
-/// the same system (systems/kernels/projected_guess.h; otherwise x's own guess stands), and this
+/// the same system (systems/kernels/solver/projected_guess.h; otherwise x's own guess stands), and this
 /// step's solution kept for the next. `filled`: A as fill_step_matrix left it for these scales and
 /// this state (it is not filled again), or null.
 LinearSolve solve_step_linear(World& world, const StepOperator& op, double mass_scale, double stiff_scale,

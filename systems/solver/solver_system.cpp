@@ -274,8 +274,9 @@ SystemDesc solver_system(const World& world, std::shared_ptr<const StepOperator>
     const std::string method = resolve_linear_method(world, &why);
     // Writes the state, the step's forces and linear system, the rotations (Newton iterations and
     // substeps relinearize) and the step's metrics.
-    return {"SolverSystem", kNodes | kElements | kForces, kNodes | kElements | kForces | kLinear | kMetrics, [op](World& w) { implicit_euler_step(w, *op); },
-            "linear: " + method + " (" + why + ")"};
+    SystemDesc s{"SolverSystem", kNodes | kElements | kForces, kNodes | kElements | kForces | kLinear | kMetrics,
+                 [op](World& w) { implicit_euler_step(w, *op); }, "linear: " + method + " (" + why + ")"};
+    return s.also_reads(kMaterials | kContacts | kGravity);  // the terms' stiffness, the held contacts
 }
 
 }  // namespace xcut

@@ -20,7 +20,7 @@
 
 #include "engine/scheduler.h"
 #include "engine/world.h"
-#include "systems/kernels/cg_result.h"
+#include "systems/kernels/solver/cg_result.h"
 #include "systems/step_term.h"
 
 namespace xcut {

@@ -189,19 +189,21 @@ void update_surface_positions(World& w) {
 }
 
 SystemDesc rebind_system() {
-    return {"RebindSystem", kNodes | kElements | kShapedTools | kCollision, kCollision, [](World& w) {
-                if (w.collision.vertex_count() == 0) return;
-                map_cuts(w, w.collision);  // bindings follow this step's splits before any force lands on them
-                update_surface_positions(w, w.collision);
-            }};
+    SystemDesc s{"RebindSystem", kNodes | kElements | kShapedTools | kCollision, kCollision, [](World& w) {
+                     if (w.collision.vertex_count() == 0) return;
+                     map_cuts(w, w.collision);  // bindings follow this step's splits before any force lands on them
+                     update_surface_positions(w, w.collision);
+                 }};
+    return s.also_reads(kXfem);
 }
 
 SystemDesc mapping_system() {
     // Runs when either surface is present (an empty one costs nothing).
-    return {"MappingSystem", kNodes | kElements | kSurfaces, kSurfaces, [](World& w) {
-                rebind_cut_vertices(w);
-                update_surface_positions(w);
-            }};
+    SystemDesc s{"MappingSystem", kNodes | kElements | kSurfaces, kSurfaces, [](World& w) {
+                     rebind_cut_vertices(w);
+                     update_surface_positions(w);
+                 }};
+    return s.also_reads(kXfem);  // the cut elements' virtual elements and where the crack crosses
 }
 
 }  // namespace xcut

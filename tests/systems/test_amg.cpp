@@ -1,4 +1,4 @@
-// The smoothed-aggregation multigrid preconditioner (systems/kernels/amg.h) and the amg linear
+// The smoothed-aggregation multigrid preconditioner (systems/kernels/solver/amg.h) and the amg linear
 // method: the V-cycle is a symmetric positive definite operator, the same bits on 1 and 2 threads;
 // its Chebyshev bound lies above the spectrum; CG with it converges in a few tens of iterations where
 // block Jacobi needs hundreds; the hierarchy is renewed at a cut and when the step's stiffness weight
@@ -8,7 +8,7 @@
 
 #include <random>
 
-#include "systems/kernels/amg.h"
+#include "systems/kernels/solver/amg.h"
 #include "systems/solver/linear_assembly.h"
 #include "systems/solver/linear_solver.h"
 #include "tests/test_helpers.h"

@@ -9,9 +9,9 @@
 
 #include "engine/error.h"
 #include "systems/force_system.h"
-#include "systems/kernels/amg.h"
-#include "systems/kernels/conjugate_gradient.h"
-#include "systems/kernels/team_cg.h"
+#include "systems/kernels/solver/amg.h"
+#include "systems/kernels/solver/conjugate_gradient.h"
+#include "systems/kernels/solver/team_cg.h"
 #include "systems/solver/linear_assembly.h"
 #include "systems/solver/linear_solver.h"
 #include "systems/pipeline.h"

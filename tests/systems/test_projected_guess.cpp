@@ -1,11 +1,11 @@
-// The step's first guess projected from earlier solutions (systems/kernels/projected_guess.h,
+// The step's first guess projected from earlier solutions (systems/kernels/solver/projected_guess.h,
 // solver.guess_history): the Galerkin property on a small SPD system, what it keeps and drops, and
 // on a moving body fewer CG iterations than the previous step's solution alone, to the same answer.
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "systems/kernels/projected_guess.h"
+#include "systems/kernels/solver/projected_guess.h"
 #include "systems/pipeline.h"
 
 namespace xcut {

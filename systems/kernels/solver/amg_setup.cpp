@@ -1,11 +1,11 @@
-// Setup of the smoothed-aggregation hierarchy (systems/kernels/amg.h): strength, aggregation,
+// Setup of the smoothed-aggregation hierarchy (systems/kernels/solver/amg.h): strength, aggregation,
 // tentative and smoothed prolongators, Galerkin products. One thread; Eigen's sparse products.
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 
-#include "systems/kernels/amg.h"
-#include "systems/kernels/block_sparse.h"
+#include "systems/kernels/solver/amg.h"
+#include "systems/kernels/solver/block_sparse.h"
 
 namespace xcut {
 namespace {

@@ -1,10 +1,10 @@
-// The V-cycle of the smoothed-aggregation hierarchy (systems/kernels/amg.h): the finest level and
+// The V-cycle of the smoothed-aggregation hierarchy (systems/kernels/solver/amg.h): the finest level and
 // the coarse levels with at least kTeamNonzeros on the calling OpenMP team, the rest on one thread
 // of it.
 #include <omp.h>
 
 #include "engine/parallel.h"
-#include "systems/kernels/amg.h"
+#include "systems/kernels/solver/amg.h"
 
 namespace xcut {
 namespace {

@@ -1,5 +1,5 @@
 #pragma once
-// What a conjugate-gradient run reports (systems/kernels/conjugate_gradient.h, team_cg.h).
+// What a conjugate-gradient run reports (systems/kernels/solver/conjugate_gradient.h, team_cg.h).
 
 namespace xcut {
 

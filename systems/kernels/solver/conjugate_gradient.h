@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "engine/parallel.h"
-#include "systems/kernels/cg_result.h"
+#include "systems/kernels/solver/cg_result.h"
 
 namespace xcut {
 
