@@ -5,11 +5,12 @@
 #include <chrono>
 #include <cstdlib>
 
+#include "engine/error.h"
 #include "engine/io/scene_checks.h"
 #include "engine/parallel.h"
-#include "systems/cut/enrichment_system.h"
 #include "systems/pipeline.h"
 #include "tools/xcut_commands.h"
+#include "tools/xcut_run_summary.h"
 
 namespace xcut {
 namespace {
@@ -19,34 +20,19 @@ struct RunOptions {
     std::string output;
     std::string record, replay;  ///< session directories (engine/devices/device.h)
     bool haptics = false;        ///< run the 1 kHz haptic loop beside the physics
+    std::string summary;         ///< --summary FILE: the final figures as JSON
+    bool no_output = false;      ///< --no-output: no series, CSV, surfaces or picture
 };
 
-void print_result(const World& w, int steps, double secs) {
-    const StepMetrics& m = w.metrics.current;
-    const Metrics& all = w.metrics;
-    if (all.refactored_steps > 0 || all.substepped_steps > 0)
-        fmt::print(stderr, "warning: to reach the CG tolerance, of {} steps {} needed a renewed factor and {} substeps "
-                           "(up to {} each); solve_flag and substeps in the metrics CSV say which\n",
-                   steps, all.refactored_steps, all.substepped_steps, all.max_substeps);
-    double max_disp = 0.0;
-    for (int i = 0; i < w.nodes.count(); ++i) max_disp = std::max(max_disp, (w.nodes.position[i] - w.nodes.rest[i]).norm());
-    fmt::print("done: t = {:.4g} s in {:.3f} s wall ({:.1f} steps/s); free DOFs {}; last step {} CG iterations; "
-               "max displacement {:.4g} m; kinetic {:.4g} J, elastic {:.4g} J\n",
-               w.time, secs, steps / std::max(secs, 1e-9), m.dofs, m.cg_iterations, max_disp, m.kinetic_energy,
-               m.elastic_energy);
-    if (w.cuts.count() > 0) {
-        double opening = 0.0;
-        for (int j = 0; j < w.mesh_nodes; ++j) opening = std::max(opening, enriched_displacement(w, j).norm());
-        fmt::print("cut: {} elements split, {} enriched DOF nodes ({} held by the crack front), max opening |a_j| {:.4g} m\n",
-                   w.cuts.count(), w.enriched.count(),
-                   std::count(w.enriched.front_fixed.begin(), w.enriched.front_fixed.end(), 1), opening);
+/// Prints each as a warning and keeps it for the summary.
+void warn_all(const std::vector<std::string>& notes, std::vector<std::string>& kept) {
+    for (const std::string& note : notes) {
+        fmt::print(stderr, "warning: {}\n", note);
+        kept.push_back(note);
     }
-    if (w.snap.elements_split > 0)
-        fmt::print("cut (snap): {} elements split, {} nodes snapped (largest move {:.3g} m), {} edge points, {} copies\n",
-                   w.snap.elements_split, w.snap.snaps, w.snap.max_snap_distance, w.snap.points, w.snap.copies);
 }
 
-int run_scene(const RunOptions& o) {
+int run_scene(const RunOptions& o, RunSummary& summary) {
     set_thread_count(o.scene.threads);
     std::vector<std::string> overrides = o.scene.all_overrides();
     if (!o.replay.empty()) {  // the session's overrides (its command line's, the viewer's tools) last: they win
@@ -54,7 +40,9 @@ int run_scene(const RunOptions& o) {
         overrides.insert(overrides.end(), session.begin(), session.end());
     }
     Scene scene = load_scene(o.scene.scene, overrides);
+    summary.name = scene.name;
     if (!o.output.empty()) scene.output.directory = o.output;
+    if (o.no_output) scene.output.directory.clear();
     // A replay runs to the end of its recording (a session recorded past the scene's duration
     // holds what was done there); --steps still decides when given.
     const int recorded = o.replay.empty() ? 0 : static_cast<int>(read_session_steps(o.replay).size());
@@ -62,7 +50,7 @@ int run_scene(const RunOptions& o) {
     if (o.scene.steps < 0 && recorded > 0 && recorded != scene.steps)
         fmt::print("replay: {} steps, as recorded (the scene says {})\n", recorded, scene.steps);
     scene.steps = steps;  // what the run takes: the output's bound is checked against it
-    auto sim = make_simulation(scene, true, o.replay);
+    auto sim = make_simulation(scene, !o.no_output, o.replay);
     if (!o.record.empty()) sim->recorder = std::make_unique<SessionRecorder>(sim->world, o.record, SessionInfo{o.scene.scene, overrides});
     std::unique_ptr<HapticLoop> haptics = start_haptics(*sim, o.haptics);
     sim->world.verbose = true;
@@ -71,15 +59,22 @@ int run_scene(const RunOptions& o) {
     fmt::print("scene {} ({}): {} nodes, {} {}, {} threads (OpenMP wait {}), dt {} s ({}), {} steps\n", scene.name,
                o.scene.scene, w.nodes.count(), w.elements.count(), w.elements.dim == 3 ? "tetrahedra" : "triangles",
                thread_count(), wait ? wait : "active", w.solver.dt, w.solver.realtime ? "real-time" : "fixed", steps);
-    for (const std::string& note : w.mesh_notes) fmt::print(stderr, "warning: {}\n", note);
-    for (const std::string& note : plausibility_warnings(scene, w, steps)) fmt::print(stderr, "warning: {}\n", note);
+    warn_all(w.mesh_notes, summary.warnings);
+    warn_all(plausibility_warnings(scene, w, steps), summary.warnings);
     fmt::print("{}", sim->scheduler.describe(w));
     if (w.linear.load_setup_ms > 0.0)
         fmt::print("linear solver: {} built at load in {:.0f} ms\n",
                    w.linear.method == "amg" ? "the multigrid hierarchy" : "the Cholesky factor", w.linear.load_setup_ms);
     const auto t0 = std::chrono::steady_clock::now();
-    run_simulation(*sim, steps, !o.scene.quiet);
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    try {
+        run_simulation(*sim, steps, !o.scene.quiet);
+    } catch (const NumericalError&) {  // the figures the run reached, for the summary
+        summary.has_figures = true;
+        summary.figures = run_figures(w, sim->steps_done, seconds());
+        throw;
+    }
+    const double secs = seconds();
     if (haptics) {
         haptics->stop();
         const HapticStats h = haptics->stats();
@@ -87,8 +82,13 @@ int run_scene(const RunOptions& o) {
                    h.ticks, h.seconds, h.rate_hz, h.period_p50_ms, h.period_p99_ms, h.period_max_ms);
     }
     if (!o.record.empty()) fmt::print("session recorded: {}/<tool>.csv\n", o.record);
-    print_result(w, steps, secs);
-    for (const std::string& note : end_of_run_notes(w)) fmt::print(stderr, "warning: {}\n", note);
+    summary.has_figures = true;
+    summary.figures = run_figures(w, steps, secs);
+    print_figures(summary.figures, w.metrics.max_substeps);
+    if (w.snap.elements_split > 0)
+        fmt::print("cut (snap): {} elements split, {} nodes snapped (largest move {:.3g} m), {} edge points, {} copies\n",
+                   w.snap.elements_split, w.snap.snaps, w.snap.max_snap_distance, w.snap.points, w.snap.copies);
+    warn_all(end_of_run_notes(w), summary.warnings);
     if (sim->output && w.visual.vertex_count() > 0) {
         const std::string png = sim->output->directory() + "/" + scene.name + ".png";
         render_scene_png(scene, w, png);
@@ -96,6 +96,28 @@ int run_scene(const RunOptions& o) {
     }
     if (sim->output) fmt::print("output: {}/{}.pvd and {}_metrics.csv\n", sim->output->directory(), scene.name, scene.name);
     return 0;
+}
+
+/// run_scene, with the summary written whatever the outcome (a batch runner reads the status).
+int run_with_summary(const RunOptions& o) {
+    RunSummary summary;
+    summary.scene = o.scene.scene;
+    const auto write = [&](const char* status, const std::string& message) {
+        if (o.summary.empty()) return;
+        summary.status = status, summary.message = message;
+        write_summary(o.summary, summary);
+    };
+    try {
+        const int code = run_scene(o, summary);
+        write("ok", "");
+        return code;
+    } catch (const InputError& e) {
+        write("input_error", e.what());
+        throw;
+    } catch (const NumericalError& e) {
+        write("numerical_error", e.what());
+        throw;
+    }
 }
 
 }  // namespace
@@ -109,7 +131,10 @@ Command add_run_command(CLI::App& app) {
     cmd->add_option("--record", o->record, "Record the tools' poses each step to DIR/<tool>.csv");
     cmd->add_option("--replay", o->replay, "Drive the tools from a session recorded with --record (bit-identical)");
     cmd->add_flag("--haptics", o->haptics, "Run the 1 kHz haptic loop beside the physics; report its rate and jitter");
-    return {cmd, [o] { return run_scene(*o); }};
+    cmd->add_option("--summary", o->summary,
+                    "Write the run's final figures, status and warnings to FILE as JSON (also when it fails)");
+    cmd->add_flag("--no-output", o->no_output, "Write no series, metrics CSV, surfaces or picture (batch runs)");
+    return {cmd, [o] { return run_with_summary(*o); }};
 }
 
 }  // namespace xcut

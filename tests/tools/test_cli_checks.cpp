@@ -5,6 +5,8 @@
 // and never write the record on a partial run.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -127,6 +129,34 @@ TEST_F(CliChecks, ElementsSplitColumnSumsToTheTotal) {
     }
     EXPECT_GT(total, 20);
     EXPECT_EQ(sum, total);
+}
+
+// A batch run: --no-output writes nothing but what is asked, --summary the final figures as JSON,
+// also for a run that fails (its status and message) or a scene that does not load.
+TEST_F(CliChecks, SummaryAndNoOutput) {
+    std::string out;
+    const fs::path summary = dir_ / "summary.json";
+    ASSERT_EQ(run(R"(, "material": {"young": 5}, "gravity": [0, 0, -9.81])", "--no-output --summary " + summary.string(), out),
+              0) << out;
+    EXPECT_FALSE(fs::exists(dir_ / "out")) << "no output directory";
+    nlohmann::json j = nlohmann::json::parse(std::ifstream(summary));
+    EXPECT_EQ(j["status"], "ok");
+    EXPECT_EQ(j["name"], "cube");
+    EXPECT_EQ(j["figures"]["steps"], 3);
+    EXPECT_GT(j["figures"]["max_displacement_m"].get<double>(), 0.0);
+    EXPECT_EQ(j["figures"]["free_dofs"].get<int>(), 3 * 18) << "27 nodes less the 9 held on z = 0";
+    ASSERT_FALSE(j["warnings"].empty());
+    EXPECT_NE(j["warnings"][0].get<std::string>().find("young"), std::string::npos);
+    // A run that stops (infinite gravity): exit 3 and the status says why.
+    EXPECT_EQ(run("", "--no-output --summary " + summary.string() + " --set gravity=[0,0,-1e300]", out), 3) << out;
+    j = nlohmann::json::parse(std::ifstream(summary));
+    EXPECT_EQ(j["status"], "numerical_error");
+    EXPECT_NE(j["message"].get<std::string>().find("NaN or infinite"), std::string::npos) << j.dump();
+    // A scene that does not load: exit 2, the field named in the message.
+    EXPECT_EQ(run("", "--no-output --summary " + summary.string() + " --set solver.dt=-1", out), 2) << out;
+    j = nlohmann::json::parse(std::ifstream(summary));
+    EXPECT_EQ(j["status"], "input_error");
+    EXPECT_NE(j["message"].get<std::string>().find("solver.dt"), std::string::npos) << j.dump();
 }
 
 // A benchmark refuses an option its suite does not read, and a partial run writes its quick CSV,
