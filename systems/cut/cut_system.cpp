@@ -18,23 +18,36 @@ const int* edge_of(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[
 /// The world's mesh elements at their current positions, as the BVH takes them.
 MeshView mesh_view(const World& w) { return {&w.elements, &w.nodes.position, w.mesh_elements, w.mesh_nodes}; }
 
-/// Whether element e's box at current positions meets the box [lo, hi].
-bool meets_box(const World& w, int e, const Vec3& lo, const Vec3& hi) {
+/// Where a swept quad can reach: its box, and the planes of its two triangles (a non-planar quad is
+/// two triangles; an element the quad crosses straddles one of their planes).
+struct QuadReach {
+    Vec3 lo, hi, point;
+    Vec3 normal[2];
+};
+
+/// Whether element e's box at current positions meets the quad's box and straddles the plane of one
+/// of its triangles: a necessary condition for the quad to cross it.
+bool may_reach(const World& w, int e, const QuadReach& q) {
     const auto& n = w.elements.nodes[e];
     Vec3 elo = w.nodes.position[n[0]], ehi = elo;
     for (int a = 1; a < w.elements.nodes_per_element(); ++a) {
         elo = elo.cwiseMin(w.nodes.position[n[a]]);
         ehi = ehi.cwiseMax(w.nodes.position[n[a]]);
     }
-    return (elo.array() <= hi.array()).all() && (ehi.array() >= lo.array()).all();
+    if (!((elo.array() <= q.hi.array()).all() && (ehi.array() >= q.lo.array()).all())) return false;
+    const Vec3 centre = 0.5 * (elo + ehi), half = 0.5 * (ehi - elo);
+    for (const Vec3& normal : q.normal) {
+        const double reach = normal.cwiseAbs().dot(half), offset = normal.dot(centre - q.point);
+        if (std::abs(offset) <= reach * (1.0 + 1e-9) + 1e-12 * normal.norm()) return true;
+    }
+    return false;
 }
 
 /// Elements sharing a vertex with `seeds`, `depth` levels deep (seeds included), and beyond that
-/// every element connected to them through elements whose boxes meet [lo, hi] (the swept quad's
-/// box): the depth is sized by the mean edge, which on a graded mesh is many of its small elements,
-/// so the quad's own extent decides where the search ends. Sorted.
-std::vector<int> neighbourhood(const World& w, const std::vector<int>& seeds, int depth, const Vec3& lo,
-                               const Vec3& hi) {
+/// every element connected to them through elements the swept quad may reach (may_reach): the
+/// depth is sized by the mean edge, which on a graded mesh is many of its small elements, so the
+/// quad's own extent decides where the search ends. Sorted.
+std::vector<int> neighbourhood(const World& w, const std::vector<int>& seeds, int depth, const QuadReach& quad) {
     const Incidence& inc = w.incidence;
     const int npe = w.elements.nodes_per_element();
     std::vector<int> frontier = seeds, all = seeds;
@@ -47,7 +60,7 @@ std::vector<int> neighbourhood(const World& w, const std::vector<int>& seeds, in
                 const int j = w.elements.nodes[e][a];
                 for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
                     const int f = inc.entry[p] >> 2;
-                    if (!seen[f] && (level < depth || meets_box(w, f, lo, hi))) seen[f] = 1, next.push_back(f);
+                    if (!seen[f] && (level < depth || may_reach(w, f, quad))) seen[f] = 1, next.push_back(f);
                 }
             }
         all.insert(all.end(), next.begin(), next.end());
@@ -297,10 +310,11 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
     std::vector<int> candidates;
     if (!bc.front.empty() && !cs.bvh_every_quad) {
         const int depth = cs.min_depth + static_cast<int>(std::ceil(length / std::max(cs.mean_edge, 1e-300)));
-        Vec3 lo = q.corner[0], hi = lo;
-        for (const Vec3& c : q.corner) lo = lo.cwiseMin(c), hi = hi.cwiseMax(c);
-        const Vec3 pad = Vec3::Constant(1e-9 * std::max(1.0, (hi - lo).norm()));  // rounding only
-        candidates = neighbourhood(w, bc.front, depth, lo - pad, hi + pad);
+        QuadReach reach{q.corner[0], q.corner[0], q.corner[0], {normal[0], normal[1]}};
+        for (const Vec3& c : q.corner) reach.lo = reach.lo.cwiseMin(c), reach.hi = reach.hi.cwiseMax(c);
+        const Vec3 pad = Vec3::Constant(1e-9 * std::max(1.0, (reach.hi - reach.lo).norm()));  // rounding only
+        reach.lo -= pad, reach.hi += pad;
+        candidates = neighbourhood(w, bc.front, depth, reach);
     } else {
         Vec3 centre = Vec3::Zero();
         for (const Vec3& c : q.corner) centre += 0.25 * c;
