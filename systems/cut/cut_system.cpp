@@ -55,7 +55,10 @@ std::vector<int> neighbourhood(const World& w, const std::vector<int>& seeds, in
     for (int e : seeds) seen[e] = 1;
     for (int level = 0; !frontier.empty(); ++level) {
         std::vector<int> next;
-        for (int e : frontier)
+        for (int e : frontier) {
+            // Past the depth, only from elements the quad may cross: the ring at the depth is checked
+            // once each, not every neighbour of it.
+            if (level == depth && !may_reach(w, e, quad)) continue;
             for (int a = 0; a < npe; ++a) {
                 const int j = w.elements.nodes[e][a];
                 for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
@@ -63,6 +66,7 @@ std::vector<int> neighbourhood(const World& w, const std::vector<int>& seeds, in
                     if (!seen[f] && (level < depth || may_reach(w, f, quad))) seen[f] = 1, next.push_back(f);
                 }
             }
+        }
         all.insert(all.end(), next.begin(), next.end());
         frontier.swap(next);
     }
