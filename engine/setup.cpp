@@ -32,6 +32,19 @@ void build_bodies(World& world, const MeshData& mesh, const std::vector<uint16_t
     apply_constraints(world);
 }
 
+int append_element_copy(Elements& el, int e, double weight) {
+    const int added = el.count();
+    el.nodes.push_back(el.nodes[e]);
+    el.rest_volume.push_back(el.rest_volume[e]);
+    el.dm_inv.push_back(el.dm_inv[e]);
+    el.rotation.push_back(el.rotation[e]);
+    el.material.push_back(el.material[e]);
+    el.region.push_back(el.region[e]);
+    el.body.push_back(el.body[e]);
+    el.weight.push_back(weight);
+    return added;
+}
+
 void compute_rest_shape(World& world, int e) {
     Elements& el = world.elements;
     const Vec3* X = world.nodes.rest.data();

@@ -14,6 +14,10 @@ namespace xcut {
 /// (exact total mass; the standard lumping for linear simplices).
 void build_bodies(World& world, const MeshData& mesh, const std::vector<uint16_t>& material_of_cell = {});
 
+/// Appends a copy of element e (nodes, rest shape, rotation, material, region, body) with the given
+/// weight, as a cutter makes a virtual element or a piece of it; returns the new element's index.
+int append_element_copy(Elements& elements, int e, double weight);
+
 /// Rest volume V (2D: area x thickness) and Dm^-1 of element e from its nodes' rest positions.
 void compute_rest_shape(World& world, int e);
 

@@ -197,15 +197,9 @@ void build_virtual_elements(World& w, int c) {
         ve = w.virtual_elements.count();
         w.virtual_elements.parent.push_back(e);
         w.virtual_elements.side.push_back(side);
-        w.virtual_elements.element.push_back(el.count());
-        el.nodes.push_back(verts);
-        el.rest_volume.push_back(el.rest_volume[e]);
-        el.dm_inv.push_back(el.dm_inv[e]);
-        el.rotation.push_back(el.rotation[e]);
-        el.material.push_back(el.material[e]);
-        el.region.push_back(el.region[e]);
-        el.body.push_back(el.body[e]);
-        el.weight.push_back(std::max(side > 0 ? fa : 1.0 - fa, kMinSideFraction));
+        const int added = append_element_copy(el, e, std::max(side > 0 ? fa : 1.0 - fa, kMinSideFraction));
+        el.nodes[added] = verts;
+        w.virtual_elements.element.push_back(added);
     }
     el.weight[e] = 0.0;
     note_opening(w, c);

@@ -205,15 +205,7 @@ void regenerate(World& w, int f) {
     const auto roots = root_pieces(w, f);
     auto& list = s.pieces[f];
     while (list.size() < roots.size()) {
-        list.push_back(el.count());
-        el.nodes.push_back(el.nodes[f]);
-        el.rest_volume.push_back(el.rest_volume[f]);
-        el.dm_inv.push_back(el.dm_inv[f]);
-        el.rotation.push_back(el.rotation[f]);
-        el.material.push_back(el.material[f]);
-        el.region.push_back(el.region[f]);
-        el.body.push_back(el.body[f]);
-        el.weight.push_back(0.0);
+        list.push_back(append_element_copy(el, f, 0.0));
         s.piece_parent.push_back(f);
         s.piece_side.push_back(0);
         s.piece_roots.push_back(el.nodes[f]);
