@@ -2,13 +2,9 @@
 
 #include <algorithm>
 
+#include "systems/kernels/mesh_measures.h"
+
 namespace xcut {
-namespace {
-
-int edge_count(int dim) { return dim == 3 ? 6 : 3; }
-const int* edge_nodes(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
-
-}  // namespace
 
 bool edge_crossed(const World& w, int a, int b) {
     const Elements& el = w.elements;

@@ -12,9 +12,6 @@
 namespace xcut {
 namespace {
 
-int edges_of(int dim) { return dim == 3 ? 6 : 3; }
-const int* edge_of(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
-
 /// The world's mesh elements at their current positions, as the BVH takes them.
 MeshView mesh_view(const World& w) { return {&w.elements, &w.nodes.position, w.mesh_elements, w.mesh_nodes}; }
 
@@ -85,12 +82,12 @@ int side_of(const Vec3& x, const Vec3& point, const Vec3& normal) {
 /// consistent split exists (a curved sweep crossing all edges of one face).
 bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) {
     const Elements& el = w.elements;
-    const int dim = el.dim, npe = el.nodes_per_element(), ne = edges_of(dim);
+    const int dim = el.dim, npe = el.nodes_per_element(), ne = edge_count(dim);
     int best = -1, best_extra = 99;
     for (int pattern = 1; pattern < (1 << (npe - 1)); ++pattern) {  // node 0 keeps colour 0
         int differ = 0;
         for (int k = 0; k < ne; ++k) {
-            const int* ed = edge_of(dim, k);
+            const int* ed = edge_nodes(dim, k);
             const int ci = ed[0] == 0 ? 0 : (pattern >> (ed[0] - 1)) & 1;
             const int cj = ed[1] == 0 ? 0 : (pattern >> (ed[1] - 1)) & 1;
             if (ci != cj) differ |= 1 << k;
@@ -114,7 +111,7 @@ bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) 
     const Vec3* x = w.nodes.position.data();
     int first = 0;
     while (!(c.mask >> first & 1)) ++first;
-    const int* fe = edge_of(dim, first);
+    const int* fe = edge_nodes(dim, first);
     const Vec3 p = x[el.nodes[e][fe[0]]] + c.t[first] * (x[el.nodes[e][fe[1]]] - x[el.nodes[e][fe[0]]]);
     if (colour0_sign == 0) {
         const int s = side_of(x[el.nodes[e][fe[0]]], p, c.normal[first]);
@@ -128,7 +125,7 @@ bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) 
     std::vector<Vec3> pts;
     for (int k = 0; k < ne; ++k) {
         if (!(c.mask >> k & 1)) continue;
-        const int* ed = edge_of(dim, k);
+        const int* ed = edge_nodes(dim, k);
         ev.edge_t[k] = c.t[k];
         ev.edge_has_t[k] = 1;
         pts.push_back(x[el.nodes[e][ed[0]]] + c.t[k] * (x[el.nodes[e][ed[1]]] - x[el.nodes[e][ed[0]]]));
@@ -139,7 +136,7 @@ bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) 
         if (m.norm() > 0.0) n = m.normalized();
     }
     for (int k = 0; k < ne; ++k) {
-        const int* ed = edge_of(dim, k);
+        const int* ed = edge_nodes(dim, k);
         if ((c.mask >> k & 1) || colour(ed[0]) == colour(ed[1])) continue;
         const double li = (x[el.nodes[e][ed[0]]] - pts[0]).dot(n), lj = (x[el.nodes[e][ed[1]]] - pts[0]).dot(n);
         ev.edge_t[k] = li != lj ? std::clamp(li / (li - lj), 0.0, 1.0) : 0.5;
@@ -162,14 +159,14 @@ constexpr double kTipNodeMargin = 0.1;
 /// besides the crossed ones, need not be the plane's while only one or two edges are crossed.)
 bool tip_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) {
     const Elements& el = w.elements;
-    const int dim = el.dim, npe = el.nodes_per_element(), ne = edges_of(dim);
+    const int dim = el.dim, npe = el.nodes_per_element(), ne = edge_count(dim);
     const Vec3* x = w.nodes.position.data();
     std::vector<Vec3> pts;
     int first = -1;
     for (int k = 0; k < ne; ++k) {
         if (!(c.mask >> k & 1)) continue;
         if (first < 0) first = k;
-        const int* ed = edge_of(dim, k);
+        const int* ed = edge_nodes(dim, k);
         pts.push_back(x[el.nodes[e][ed[0]]] + c.t[k] * (x[el.nodes[e][ed[1]]] - x[el.nodes[e][ed[0]]]));
     }
     if (first < 0) return false;
@@ -186,7 +183,7 @@ bool tip_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) {
     ev.element = e;
     double shortest = 1e300;
     for (int k = 0; k < ne; ++k)
-        shortest = std::min(shortest, (x[el.nodes[e][edge_of(dim, k)[0]]] - x[el.nodes[e][edge_of(dim, k)[1]]]).norm());
+        shortest = std::min(shortest, (x[el.nodes[e][edge_nodes(dim, k)[0]]] - x[el.nodes[e][edge_nodes(dim, k)[1]]]).norm());
     for (int a = 0; a < npe; ++a) {
         ev.level[a] = (x[el.nodes[e][a]] - pts[0]).dot(n);
         H[a] = ev.level[a] >= 0.0 ? 1 : -1;
@@ -196,7 +193,7 @@ bool tip_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) {
         if (fixed == 0 && std::abs(ev.level[a]) < kTipNodeMargin * shortest) return false;
     }
     for (int k = 0; k < ne; ++k) {
-        const int* ed = edge_of(dim, k);
+        const int* ed = edge_nodes(dim, k);
         if (!(c.mask >> k & 1)) continue;
         if (H[ed[0]] == H[ed[1]]) return false;
         ev.edge_t[k] = c.t[k];
@@ -217,8 +214,8 @@ int test_element(World& w, BladeCut& bc, int e, const CutQuad& q, const Vec3 nor
     const int dim = el.dim;
     const Vec3* x = w.nodes.position.data();
     int found = 0;
-    for (int k = 0; k < edges_of(dim); ++k) {
-        const int* ed = edge_of(dim, k);
+    for (int k = 0; k < edge_count(dim); ++k) {
+        const int* ed = edge_nodes(dim, k);
         const Vec3& a = x[el.nodes[e][ed[0]]];
         const Vec3& b = x[el.nodes[e][ed[1]]];
         std::optional<double> t;

@@ -1,5 +1,7 @@
 #include "systems/cut/enrichment_system.h"
 
+#include "systems/kernels/mesh_measures.h"
+
 #include <algorithm>
 #include <fmt/format.h>
 
@@ -31,13 +33,6 @@ void prepare_enrichment(World& w) {
     n.rest.reserve(n_cap), n.position.reserve(n_cap), n.velocity.reserve(n_cap);
     n.mass.reserve(n_cap), n.fixed.reserve(n_cap);
 }
-
-namespace {
-
-int edge_count(int dim) { return dim == 3 ? 6 : 3; }
-const int* edge_nodes(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
-
-}  // namespace
 
 namespace {
 

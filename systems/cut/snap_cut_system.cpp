@@ -1,5 +1,7 @@
 #include "systems/cut/snap_cut_system.h"
 
+#include "systems/kernels/mesh_measures.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -16,7 +18,6 @@ namespace {
 uint64_t edge_key(int a, int b) {
     return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
 }
-int edge_count(int dim) { return dim == 3 ? 6 : 3; }
 const int* local_edge(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
 
 template <class F>

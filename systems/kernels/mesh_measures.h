@@ -1,5 +1,6 @@
 #pragma once
-// Measures of the mesh at rest that the cut's search and the tools' sampling are sized by.
+// Element edges, and the measures of the mesh at rest that the cut's search and the tools' sampling
+// are sized by.
 #include <vector>
 
 #include "components/cut_elements.h"
@@ -8,14 +9,18 @@
 
 namespace xcut {
 
+/// Edges of an element of the mesh's dimension: 6 of a tetrahedron, 3 of a triangle, and the local
+/// nodes of edge k (components/cut_elements.h's tables).
+inline int edge_count(int dim) { return dim == 3 ? 6 : 3; }
+inline const int* edge_nodes(int dim, int k) { return dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
+
 /// Mean edge length of the mesh elements [0, mesh_elements) at their rest positions [m].
 inline double mean_edge_length(const Elements& el, const std::vector<Vec3>& rest, int mesh_elements) {
     double sum = 0.0;
     long n = 0;
-    const int edges = el.dim == 3 ? 6 : 3;
     for (int e = 0; e < mesh_elements; ++e)
-        for (int k = 0; k < edges; ++k) {
-            const int* ed = el.dim == 3 ? kTetEdges[k] : kTriEdges[k];
+        for (int k = 0; k < edge_count(el.dim); ++k) {
+            const int* ed = edge_nodes(el.dim, k);
             sum += (rest[el.nodes[e][ed[0]]] - rest[el.nodes[e][ed[1]]]).norm();
             ++n;
         }
