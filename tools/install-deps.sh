@@ -10,6 +10,8 @@
 # xvfb, xauth, xdotool, libgl1-mesa-dri: its tests open the window on a virtual display with software
 # OpenGL and drag the mouse on it.
 # libopenigtlink-dev: the OpenIGTLink tool device and xcut-igtl-play (optional like the viewer).
+# python3-dev, pybind11-dev, python3-numpy: the Python module (import xcut, docs/python.md);
+# python3-pytest: its tests; python3-distributed: `python3 -m xcut.sweep` on dask.
 # calculix-ccx: the accuracy suite's independent references (quadratic elements; optional: without it the
 # suite scores against beam theory, a linear-tet reference and the handbook, and says so).
 set -euo pipefail
@@ -26,4 +28,4 @@ $SUDO apt-get install -y -q --no-install-recommends \
   libsuitesparse-dev libopenblas0-serial clang-14 libclang-rt-14-dev libomp-14-dev \
   gmsh python3-meshio python3-vtk9 python3-jsonschema \
   libglfw3-dev libimgui-dev libepoxy-dev xvfb xauth xdotool libgl1-mesa-dri libopenigtlink-dev \
-  calculix-ccx
+  calculix-ccx python3-dev pybind11-dev python3-numpy python3-pytest python3-distributed

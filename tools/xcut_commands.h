@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/io/render.h"
+
 namespace xcut {
 
 struct Scene;
@@ -44,6 +46,7 @@ struct SceneOptions {
 void add_scene_options(CLI::App& cmd, SceneOptions& o);
 
 /// Renders the world's visual surface as the scene's camera sees it (automatic: framed) to `png`.
-void render_scene_png(const Scene& scene, const World& world, const std::string& png);
+void render_scene_png(const Scene& scene, const World& world, const std::string& png,
+                      const RenderOptions& options = {});
 
 }  // namespace xcut

@@ -41,19 +41,22 @@ void print_figures(const RunFigures& f, int max_substeps) {
                    f.elements_split, f.enriched_nodes, f.front_held_nodes, f.max_opening_m);
 }
 
+nlohmann::json figures_json(const RunFigures& f) {
+    return {{"time_s", f.time_s}, {"wall_s", f.wall_s}, {"steps", f.steps}, {"steps_per_s", f.steps_per_s},
+            {"free_dofs", f.free_dofs}, {"last_cg_iterations", f.last_cg_iterations},
+            {"max_displacement_m", f.max_displacement_m}, {"kinetic_J", f.kinetic_J}, {"elastic_J", f.elastic_J},
+            {"elements_split", f.elements_split}, {"enriched_nodes", f.enriched_nodes},
+            {"front_held_nodes", f.front_held_nodes}, {"max_opening_m", f.max_opening_m},
+            {"snap_elements_split", f.snap_elements_split}, {"snap_nodes_snapped", f.snap_nodes_snapped},
+            {"refactored_steps", f.refactored_steps}, {"substepped_steps", f.substepped_steps}};
+}
+
 void write_summary(const std::string& path, const RunSummary& s) {
     nlohmann::json j;
     j["scene"] = s.scene, j["name"] = s.name, j["status"] = s.status, j["message"] = s.message;
     j["warnings"] = s.warnings;
     if (s.has_figures) {
-        const RunFigures& f = s.figures;
-        j["figures"] = {{"time_s", f.time_s}, {"wall_s", f.wall_s}, {"steps", f.steps}, {"steps_per_s", f.steps_per_s},
-                        {"free_dofs", f.free_dofs}, {"last_cg_iterations", f.last_cg_iterations},
-                        {"max_displacement_m", f.max_displacement_m}, {"kinetic_J", f.kinetic_J}, {"elastic_J", f.elastic_J},
-                        {"elements_split", f.elements_split}, {"enriched_nodes", f.enriched_nodes},
-                        {"front_held_nodes", f.front_held_nodes}, {"max_opening_m", f.max_opening_m},
-                        {"snap_elements_split", f.snap_elements_split}, {"snap_nodes_snapped", f.snap_nodes_snapped},
-                        {"refactored_steps", f.refactored_steps}, {"substepped_steps", f.substepped_steps}};
+        j["figures"] = figures_json(s.figures);
     }
     std::ofstream out(path);
     out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";

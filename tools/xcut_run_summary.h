@@ -2,6 +2,7 @@
 // What `xcut run` reports at its end, as text on the console and, with --summary FILE, as JSON for
 // a batch runner: the run's final figures, its status (ok, input_error, numerical_error) and
 // message, and the warnings it printed.
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,8 @@ struct RunFigures {
 };
 
 RunFigures run_figures(const World& world, int steps, double wall_seconds);
+/// The figures as the summary's JSON has them (the Python API's Simulation.figures()).
+nlohmann::json figures_json(const RunFigures& f);
 /// The console lines `done: ...`, `cut: ...` (and the warning on renewed factors and substeps).
 void print_figures(const RunFigures& f, int max_substeps);
 

@@ -13,6 +13,7 @@
 #include "engine/parallel.h"
 #include "engine/io/cell_stress.h"
 #include "engine/io/clipped_cells.h"
+#include "engine/io/metrics_columns.h"
 #include "engine/io/vtu_writer.h"
 
 namespace xcut {
@@ -142,19 +143,9 @@ OutputWriter::OutputWriter(const World& world) : dir_(world.output.directory), s
     if (world.output.metrics_csv) {
         csv_.open(dir_ + "/" + stem_ + "_metrics.csv");
         if (!csv_) throw InputError(dir_, "output.directory", "cannot write the metrics CSV");
-        csv_ << "step,time_s,dt_s,dofs,cg_iterations,cg_residual,kinetic_J,elastic_J,gravity_work_J,step_ms,solve_flag,"
-                "substeps";
-        for (const std::string& s : world.metrics.system_names) csv_ << "," << s << "_ms";
-        cut_columns_ = world.tools.count() > 0;
-        if (cut_columns_)
-            csv_ << ",quads,elements_tested,crossings,elements_split,cut_update_ms,crossing_delay_mean_s,"
-                    "crossing_delay_max_s,enriched_nodes";
-        force_columns_ = (world.present() & kShapedTools) != 0;
-        if (force_columns_) {
-            csv_ << ",contacts";
-            for (const std::string& n : world.tools.name)
-                for (const char* q : {"fx_N", "fy_N", "fz_N", "tx_Nm", "ty_Nm", "tz_Nm"}) csv_ << "," << n << "_" << q;
-        }
+        int split_total = 0;  // the header: the columns' names (their values before a step mean nothing)
+        const std::vector<MetricColumn> columns = metric_columns(world, split_total);
+        for (size_t i = 0; i < columns.size(); ++i) csv_ << (i ? "," : "") << columns[i].name;
         csv_ << "\n";
     }
 }
@@ -179,40 +170,10 @@ void OutputWriter::frame_if_due(const World& world) {
 }
 
 void OutputWriter::metrics_row(const World& world) {
-    const StepMetrics& m = world.metrics.current;
-    if (csv_.is_open()) {
-        csv_ << fmt::format("{},{:.9g},{:.9g},{},{},{:.3e},{:.9e},{:.9e},{:.9e},{:.4f},{},{}", m.step, m.time, m.dt,
-                            m.dofs, m.cg_iterations, m.cg_residual, m.kinetic_energy, m.elastic_energy,
-                            m.gravity_work, m.step_ms, m.solve_flag, m.substeps);
-        for (double ms : m.system_ms) csv_ << fmt::format(",{:.4f}", ms);
-        if (cut_columns_) {
-            // Delays of the splits queued in this step (the tail of the run-long list). The
-            // elements_split column counts what the cutter applied (a queued split whose nodes an
-            // earlier cut already put on one side is not one), so the column sums to the run's total.
-            const CutState& cs = world.cut_state;
-            const int split_total = world.cuts.count() + world.snap.elements_split;
-            const int split_now = split_total - split_total_;
-            split_total_ = split_total;
-            double sum = 0.0, max = 0.0;
-            const size_t n = static_cast<size_t>(cs.elements_split);
-            for (size_t i = cs.delay_sim.size() - std::min(n, cs.delay_sim.size()); i < cs.delay_sim.size(); ++i)
-                sum += cs.delay_sim[i], max = std::max(max, cs.delay_sim[i]);
-            csv_ << fmt::format(",{},{},{},{},{:.4f},{:.6g},{:.6g},{}", cs.quads_built, cs.elements_tested,
-                                cs.crossings_found, split_now, cs.update_ms, n > 0 ? sum / n : 0.0, max,
-                                world.enriched.count());
-        }
-        if (force_columns_) {
-            // The tissue's reaction on each tool (zero before its first contact step).
-            const ToolBodies& tb = world.tools;
-            csv_ << "," << world.contacts.count();
-            for (int i = 0; i < tb.count(); ++i) {
-                const bool known = i < static_cast<int>(tb.reaction_force.size());
-                const Vec3 f = known ? tb.reaction_force[i] : Vec3::Zero(), t = known ? tb.reaction_torque[i] : Vec3::Zero();
-                csv_ << fmt::format(",{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}", f.x(), f.y(), f.z(), t.x(), t.y(), t.z());
-            }
-        }
-        csv_ << "\n";
-    }
+    if (!csv_.is_open()) return;
+    const std::vector<MetricColumn> columns = metric_columns(world, split_total_);
+    for (size_t i = 0; i < columns.size(); ++i) csv_ << (i ? "," : "") << format_metric(columns[i]);
+    csv_ << "\n";
 }
 
 void OutputWriter::finish() {

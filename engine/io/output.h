@@ -39,9 +39,7 @@ private:
     std::string dir_;
     std::string stem_;
     std::ofstream csv_;
-    bool cut_columns_ = false;   ///< the scene has tools: per-step cut figures
     int split_total_ = 0;        ///< elements split (XFEM or snapping) up to the last row written
-    bool force_columns_ = false; ///< the scene has shaped tools: reaction force and torque per tool
     std::vector<std::pair<double, std::string>> frames_;
     std::vector<std::pair<double, std::string>> surface_frames_;
 };

@@ -13,23 +13,40 @@
 
 namespace xcut {
 
-Camera frame_surface(const SurfaceMesh& s, int width, int height) {
-    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
-    for (const Vec3& p : s.position) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+Camera frame_points(const std::vector<Vec3>& points, int width, int height) {
     Camera c;
-    c.width = width, c.height = height;
+    c.width = width, c.height = height, c.automatic = false;
+    if (points.empty()) return c;
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
+    for (const Vec3& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     c.target = 0.5 * (lo + hi);
-    const double radius = 0.5 * (hi - lo).norm();
     const Vec3 dir = Vec3(0.45, -0.6, 1.0).normalized();  // from above, in front and to the side
-    c.position = c.target + dir * radius / std::tan(0.5 * c.fov_deg * M_PI / 180.0) * 1.05;
     c.up = Vec3::UnitY();
-    c.automatic = false;
+    const Vec3 forward = -dir, right = forward.cross(c.up).normalized(), up = right.cross(forward);
+    const double half_h = 0.95 * std::tan(0.5 * c.fov_deg * M_PI / 180.0), half_w = half_h * width / height;
+    // A point q (from the target) is in view when |q.right| <= half_w (d + q.forward), likewise up:
+    // the least distance d that holds for every point.
+    double d = 1e-9;
+    for (const Vec3& p : points) {
+        const Vec3 q = p - c.target;
+        const double depth = q.dot(forward);
+        d = std::max({d, std::abs(q.dot(right)) / half_w - depth, std::abs(q.dot(up)) / half_h - depth});
+    }
+    d = std::max(d, 0.55 * (hi - lo).norm());  // and outside the bodies' bounding sphere
+    c.position = c.target + dir * d;
     return c;
 }
 
-Image render_surface(const SurfaceMesh& s, const Camera& cam) {
+Camera frame_surface(const SurfaceMesh& s, int width, int height) { return frame_points(s.position, width, height); }
+
+double pixels_per_metre(const Camera& c) {
+    return 0.5 * c.height / std::tan(0.5 * c.fov_deg * M_PI / 180.0) / (c.target - c.position).norm();
+}
+
+Image render_triangles(const std::vector<Vec3>& positions, const std::vector<std::array<int, 3>>& triangles,
+                       const std::vector<std::array<double, 3>>& colours, const Camera& cam) {
     EmbreeSurface embree;
-    embree.build(s.position, s.triangles);
+    embree.build(positions, triangles);
 
     Image img;
     img.width = cam.width, img.height = cam.height;
@@ -55,12 +72,17 @@ Image render_surface(const SurfaceMesh& s, const Camera& cam) {
             Vec3 n = hit->normal.normalized();
             if (n.dot(d) > 0) n = -n;  // two-sided
             const double shade = 0.25 + 0.75 * std::max(0.0, n.dot(light));
-            const bool cut = t < static_cast<int>(s.cut_face.size()) && s.cut_face[t];
-            const double base[3] = {cut ? 0.80 : 0.93, cut ? 0.12 : 0.76, cut ? 0.12 : 0.66};
-            for (int k = 0; k < 3; ++k) px[k] = static_cast<unsigned char>(std::lround(255.0 * base[k] * shade));
+            for (int k = 0; k < 3; ++k) px[k] = static_cast<unsigned char>(std::lround(255.0 * colours[t][k] * shade));
         }
     }, 1);
     return img;
+}
+
+Image render_surface(const SurfaceMesh& s, const Camera& cam) {
+    std::vector<std::array<double, 3>> colours(s.triangles.size(), {0.93, 0.76, 0.66});  // skin
+    for (size_t t = 0; t < s.triangles.size() && t < s.cut_face.size(); ++t)
+        if (s.cut_face[t]) colours[t] = {0.80, 0.12, 0.12};  // the wound's inside
+    return render_triangles(s.position, s.triangles, colours, cam);
 }
 
 void write_png(const Image& img, const std::string& path) {

@@ -266,8 +266,8 @@ namespace {
 
 /// The scene's JSON. A key given twice in one object is an error naming its field path (JSON
 /// leaves duplicates undefined; nlohmann's parser would silently keep the later one).
-nlohmann::json parse_scene_json(const std::string& path) {
-    const std::string text = read_input_file(path, "file", "scene", kMaxSceneBytes);
+/// `path` names the text in messages (a file, or what a scene given as text stands for).
+nlohmann::json parse_scene_json(const std::string& text, const std::string& path) {
     struct Container {
         bool object;
         std::string name;                         ///< its field path
@@ -315,10 +315,10 @@ nlohmann::json parse_scene_json(const std::string& path) {
     }
 }
 
-}  // namespace
-
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-    nlohmann::json root = parse_scene_json(path);
+/// The scene in `root`; `path` names it in messages, `dir` is where its relative file names start
+/// and `default_name` its name when it gives none.
+Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::path& dir,
+                      const std::string& default_name, const std::vector<std::string>& overrides) {
     for (const auto& o : overrides) apply_override(root, path, o);
 
     Scene scene;
@@ -344,7 +344,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
             scene.allow.push_back(name);
         }
     }
-    scene.name = top.string("name", fs::path(path).stem().string());
+    scene.name = top.string("name", default_name);
     // The name is the output's file stem: short, one path component, printable.
     if (scene.name.size() > kMaxSceneNameLength)
         top.fail("name", fmt::format("is {} characters long, above the limit of {} (it names the output files)",
@@ -354,13 +354,13 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
             top.fail("name", "names the output files: no '/', '\\' or control characters");
     if (scene.name.empty() || scene.name == "." || scene.name == "..")
         top.fail("name", "names the output files: give a name other than \"\", \".\" or \"..\"");
-    read_bodies(top, fs::path(path).parent_path(), scene);
+    read_bodies(top, dir, scene);
 
     scene.gravity = top.vec3("gravity", Eigen::Vector3d::Zero());
 
     const JsonFields con = top.object("constraints");
     con.allow_only({"fixed_boxes", "fixed_nodes", "fixed_sets"});
-    scene.fixed_sets = read_fixed_sets(con, fs::path(path).parent_path());
+    scene.fixed_sets = read_fixed_sets(con, dir);
     for (const JsonFields& b : con.array_of_objects("fixed_boxes")) {
         b.allow_only({"min", "max", "axes", "displacement"});
         FixedBox box{b.required_vec3("min"), b.required_vec3("max"), read_axes(b, "axes"),
@@ -416,7 +416,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
         scene.cuts.push_back(cut);
     }
 
-    read_tools(top, fs::path(path).parent_path(), scene);
+    read_tools(top, dir, scene);
     if (top.has("visual")) {
         const JsonFields vis = top.object("visual");
         vis.allow_only({"subdivisions"});
@@ -452,6 +452,21 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     scene.output.vtu = out.boolean("vtu", true);
     scene.output.metrics_csv = out.boolean("metrics_csv", true);
     return scene;
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+    const std::string text = read_input_file(path, "file", "scene", kMaxSceneBytes);
+    return scene_from_json(parse_scene_json(text, path), path, fs::path(path).parent_path(),
+                           fs::path(path).stem().string(), overrides);
+}
+
+Scene load_scene_text(const std::string& text, const std::string& label, const std::string& base_directory,
+                      const std::vector<std::string>& overrides) {
+    if (text.size() > kMaxSceneBytes)
+        throw InputError(label, "scene", fmt::format("is {} bytes, above the limit of {} bytes", text.size(), kMaxSceneBytes));
+    return scene_from_json(parse_scene_json(text, label), label, base_directory, "scene", overrides);
 }
 
 World build_world(const Scene& scene) {

@@ -103,6 +103,11 @@ void check_trajectory(std::vector<Keyframe>& keys, const std::string& file, cons
 
 /// `overrides`: "field.path=json-value" pairs (from --set) applied to the JSON before it is read.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+/// A scene given as JSON text (the Python API's dict): the same schema, checks and messages as a
+/// file's, `label` naming it in messages; relative file names start at `base_directory`; its name,
+/// when it gives none, is "scene".
+Scene load_scene_text(const std::string& text, const std::string& label, const std::string& base_directory,
+                      const std::vector<std::string>& overrides = {});
 /// Reads or generates the first body's mesh (validated).
 MeshData load_scene_mesh(const Scene& scene);
 

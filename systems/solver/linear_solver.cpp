@@ -7,6 +7,7 @@
 #include <Eigen/SparseCore>
 #include <cmath>
 #include <exception>
+#include <mutex>
 #include <fmt/format.h>
 
 #include "engine/parallel.h"
@@ -32,8 +33,13 @@ namespace {
 /// regions inside its supernodal factorization (CHOLMOD_OMP_NUM_THREADS); on two cores beside the
 /// engine's threads their wake-ups cost more than they save (the default scene ran 20-40 % slower).
 /// With no parallel level allowed to be active, the runtime runs them on the calling thread.
+/// One lock around every call, process-wide: CHOLMOD's BLAS (Debian's serial OpenBLAS) is not safe
+/// to call from two threads at once, and the OpenMP setting changed here is the process's. Two
+/// simulations stepped from two threads (the Python API) corrupted each other's factors without it.
 template <class F>
 void without_library_threads(F&& f) {
+    static std::mutex library;
+    std::lock_guard<std::mutex> lock(library);
     const int levels = omp_get_max_active_levels();
     omp_set_max_active_levels(0);
     try {

@@ -7,12 +7,14 @@ Usage: python3 tools/report/plot_compare.py DIR
 """
 import csv
 import os
+import statistics
 import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 COLOURS = {"xfem": "tab:blue", "xfem_progressive": "tab:green", "snap": "tab:red"}
 
@@ -31,6 +33,12 @@ def column(table, key, cast=float):
     return [cast(r[key]) for r in table]
 
 
+def running_median(values, width):
+    """The median of each value's window of `width` (centred; shorter at the ends)."""
+    half = width // 2
+    return [statistics.median(values[max(0, i - half):i + half + 1]) for i in range(len(values))]
+
+
 def dofs_vs_cuts(d):
     t = rows(d, "dofs_vs_cuts.csv")
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -38,6 +46,7 @@ def dofs_vs_cuts(d):
     for c in cutters(t, "_added"):
         ax.plot(cuts, column(t, c + "_added", int), "o-", color=COLOURS[c], label=c)
     ax.set_xlabel("cuts")
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))  # a count: no fractional ticks
     ax.set_ylabel("DOFs added")
     ax.set_title("Generation of DOFs: XFEM vs snapping and subdivision")
     ax.grid(alpha=0.3)
@@ -80,13 +89,18 @@ def steps(d):
     t = rows(d, "steps.csv")
     fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
     time = column(t, "time_s")
+    # Per-step CG iterations and times jump from step to step, and three cutters' raw lines on one
+    # panel hid each other: each step as a faint dot, and the running median over 9 steps as a line.
     for c in cutters(t, "_dofs"):
         axes[0].plot(time, column(t, c + "_dofs", int), color=COLOURS[c], label=c)
-        axes[1].plot(time, column(t, c + "_cg_iterations", int), color=COLOURS[c], lw=0.7, label=c)
-        axes[2].plot(time, column(t, c + "_step_ms"), color=COLOURS[c], lw=0.7, label=c)
+        for ax, key in ((axes[1], "_cg_iterations"), (axes[2], "_step_ms")):
+            values = column(t, c + key)
+            ax.plot(time, values, ".", color=COLOURS[c], ms=2, alpha=0.25)
+            ax.plot(time, running_median(values, 9), color=COLOURS[c], lw=1.4, label=c)
     axes[0].set_ylabel("DOFs")
-    axes[1].set_ylabel("CG iterations")
-    axes[2].set_ylabel("step time [ms]")
+    axes[1].set_ylabel("CG iterations\n(dots: steps; line: median of 9)")
+    axes[1].yaxis.set_major_locator(MaxNLocator(integer=True))
+    axes[2].set_ylabel("step time [ms]\n(dots: steps; line: median of 9)")
     axes[2].set_xlabel("simulated time [s]")
     for ax in axes:
         ax.grid(alpha=0.3)
