@@ -33,10 +33,10 @@ def column(table, key, cast=float):
     return [cast(r[key]) for r in table]
 
 
-def running_median(values, width):
-    """The median of each value's window of `width` (centred; shorter at the ends)."""
+def running_mean(values, width):
+    """The mean of each value's window of `width` (centred; shorter at the ends)."""
     half = width // 2
-    return [statistics.median(values[max(0, i - half):i + half + 1]) for i in range(len(values))]
+    return [statistics.fmean(values[max(0, i - half):i + half + 1]) for i in range(len(values))]
 
 
 def dofs_vs_cuts(d):
@@ -90,17 +90,18 @@ def steps(d):
     fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
     time = column(t, "time_s")
     # Per-step CG iterations and times jump from step to step, and three cutters' raw lines on one
-    # panel hid each other: each step as a faint dot, and the running median over 9 steps as a line.
+    # panel hid each other: each step as a faint dot, and a running mean over 15 steps as a line (a
+    # mean, not a median: the counts are small integers, and three cutters' medians coincide).
     for c in cutters(t, "_dofs"):
         axes[0].plot(time, column(t, c + "_dofs", int), color=COLOURS[c], label=c)
         for ax, key in ((axes[1], "_cg_iterations"), (axes[2], "_step_ms")):
             values = column(t, c + key)
             ax.plot(time, values, ".", color=COLOURS[c], ms=2, alpha=0.25)
-            ax.plot(time, running_median(values, 9), color=COLOURS[c], lw=1.4, label=c)
+            ax.plot(time, running_mean(values, 15), color=COLOURS[c], lw=1.4, label=c)
     axes[0].set_ylabel("DOFs")
-    axes[1].set_ylabel("CG iterations\n(dots: steps; line: median of 9)")
+    axes[1].set_ylabel("CG iterations\n(dots: steps; line: mean of 15)")
     axes[1].yaxis.set_major_locator(MaxNLocator(integer=True))
-    axes[2].set_ylabel("step time [ms]\n(dots: steps; line: median of 9)")
+    axes[2].set_ylabel("step time [ms]\n(dots: steps; line: mean of 15)")
     axes[2].set_xlabel("simulated time [s]")
     for ax in axes:
         ax.grid(alpha=0.3)
