@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "tools/bench/bench_cut.h"
+#include "tools/bench/bench_cutstep.h"
 #include "tools/bench/bench_mapping.h"
 
 namespace xcut {
@@ -49,6 +50,38 @@ TEST(Bench, CutSuiteTinyRun) {
     EXPECT_GT(rows[0].quads, 1);
     o.bvh_every_quad = true;
     EXPECT_EQ(run_cut_bench(o)[0].splits, rows[0].splits) << "both searches find the same elements";
+    fs::remove(o.csv);
+}
+
+TEST(Bench, CutStepSuiteTinyRun) {
+    // The suite reads the shipped scenes by their paths in the checkout, as `xcut bench` run there does.
+    struct InSource {
+        fs::path was = fs::current_path();
+        InSource() { fs::current_path(XCUT_SOURCE_DIR); }
+        ~InSource() { fs::current_path(was); }
+    } in_source;
+    CutStepBenchOptions o;
+    o.tiny = true, o.progress = false;
+    o.csv = (fs::temp_directory_path() / ("xcut_bench_cutstep_" + std::to_string(::getpid()) + ".csv")).string();
+    ASSERT_EQ(cutstep_bench_command(o), 0);
+    const auto lines = csv_lines(o.csv);
+    ASSERT_EQ(lines.size(), 5u);  // header; skin and block, quiet and beside a busy process
+    EXPECT_EQ(lines[0].rfind("case,load,method,tets,steps,dofs_end,median_ms,p99_ms,max_ms,p99_over_median,", 0), 0u);
+    const auto rows = run_cutstep_bench(o);
+    ASSERT_EQ(rows.size(), 4u);
+    for (const CutStepBenchRow& r : rows) {
+        EXPECT_TRUE(r.failure.empty()) << r.failure;
+        EXPECT_GT(r.split_steps, 0) << r.case_name << ": the blade splits elements";
+        EXPECT_GT(r.median_ms, 0.0);
+        EXPECT_GE(r.max_ms, r.p99_ms);
+        EXPECT_GE(r.p99_ms, r.median_ms);
+        EXPECT_GE(r.split_max_ms, r.split_median_ms);
+        EXPECT_GE(r.cg_split_max, 1.0);
+        EXPECT_GT(r.builds, 0) << "the cholesky factor is built again at a split today";
+    }
+    EXPECT_EQ(rows[2].load, "busy");
+    EXPECT_EQ(rows[0].case_name, rows[2].case_name);
+    EXPECT_EQ(rows[0].split_steps, rows[2].split_steps) << "the load changes the times, not what is cut";
     fs::remove(o.csv);
 }
 

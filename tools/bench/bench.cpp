@@ -1,5 +1,10 @@
 #include "tools/bench/bench.h"
 
+#include <malloc.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -151,6 +156,13 @@ void cut_update_rows(const PerfBenchOptions& o) {
 
 }  // namespace
 
+bool reset_peak_rss() {
+    malloc_trim(0);  // what earlier runs freed goes back to the system, out of the next run's peak
+    std::ofstream out("/proc/self/clear_refs");
+    out << "5";
+    return static_cast<bool>(out.flush());
+}
+
 double peak_rss_bytes() {
     std::ifstream in("/proc/self/status");
     std::string key;
@@ -221,6 +233,19 @@ int perf_bench_command(const PerfBenchOptions& o) {
     skip_row(o);
     fmt::print("csv: {} and {}_*.csv\n", o.csv, std::filesystem::path(o.csv).replace_extension().string());
     return 0;
+}
+
+int start_busy_process() {
+    const pid_t pid = fork();
+    if (pid == 0) {
+        volatile double x = 0.0;
+        for (;;) x = x * 0.999 + 1.0;
+    }
+    return pid;
+}
+
+void stop_busy_process(int pid) {
+    if (pid > 0) kill(pid, SIGKILL), waitpid(pid, nullptr, 0);
 }
 
 }  // namespace xcut

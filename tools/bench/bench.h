@@ -51,8 +51,17 @@ std::string sibling_csv(const std::string& csv, const std::string& part);
 /// Opens a CSV for writing, creating its folder.
 fmt::ostream open_csv(const std::string& path);
 
+/// A child process that keeps one core busy until stop_busy_process: the load a renderer or a
+/// haptic thread puts beside the physics. -1 if it could not be started.
+int start_busy_process();
+void stop_busy_process(int pid);
+
 /// The process's peak resident set so far [bytes] (VmHWM).
 double peak_rss_bytes();
+/// Returns freed memory to the system and starts the peak over from the resident set then (Linux:
+/// /proc/self/clear_refs), so the next peak_rss_bytes() is one run's; false if the kernel refuses
+/// (the peak then stays the process's).
+bool reset_peak_rss();
 
 /// Bytes held by the world's component arrays (capacities), for the memory budget.
 struct World;

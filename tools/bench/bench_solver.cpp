@@ -114,16 +114,6 @@ SolverBenchRow timed(const Case& c, const std::string& method, int threads, int 
     return r;
 }
 
-/// A child process that keeps one core busy until killed: the load a renderer or a haptic thread puts.
-pid_t start_busy_process() {
-    const pid_t pid = fork();
-    if (pid == 0) {
-        volatile double x = 0.0;
-        for (;;) x = x * 0.999 + 1.0;
-    }
-    return pid;
-}
-
 }  // namespace
 
 std::vector<SolverBenchRow> run_solver_bench(const SolverBenchOptions& o) {
@@ -140,7 +130,7 @@ std::vector<SolverBenchRow> run_solver_bench(const SolverBenchOptions& o) {
     // Under load: another process busy on one core; at 1 and 2 threads, the default scene with its
     // auto method (cholesky) and, in the full run, the 53k block with amg (the method whose cycle
     // has the most barriers).
-    const pid_t busy = start_busy_process();
+    const int busy = start_busy_process();
     for (const Case& c : all) {
         const std::string method = c.name == "skin_slab" ? "cholesky" : c.name == "block_53k" ? "amg" : "";
         if (method.empty()) continue;
@@ -150,7 +140,7 @@ std::vector<SolverBenchRow> run_solver_bench(const SolverBenchOptions& o) {
             rows.push_back(r);
         }
     }
-    if (busy > 0) kill(busy, SIGKILL), waitpid(busy, nullptr, 0);
+    stop_busy_process(busy);
     set_thread_count(2);
     return rows;
 }

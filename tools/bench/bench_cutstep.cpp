@@ -1,0 +1,130 @@
+#include "tools/bench/bench_cutstep.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+
+#include "engine/error.h"
+#include "engine/parallel.h"
+#include "systems/pipeline.h"
+#include "systems/solver/linear_solver.h"
+#include "tools/bench/bench.h"
+#include "tools/bench/bench_cut.h"
+
+namespace xcut {
+namespace {
+
+struct Case {
+    std::string name;
+    Scene scene;
+    int steps;
+};
+
+/// The default skin, its cells `h` [m] (the scalpel's incision from 0.2 to 1.2 s; `steps` of 10 ms).
+Case skin(const std::string& name, double h, int steps) {
+    const std::string set = fmt::format("mesh.element_size={}", h);
+    Scene s = load_scene("scenes/skin_slab.json", {set});
+    s.visual_subdivisions = s.collision_subdivisions = -1;
+    return {name, s, steps};
+}
+
+/// The tissue block at about `tets` tetrahedra, a scalpel (edge 20 mm deep) drawn across its top
+/// along x at 50 mm/s from the first step.
+Case block(const std::string& name, int tets, int steps) {
+    const std::string scalpel =
+        "tools+={\"name\": \"scalpel\", \"blade\": {\"tip\": [0, 0, -0.02], \"heel\": [0, 0, 0.005]}, "
+        "\"trajectory\": [{\"time\": 0, \"position\": [0, 0.0503, 0.05]}, {\"time\": 2, \"position\": [0.1, 0.0503, 0.05]}]}";
+    return {name, sized_scene("scenes/tissue_block.json", tets, {scalpel}), steps};
+}
+
+std::vector<Case> cases(bool tiny) {
+    if (tiny) return {skin("skin_2mm", 0.002, 40), block("block_5k", 5000, 30)};
+    return {skin("skin_2mm", 0.002, 130), skin("skin_1mm", 0.001, 130), skin("skin_0.7mm", 0.0007, 130),
+            block("block_20k", 20000, 100), block("block_53k", 53000, 100), block("block_200k", 200000, 60)};
+}
+
+CutStepBenchRow run_case(const Case& c, const std::string& load) {
+    CutStepBenchRow r;
+    r.case_name = c.name, r.load = load;
+    set_thread_count(2);
+    r.own_peak = reset_peak_rss();
+    auto sim = make_simulation(c.scene, false);
+    World& w = sim->world;
+    r.tets = w.mesh_elements;
+    r.method = w.linear.method.empty() ? resolve_linear_method(w) : w.linear.method;
+    std::vector<double> all, split, cg, cg_split;
+    for (int i = 0; i < c.steps; ++i) {
+        const int cut_before = w.cuts.count() + w.snap.elements_split, built_before = w.linear.factorizations;
+        try {
+            step_simulation(*sim);
+        } catch (const NumericalError& e) {
+            r.failure = e.what();
+            break;
+        }
+        const StepMetrics& m = w.metrics.current;
+        all.push_back(m.step_ms), cg.push_back(m.cg_iterations);
+        r.builds += w.linear.factorizations > built_before;
+        if (w.cuts.count() + w.snap.elements_split > cut_before) split.push_back(m.step_ms), cg_split.push_back(m.cg_iterations);
+    }
+    r.steps = static_cast<int>(all.size()), r.split_steps = static_cast<int>(split.size());
+    r.dofs_end = w.metrics.current.dofs;
+    r.median_ms = percentile(all, 0.5), r.p99_ms = percentile(all, 0.99);
+    r.max_ms = all.empty() ? 0.0 : *std::max_element(all.begin(), all.end());
+    r.split_median_ms = percentile(split, 0.5);
+    r.split_max_ms = split.empty() ? 0.0 : *std::max_element(split.begin(), split.end());
+    r.cg_median = percentile(cg, 0.5), r.cg_split_median = percentile(cg_split, 0.5);
+    r.cg_split_max = cg_split.empty() ? 0.0 : *std::max_element(cg_split.begin(), cg_split.end());
+    r.peak_rss_mb = peak_rss_bytes() / 1e6;
+    return r;
+}
+
+}  // namespace
+
+std::vector<CutStepBenchRow> run_cutstep_bench(const CutStepBenchOptions& o) {
+    std::vector<Case> all = cases(o.tiny);
+    if (!o.cases.empty())
+        std::erase_if(all, [&](const Case& c) { return std::find(o.cases.begin(), o.cases.end(), c.name) == o.cases.end(); });
+    if (all.empty()) throw InputError("--cases", "", "no such case in this configuration (skin_2mm, skin_1mm, "
+                                      "skin_0.7mm, block_20k, block_53k, block_200k; --tiny: skin_2mm, block_5k)");
+    std::vector<CutStepBenchRow> rows;
+    for (const Case& c : all) {
+        rows.push_back(run_case(c, "quiet"));
+        if (o.progress) fmt::print(stderr, "  {}: median {:.2f} ms, max {:.2f} ms\n", c.name, rows.back().median_ms, rows.back().max_ms);
+    }
+    // Beside a process that keeps one core busy (a renderer, a haptic thread): the default skin and
+    // the 53k block (the first case of a --tiny run).
+    const int busy = start_busy_process();
+    for (const Case& c : all)
+        if (c.name == "skin_2mm" || c.name == "block_53k" || (o.tiny && &c == &all.back())) rows.push_back(run_case(c, "busy"));
+    stop_busy_process(busy);
+    return rows;
+}
+
+int cutstep_bench_command(const CutStepBenchOptions& o) {
+    const std::vector<CutStepBenchRow> rows = run_cutstep_bench(o);
+    auto csv = open_csv(o.csv);
+    csv.print("case,load,method,tets,steps,dofs_end,median_ms,p99_ms,max_ms,p99_over_median,max_over_median,split_steps,"
+              "split_median_ms,split_max_ms,split_median_over_median,cg_median,cg_split_median,cg_split_max,builds,"
+              "peak_rss_mb,peak_is_the_runs,failure\n");
+    fmt::print("cut step benchmark: a scalpel cutting continuously; 2 threads, no output; every step timed\n");
+    fmt::print("{:>11} {:>5} {:>8} {:>7} {:>6} {:>9} {:>9} {:>9} {:>7} {:>7} {:>6} {:>10} {:>9} {:>8} {:>7}\n", "case",
+               "load", "method", "tets", "steps", "median", "p99", "max", "p99/med", "max/med", "splits", "split med",
+               "split max", "cg split", "builds");
+    for (const CutStepBenchRow& r : rows) {
+        const double med = r.median_ms > 0 ? r.median_ms : 1.0;
+        fmt::print("{:>11} {:>5} {:>8} {:>7} {:>6} {:>7.2f}ms {:>7.2f}ms {:>7.2f}ms {:>7.1f} {:>7.1f} {:>6} {:>8.2f}ms "
+                   "{:>7.2f}ms {:>4.0f}/{:<3.0f} {:>7}{}\n",
+                   r.case_name, r.load, r.method, r.tets, r.steps, r.median_ms, r.p99_ms, r.max_ms, r.p99_ms / med,
+                   r.max_ms / med, r.split_steps, r.split_median_ms, r.split_max_ms, r.cg_split_median, r.cg_split_max,
+                   r.builds, r.failure.empty() ? "" : "  FAILED: " + r.failure);
+        csv.print("{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.3f},{:.3f},{},{:.4f},{:.4f},{:.3f},{},{},{},{},{:.1f},{},\"{}\"\n",
+                  r.case_name, r.load, r.method, r.tets, r.steps, r.dofs_end, r.median_ms, r.p99_ms, r.max_ms,
+                  r.p99_ms / med, r.max_ms / med, r.split_steps, r.split_median_ms, r.split_max_ms,
+                  r.split_median_ms / med, r.cg_median, r.cg_split_median, r.cg_split_max, r.builds, r.peak_rss_mb,
+                  r.own_peak ? 1 : 0, r.failure);
+    }
+    fmt::print("targets (issue #36): p99 <= 1.5x and max <= 2x the median step at every size, also beside a busy "
+               "process\ncsv: {}\n", o.csv);
+    return 0;
+}
+
+}  // namespace xcut
