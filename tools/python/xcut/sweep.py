@@ -49,9 +49,11 @@ class SpecError(ValueError):
 
 
 def find_binary(given: Optional[str] = None) -> str:
-    """The xcut binary: `given`, $XCUT_BINARY, the build tree's beside this package, or PATH."""
+    """The xcut binary: `given`, $XCUT_BINARY, the build tree's (<build>/python/xcut -> <build>/xcut),
+    the installed one (<prefix>/lib/pythonX.Y/dist-packages/xcut -> <prefix>/bin/xcut), or PATH."""
     here = os.path.dirname(os.path.abspath(__file__))
-    for c in (given, os.environ.get("XCUT_BINARY"), os.path.join(here, "..", "..", "xcut"), shutil.which("xcut")):
+    for c in (given, os.environ.get("XCUT_BINARY"), os.path.join(here, "..", "..", "xcut"),
+              os.path.join(here, "..", "..", "..", "..", "bin", "xcut"), shutil.which("xcut")):
         if c and os.path.isfile(c) and os.access(c, os.X_OK):
             return os.path.abspath(c)
     raise FileNotFoundError("the xcut binary: not found (give --binary, set XCUT_BINARY or put xcut on PATH)")
