@@ -21,6 +21,8 @@ namespace xcut {
 struct LinearFactor;
 /// The smoothed-aggregation hierarchy the amg method keeps (systems/kernels/solver/amg.h); opaque here.
 struct AmgHierarchy;
+/// A hierarchy being built off the step (systems/solver/amg_background.h); opaque here.
+struct PendingHierarchy;
 
 /// What the kept solutions of earlier steps belong to (systems/kernels/solver/projected_guess.h): a step
 /// with another key starts them again (a cut changes the DOFs, the elements or the pattern). A
@@ -66,6 +68,16 @@ struct LinearSystem {
     double load_setup_ms = 0.0;            ///< building the kept preconditioner at load [ms]
     SolutionHistory history;               ///< earlier steps' solutions: the next step's first guess
     int projected_guesses = 0;             ///< steps whose first guess came from them
+
+    // Renewing the kept preconditioner off the step (amg: systems/solver/amg_background.h).
+    std::shared_ptr<PendingHierarchy> pending_amg;  ///< a hierarchy being built, if any
+    /// This step's kept preconditioner, for the metrics: 0 kept as it is, 1 aged while a renewed
+    /// one is built off the step, 2 a renewed one taken into use, 3 built in the step.
+    int step_preconditioner = 0;
+    double step_wait_ms = 0.0;             ///< this step waited for the one built off the step [ms]
+    int background_builds = 0;             ///< preconditioners asked for off the step so far
+    int swaps = 0;                         ///< of those, taken into use
+    double wait_ms_total = 0.0, wait_ms_max = 0.0;  ///< the steps' waits for them [ms]
 };
 
 }  // namespace xcut

@@ -16,6 +16,11 @@ struct StepMetrics {
     /// How the step's solve was accepted: 0 at once, 1 after renewing the factor, 2 in substeps.
     int solve_flag = 0;
     int substeps = 1;             ///< substeps the step took (a power of 2)
+    /// The kept preconditioner in this step (cholesky, amg; components/linear_system.h): 0 kept as it
+    /// is, 1 aged while a renewed one is built off the step, 2 a renewed one taken into use, 3 built
+    /// in the step.
+    int preconditioner = 0;
+    double preconditioner_wait_ms = 0.0;  ///< the step waited for the one built off the step [ms]
     double kinetic_energy = 0.0;  ///< [J]
     double elastic_energy = 0.0;  ///< [J]
     double gravity_work = 0.0;    ///< work done by gravity since rest, sum m g.(x - X) [J]

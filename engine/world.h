@@ -67,6 +67,9 @@ struct SolverSettings {
     std::string linear = "auto";
     int refactor_iterations = 8;     ///< "refactor_iterations": cholesky refactors when CG needs more [-]
     int refactor_every = 200;        ///< "refactor_every": ... or when the factor is this many steps old
+    /// "renew_delay": amg renews an aged hierarchy off the step, taking the new one this many steps
+    /// after asking (systems/solver/amg_background.h); 0: in the step that finds it aged [steps]
+    int renew_delay = 3;
     /// "guess_history": the step's solve starts from the Galerkin projection onto the solutions of
     /// this many earlier steps (systems/kernels/solver/projected_guess.h); 0: from the previous step's [-]
     int guess_history = 6;

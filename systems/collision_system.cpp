@@ -28,7 +28,10 @@ struct BroadShape {
 
 struct CollisionModel {
     std::shared_ptr<Bvh> surface;
-    size_t triangles = 0;  ///< triangle count the BVH was built with
+    /// The triangles and vertex count the BVH was built with: FCL refits only the same mesh (an
+    /// update with another vertex count writes past its arrays).
+    std::vector<std::array<int, 3>> triangles;
+    size_t vertices = 0;
     std::vector<BroadShape> tool_shape;  ///< per tool, made on first use
 };
 
@@ -60,9 +63,10 @@ BroadShape broad_shape(const ToolShape& s) {
     return {};
 }
 
-/// The surface BVH at the current positions: refitted, or rebuilt when its triangles changed.
+/// The surface BVH at the current positions: refitted, or rebuilt when its mesh changed (a cut adds
+/// vertices and re-makes triangles, sometimes keeping their count: a count alone is no test).
 void refit_surface(const SurfaceMesh& s, CollisionModel& m) {
-    if (!m.surface || m.triangles != s.triangles.size()) {
+    if (!m.surface || m.vertices != s.position.size() || m.triangles != s.triangles) {
         m.surface = std::make_shared<Bvh>();
         m.surface->beginModel();
         std::vector<fcl::Triangle> tris;
@@ -70,7 +74,7 @@ void refit_surface(const SurfaceMesh& s, CollisionModel& m) {
         for (const auto& t : s.triangles) tris.emplace_back(t[0], t[1], t[2]);
         m.surface->addSubModel(s.position, tris);
         m.surface->endModel();
-        m.triangles = s.triangles.size();
+        m.triangles = s.triangles, m.vertices = s.position.size();
         return;
     }
     m.surface->beginUpdateModel();

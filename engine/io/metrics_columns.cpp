@@ -21,6 +21,8 @@ std::vector<MetricColumn> metric_columns(const World& world, int& split_total) {
         {"step_ms", m.step_ms, 'f'},
         {"solve_flag", double(m.solve_flag), 'd'},
         {"substeps", double(m.substeps), 'd'},
+        {"preconditioner", double(m.preconditioner), 'd'},
+        {"preconditioner_wait_ms", m.preconditioner_wait_ms, 'f'},
     };
     const std::vector<std::string>& systems = world.metrics.system_names;
     for (size_t i = 0; i < systems.size(); ++i)

@@ -14,6 +14,7 @@
 #include "systems/kernels/solver/amg.h"
 #include "systems/kernels/solver/projected_guess.h"
 #include "systems/kernels/solver/team_cg.h"
+#include "systems/solver/amg_background.h"
 #include "systems/solver/linear_assembly.h"
 
 namespace xcut {
@@ -69,6 +70,7 @@ bool factorize(World& w) {
     }
     ++A.factorizations;
     A.factor_age = 0;
+    A.step_preconditioner = 3;
     f.ok = f.llt.info() == Eigen::Success;
     return f.ok;
 }
@@ -81,6 +83,7 @@ bool build_hierarchy(World& w, const Eigen::VectorXd& mask, double ratio) {
     build_amg(A, w.nodes.position, mask, h);
     h.stiffness_ratio = ratio;
     ++A.factorizations;
+    A.step_preconditioner = 3;
     A.factor_nonzeros = amg_nonzeros(h);
     return h.ok;
 }
@@ -118,6 +121,11 @@ std::string resolve_linear_method(const World& w, std::string* why) {
 }
 
 namespace {
+
+/// amg, off the step: a successor is asked for once a solve needs more than this growth x the
+/// kept hierarchy's first count + slack (the in-step renewal waits for kAmgRenewGrowth, 2x + 4).
+constexpr double kAmgEarlyGrowth = 1.5;
+constexpr int kAmgEarlySlack = 2;
 
 /// Records a CG result in `out`; whether it reached the tolerance.
 bool accepted(const CgResult& cg, const CgLimits& limits, LinearSolve& out) {
@@ -209,13 +217,30 @@ public:
     }
 
     /// The amg method; `ratio` = stiff_scale / mass_scale of this step's A.
-    void amg(bool new_pattern, double ratio) {
+    void amg(double ratio) {
         const SolverSettings& s = w_.solver;
+        const bool failed_off_step = take_due_hierarchy();
         AmgHierarchy* h = A_.amg.get();
-        if (new_pattern && h && h->ok && amg_extend(*h, A_)) ++A_.extensions;
-        const bool stale = !h || !h->ok || h->topology != A_.topology || h->age >= s.refactor_every ||
-                           h->last_iterations > kAmgRenewGrowth * h->first_iterations + kAmgRenewSlack ||
-                           ratio > (1.0 + 1e-9) * h->stiffness_ratio;
+        if (h && h->ok && h->topology != A_.topology && amg_extend(*h, A_)) ++A_.extensions;
+        const bool ratio_grew = h && ratio > (1.0 + 1e-9) * h->stiffness_ratio;
+        bool stale = !h || !h->ok || h->topology != A_.topology || h->age >= s.refactor_every ||
+                     h->last_iterations > kAmgRenewGrowth * h->first_iterations + kAmgRenewSlack || ratio_grew ||
+                     failed_off_step;
+        // Aged only (it still preconditions, within its smoother's bounds): renewed off the step
+        // (systems/solver/amg_background.h) while this one goes on. Off the step the renewal is
+        // cheap, so it is asked for earlier, at half the growth (kAmgEarlyGrowth): the successor
+        // arrives about when the kept one would have been renewed in the step.
+        const bool aging = h && h->ok && h->last_iterations > kAmgEarlyGrowth * h->first_iterations + kAmgEarlySlack;
+        if ((stale || aging) && h && h->ok && h->topology == A_.topology && !ratio_grew && !failed_off_step &&
+            s.renew_delay > 0) {
+            if (!A_.pending_amg) {
+                A_.pending_amg = start_background_hierarchy(A_, w_.nodes.position, mask_, ratio, w_.step,
+                                                            w_.step + s.renew_delay);
+                ++A_.background_builds;
+            }
+            stale = false;
+        }
+        if (A_.pending_amg) A_.step_preconditioner = std::max(A_.step_preconditioner, 1);
         const auto renew = [&] {
             const bool ok = build_hierarchy(w_, mask_, ratio);
             h = A_.amg.get();
@@ -231,6 +256,26 @@ public:
             h->last_iterations = iterations;
         };
         with_kept(stale, renew, [&] { return h && h->ok; }, solve, solved);
+    }
+
+    /// Takes the hierarchy built off the step that is due at this step (waiting for it if it is
+    /// not ready); true if its setup failed (the step then builds one itself, as a failed setup
+    /// always did).
+    bool take_due_hierarchy() {
+        if (!A_.pending_amg || A_.pending_amg->due_step > w_.step) return false;
+        double wait = 0.0;
+        std::shared_ptr<AmgHierarchy> h = take_background_hierarchy(*A_.pending_amg, wait);
+        A_.pending_amg.reset();
+        A_.step_wait_ms += wait, A_.wait_ms_total += wait, A_.wait_ms_max = std::max(A_.wait_ms_max, wait);
+        if (!h->ok) return true;
+        // Held to the count its predecessor started at: its own first solve comes a few steps after
+        // the state it was built for, and a count inflated by that would let it age unrenewed.
+        if (A_.amg && A_.amg->age > 0) h->first_iterations = A_.amg->first_iterations, h->age = 1;
+        A_.amg = std::move(h);
+        ++A_.factorizations, ++A_.swaps;
+        A_.factor_nonzeros = amg_nonzeros(*A_.amg);
+        A_.step_preconditioner = std::max(A_.step_preconditioner, 2);
+        return false;
     }
 
     /// cholesky / direct: CG preconditioned by CHOLMOD's factor, solved on one thread of the team.
@@ -304,7 +349,7 @@ LinearSolve solve(World& w, const StepOperator& op, double mass_scale, double st
     } else {
         AssembledSolve solve(w, b, mask, limits, x, out);
         if (A.method == "block_jacobi") solve.accept(solve.block_jacobi());
-        else if (A.method == "amg") solve.amg(new_pattern, stiff_scale / mass_scale);
+        else if (A.method == "amg") solve.amg(stiff_scale / mass_scale);
         else solve.cholesky(new_pattern);
     }
     if (history && out.converged) remember_solution(*history, key, w.solver.guess_history, x, mask);

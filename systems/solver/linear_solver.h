@@ -13,8 +13,10 @@
 //  - "direct": the same factor computed every step (CG then converges in one or two iterations);
 //  - "amg": CG preconditioned by a smoothed-aggregation multigrid V-cycle (systems/kernels/solver/amg.h),
 //    10-20 iterations at any size; the hierarchy is kept, carried over to the new DOFs at a cut
-//    (no setup at the cut step), and renewed when CG needs twice its first count, when it is
-//    `solver.refactor_every` steps old, or when the step's stiffness weight grows;
+//    (no setup at the cut step), and renewed when CG needs twice its first count or when it is
+//    `solver.refactor_every` steps old: off the step, built on a thread of its own and taken
+//    `solver.renew_delay` steps later (systems/solver/amg_background.h); in the step when the
+//    step's stiffness weight grows (the kept smoother's bounds would not hold) or renew_delay is 0;
 //  - "auto": cholesky up to 10,000 DOFs while its factor's estimated memory fits in a quarter of
 //    the machine's, amg beyond.
 #include <Eigen/Core>

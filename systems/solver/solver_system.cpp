@@ -189,6 +189,7 @@ void implicit_euler_step(World& world, const StepOperator& op) {
     // up front only if Newton iterations move rotations and forces on the way.
     std::optional<StepStart> start;
     if (s.newton_iterations > 1) start = save_step(world);
+    world.linear.step_preconditioner = 0, world.linear.step_wait_ms = 0.0;  // the solves below say what they did
     Eigen::VectorXd held_force;
     LinearSolve total;
     int substeps = 1;
@@ -214,6 +215,8 @@ void implicit_euler_step(World& world, const StepOperator& op) {
     m.cg_residual = total.cg.relative_residual;
     m.solve_flag = substeps > 1 ? 2 : total.refactored ? 1 : 0;
     m.substeps = substeps;
+    m.preconditioner = world.linear.step_preconditioner;
+    m.preconditioner_wait_ms = world.linear.step_wait_ms;
     metrics.refactored_steps += m.solve_flag == 1;
     metrics.substepped_steps += substeps > 1;
     metrics.max_substeps = std::max(metrics.max_substeps, substeps);

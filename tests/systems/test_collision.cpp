@@ -2,6 +2,7 @@
 // surface, forces spread through the XFEM shape functions, reactions fed back to the tools.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -143,6 +144,53 @@ const char* kProbeOnLip = R"({
 
 // The contact lands on the left lip's virtual elements: that lip moves, the right lip does not
 // move at all (the cut goes through, so no elastic path joins them either).
+/// The contacts' (tool, vertex) pairs, sorted.
+std::vector<std::pair<int, int>> contact_pairs(const Contacts& c) {
+    std::vector<std::pair<int, int>> p;
+    for (int k = 0; k < c.count(); ++k) p.emplace_back(c.tool[k], c.vertex[k]);
+    std::sort(p.begin(), p.end());
+    return p;
+}
+
+// A cut can re-make the collision surface's triangles keeping their count, or add vertices: the
+// kept surface BVH is rebuilt then, not refitted (FCL refits only the same mesh; an update with
+// more vertices wrote past its arrays: heap corruption in the viewer under load).
+TEST(Collision, SurfaceBvhFollowsAMeshThatChangedAtTheSameTriangleCount) {
+    auto sim = make_simulation(load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/open_surgery.json"), false);
+    World& w = sim->world;
+    while (w.contacts.count() == 0 && w.step < 400) step_simulation(*sim);
+    ASSERT_GT(w.contacts.count(), 0) << "a tool presses the tissue";
+    auto kept = make_collision_model();
+    detect_contacts(w, *kept);
+    const auto before = contact_pairs(w.contacts);
+    // The same surface with its vertices numbered backwards (the triangles renumbered with them: the
+    // count unchanged, the contents not), then with one vertex more (a copy of the first, unused).
+    SurfaceMesh& s = w.collision;
+    const int n = s.vertex_count();
+    std::reverse(s.position.begin(), s.position.end());
+    std::reverse(s.element.begin(), s.element.end());
+    std::reverse(s.bary.begin(), s.bary.end());
+    std::reverse(s.side.begin(), s.side.end());
+    for (auto& t : s.triangles)
+        for (int& v : t) v = n - 1 - v;
+    std::vector<std::pair<int, int>> expected;
+    for (const auto& [tool, v] : before) expected.emplace_back(tool, n - 1 - v);
+    std::sort(expected.begin(), expected.end());
+    for (int pass = 0; pass < 2; ++pass) {
+        ::testing::internal::CaptureStderr();  // FCL says "BVH Error!" there when it is handed a changed mesh to refit
+        detect_contacts(w, *kept);
+        const std::string fcl_said = ::testing::internal::GetCapturedStderr();
+        EXPECT_EQ(fcl_said.find("BVH Error"), std::string::npos) << fcl_said;
+        const auto reused = contact_pairs(w.contacts);
+        auto fresh = make_collision_model();
+        detect_contacts(w, *fresh);
+        EXPECT_EQ(reused, contact_pairs(w.contacts)) << "pass " << pass;
+        EXPECT_EQ(reused, expected) << "the same points touch the tools, pass " << pass;
+        s.position.push_back(s.position[0]), s.element.push_back(s.element[0]), s.bary.push_back(s.bary[0]);
+        s.side.push_back(s.side[0]);
+    }
+}
+
 TEST(Collision, ProbeOnOneLipMovesThatLipOnly) {
     const Scene scene = load_scene(temp_file("lip.json", kProbeOnLip).string());
     auto sim = make_simulation(scene, false);

@@ -4,8 +4,8 @@
 // through the thickness) and through tissue blocks of about 20k, 53k and 200k tetrahedra; every
 // step of the full pipeline is timed (2 threads, no output). Per case: the median, p99 and max step
 // over all steps and over the steps that split elements, their ratios to the median step, CG
-// iterations at those steps, how many steps built a preconditioner (a factor, a hierarchy), peak
-// memory; the default skin and the 53k block again beside a process that keeps one core busy.
+// iterations at those steps, how many steps built a preconditioner (a factor, a hierarchy) in the
+// step and how many took one built off the step (and their longest wait), peak memory; the default skin and the 53k block again beside a process that keeps one core busy.
 // Targets (issue #36): p99 <= 1.5x and max <= 2x the median step. A benchmark: it prints figures
 // and writes results/bench_cutstep.csv (--tiny or --cases: results/bench_cutstep_quick.csv).
 #include <string>
@@ -22,7 +22,10 @@ struct CutStepBenchOptions {
 
 struct CutStepBenchRow {
     std::string case_name, load = "quiet", method;
-    int tets = 0, steps = 0, split_steps = 0, builds = 0, dofs_end = 0;
+    int tets = 0, steps = 0, split_steps = 0, dofs_end = 0;
+    int builds = 0;   ///< steps that built a preconditioner in the step (a factor, a hierarchy)
+    int swaps = 0;    ///< steps that took one built off the step
+    double wait_max_ms = 0;  ///< the longest a step waited for one [ms]
     double median_ms = 0, p99_ms = 0, max_ms = 0;              ///< every step
     double split_median_ms = 0, split_max_ms = 0;              ///< the steps that split elements
     double cg_median = 0, cg_split_median = 0, cg_split_max = 0;
