@@ -80,7 +80,7 @@ void draw_scale_bar(Image& img, double pixels_per_metre) {
     for (double m : {2.0, 5.0, 10.0})
         if (m * decade <= want) length = m * decade;
     const int px = static_cast<int>(std::lround(length * pixels_per_metre));
-    const int scale = std::max(1, img.height / 300), x0 = 12 * scale, y0 = img.height - 14 * scale;
+    const int scale = overlay_scale(img.height), x0 = 12 * scale, y0 = img.height - 14 * scale;
     fill_rect(img, x0, y0, x0 + px, y0 + 2 * scale, kInk);
     fill_rect(img, x0, y0 - 3 * scale, x0 + scale, y0 + 2 * scale, kInk);
     fill_rect(img, x0 + px - scale, y0 - 3 * scale, x0 + px, y0 + 2 * scale, kInk);
@@ -99,7 +99,7 @@ Rgb field_colour(double u) {
 }
 
 void draw_colour_bar(Image& img, double low, double high, const std::string& unit, const std::string& title) {
-    const int scale = std::max(1, img.height / 300);
+    const int scale = overlay_scale(img.height);
     const int h = img.height / 2, w = 10 * scale, x0 = img.width - w - 50 * scale, y0 = (img.height - h) / 2;
     for (int y = 0; y < h; ++y) fill_rect(img, x0, y0 + y, x0 + w, y0 + y + 1, field_colour(1.0 - double(y) / (h - 1)));
     const auto [top, prefix] = prefixed(high, std::max(std::abs(high), std::abs(low)));

@@ -9,6 +9,8 @@ namespace xcut {
 
 using Rgb = std::array<double, 3>;  ///< 0..1
 
+/// The overlay's pixel size for a picture `height` pixels tall: one font pixel per 300 rows.
+inline int overlay_scale(int height) { return height / 300 > 1 ? height / 300 : 1; }
 /// Writes `text` with its top-left corner at (x, y) [px], each font pixel `scale` pixels wide.
 /// Characters the font lacks are left blank.
 void draw_text(Image& image, int x, int y, const std::string& text, const Rgb& colour, int scale);

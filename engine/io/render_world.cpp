@@ -42,7 +42,7 @@ std::vector<double> triangle_field(const World& w, const std::string& field) {
 
 /// Pixels on the right kept for the colour bar and its labels.
 int colour_bar_strip(const RenderOptions& o, int width, int height) {
-    return o.field.empty() ? 0 : std::min(width / 3, 110 * std::max(1, height / 300));
+    return o.field.empty() ? 0 : std::min(width / 3, 110 * overlay_scale(height));
 }
 
 }  // namespace

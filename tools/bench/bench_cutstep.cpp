@@ -46,6 +46,8 @@ std::vector<Case> cases(bool tiny) {
             in_step_07mm, block("block_20k", 20000, 100), block("block_53k", 53000, 100), block("block_200k", 200000, 60)};
 }
 
+double max_of(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
+
 CutStepBenchRow run_case(const Case& c, const std::string& load) {
     CutStepBenchRow r;
     r.case_name = c.name, r.load = load;
@@ -73,11 +75,11 @@ CutStepBenchRow run_case(const Case& c, const std::string& load) {
     r.steps = static_cast<int>(all.size()), r.split_steps = static_cast<int>(split.size());
     r.dofs_end = w.metrics.current.dofs;
     r.median_ms = percentile(all, 0.5), r.p99_ms = percentile(all, 0.99);
-    r.max_ms = all.empty() ? 0.0 : *std::max_element(all.begin(), all.end());
+    r.max_ms = max_of(all);
     r.split_median_ms = percentile(split, 0.5);
-    r.split_max_ms = split.empty() ? 0.0 : *std::max_element(split.begin(), split.end());
+    r.split_max_ms = max_of(split);
     r.cg_median = percentile(cg, 0.5), r.cg_split_median = percentile(cg_split, 0.5);
-    r.cg_split_max = cg_split.empty() ? 0.0 : *std::max_element(cg_split.begin(), cg_split.end());
+    r.cg_split_max = max_of(cg_split);
     r.peak_rss_mb = peak_rss_bytes() / 1e6;
     return r;
 }

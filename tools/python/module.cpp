@@ -67,7 +67,7 @@ void bind_state(py::class_<PySimulation>& c) {
     c.def("cut_state", [](PySimulation& s) {
         Lock l(s.mutex());
         std::vector<int> cut = s.cut_elements(), nodes = s.enriched_nodes();
-        std::vector<double> open = s.openings();
+        std::vector<double> open = s.openings(nodes);
         py::dict d;
         d["elements_split"] = cut.size();
         const py::ssize_t nc = static_cast<py::ssize_t>(cut.size()), nn = static_cast<py::ssize_t>(nodes.size());

@@ -53,7 +53,7 @@ public:
     std::vector<double> von_mises() const;
     std::vector<int> cut_elements() const;                ///< mesh elements split (XFEM or snapping)
     std::vector<int> enriched_nodes() const;              ///< mesh nodes with a phantom (XFEM)
-    std::vector<double> openings() const;                 ///< |a_j| of each enriched node [m]
+    std::vector<double> openings(const std::vector<int>& nodes) const;  ///< |a_j| of each of enriched_nodes() [m]
     PySurface surface(bool collision) const;
 
     /// Tool index of a name; throws InputError listing the tools when there is none.
@@ -73,7 +73,7 @@ private:
     std::unique_ptr<Simulation> sim_;
     std::vector<LiveDevice*> live_;  ///< per tool: its live device once the caller drives it
     std::vector<std::string> warnings_;
-    int split_total_ = 0, split_before_step_ = 0;  ///< metric_columns' running count
+    int split_before_step_ = 0;  ///< elements split before the last step (its elements_split column)
     bool failed_ = false;
     std::string failure_;
     std::mutex mutex_;
