@@ -11,6 +11,13 @@ struct Material {
     double poisson = 0.3;       ///< nu [-]
     double density = 1000.0;    ///< rho [kg/m^3]
     double thickness = 1.0e-3;  ///< 2D only: out-of-plane thickness [m]
+    /// Fracture toughness J_c [J/m^2]: the work a blade spends per unit area of new cut surface,
+    /// felt as a cutting resistance J_c per metre of edge in the tissue (Mahvash & Hayward 2004;
+    /// systems/cut/cutting_force.h). 0: the blade cuts without resistance.
+    double toughness = 0.0;
+    /// Friction of the wound's lips on the blade [N/m] per metre of edge in the tissue, against the
+    /// blade's motion in any direction (a stab too). 0: none.
+    double blade_friction = 0.0;
 
     double mu() const { return young / (2.0 * (1.0 + poisson)); }
     double lambda() const { return young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson)); }

@@ -47,6 +47,11 @@ struct ToolBodies {
     std::vector<Vec3> velocity;                     ///< of the tool origin over the last step [m/s]
     std::vector<Vec3> reaction_force;               ///< the tissue's force on the tool, last step [N]
     std::vector<Vec3> reaction_torque;              ///< about the tool origin [N m]
+    /// A bladed tool's cutting resistance over the last step [N] (systems/cut/cutting_force.h), its
+    /// torque about the tool origin [N m], and the length of its edge inside the tissue [m] (2D: the
+    /// thickness while the cutting point is inside). Part of reaction_force / reaction_torque.
+    std::vector<Vec3> cutting_force, cutting_torque;
+    std::vector<double> blade_depth;
     std::vector<double> pose_time;                  ///< simulated time of the current pose [s]
     /// Per tool: the poses over the last step, its start first and its end last. For a bladed tool
     /// the device is sampled in between, as densely as the blade needs so that it moves at most the

@@ -53,6 +53,7 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
         case kTools: {
             const ToolBodies& t = w.tools;
             h.all(t.position, t.orientation, t.velocity, t.reaction_force, t.reaction_torque, t.pose_time);
+            h.all(t.cutting_force, t.cutting_torque, t.blade_depth);
             return h.add(t.sweep);
         }
         case kVisual: return hash_surface(h, w.visual);

@@ -158,8 +158,10 @@ void detect_contacts(World& w, CollisionModel& m) {
 void apply_contact_forces(World& w) {
     ToolBodies& tb = w.tools;
     Contacts& c = w.contacts;
-    tb.reaction_force.assign(tb.count(), Vec3::Zero());
-    tb.reaction_torque.assign(tb.count(), Vec3::Zero());
+    // The contacts add to the blades' cutting resistance (systems/cut/cutting_force.h), if any.
+    const bool cutting = static_cast<int>(tb.cutting_force.size()) == tb.count();
+    tb.reaction_force = cutting ? tb.cutting_force : std::vector<Vec3>(tb.count(), Vec3::Zero());
+    tb.reaction_torque = cutting ? tb.cutting_torque : std::vector<Vec3>(tb.count(), Vec3::Zero());
     Eigen::VectorXd& f = w.forces.force;
     Eigen::VectorXd& diag = w.forces.stiffness_diagonal;
     const bool diagonal = stiffness_diagonal_used(w);  // else it is not made this step: nothing to add to

@@ -2,6 +2,7 @@
 
 #include "systems/collision_system.h"
 #include "systems/cut/cut_system.h"
+#include "systems/cut/cutting_force.h"
 #include "systems/cut/enrichment_system.h"
 #include "systems/force_system.h"
 #include "systems/solver/linear_solver.h"
@@ -26,6 +27,7 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
     scheduler.add(cut_system(bvh));
     scheduler.add(scripted_cut_system());
     scheduler.add(world.snap.enabled ? snap_cut_system(world) : enrichment_system());
+    scheduler.add(cutting_force_system(bvh));
     scheduler.add(force_system());
     scheduler.add(rebind_system());
     scheduler.add(collision_system(make_collision_model()));

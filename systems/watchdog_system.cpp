@@ -27,9 +27,12 @@ int first_non_finite(const Nodes& nodes) {
 double tool_work(const World& w) {
     const ToolBodies& tb = w.tools;
     double work = 0.0;
-    for (int i = 0; i < tb.count(); ++i)
-        if (i < static_cast<int>(tb.reaction_force.size()) && i < static_cast<int>(tb.velocity.size()))
-            work += std::abs(tb.reaction_force[i].dot(tb.velocity[i])) * w.solver.dt;
+    for (int i = 0; i < tb.count(); ++i) {
+        if (i >= static_cast<int>(tb.reaction_force.size()) || i >= static_cast<int>(tb.velocity.size())) continue;
+        // The blades' cutting resistance is spent opening the cut, not on the tissue's energy.
+        const Vec3 cutting = i < static_cast<int>(tb.cutting_force.size()) ? tb.cutting_force[i] : Vec3::Zero();
+        work += std::abs((tb.reaction_force[i] - cutting).dot(tb.velocity[i])) * w.solver.dt;
+    }
     return work;
 }
 

@@ -47,6 +47,15 @@ std::vector<MetricColumn> metric_columns(const World& world, int& split_total) {
         c.push_back({"crossing_delay_mean_s", n > 0 ? sum / n : 0.0, 's'});
         c.push_back({"crossing_delay_max_s", max, 's'});
         c.push_back({"enriched_nodes", double(world.enriched.count()), 'd'});
+        // Each blade's cutting resistance (systems/cut/cutting_force.h): part of the tool's force.
+        const ToolBodies& tb = world.tools;
+        for (int i = 0; i < tb.count(); ++i) {
+            if (!tb.has_blade[i]) continue;
+            const bool known = i < static_cast<int>(tb.cutting_force.size());
+            const Vec3 f = known ? tb.cutting_force[i] : Vec3::Zero();
+            for (int k = 0; k < 3; ++k) c.push_back({fmt::format("{}_cut_f{}_N", tb.name[i], "xyz"[k]), f[k], 'e'});
+            c.push_back({fmt::format("{}_depth_m", tb.name[i]), known ? tb.blade_depth[i] : 0.0, 'e'});
+        }
     }
     if ((world.present() & kShapedTools) != 0) {
         // The tissue's reaction on each tool (zero before its first contact step).

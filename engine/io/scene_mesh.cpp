@@ -113,13 +113,15 @@ std::vector<RegionMaterial> read_region_materials(const JsonFields& top, const M
 }
 
 Material read_material(const JsonFields& mat, const Material& base) {
-    mat.allow_only({"name", "young", "poisson", "density", "thickness"});
+    mat.allow_only({"name", "young", "poisson", "density", "thickness", "toughness", "blade_friction"});
     Material m;
     m.name = mat.string("name", base.name);
     m.young = mat.number("young", base.young, 1e-12);
     m.poisson = mat.number("poisson", base.poisson, -0.999, 0.4999);
     m.density = mat.number("density", base.density, 1e-12);
     m.thickness = mat.number("thickness", base.thickness, 1e-12);
+    m.toughness = mat.number("toughness", base.toughness, 0.0, 1e6);
+    m.blade_friction = mat.number("blade_friction", base.blade_friction, 0.0, 1e6);
     return m;
 }
 

@@ -63,6 +63,7 @@ ToolBodies replicate_tool(const ToolBodies& tb, int b, int n) {
     rep(out.blade_heel, tb.blade_heel), rep(out.shape, tb.shape), rep(out.contact_stiffness, tb.contact_stiffness);
     rep(out.contact_damping, tb.contact_damping), rep(out.velocity, tb.velocity);
     rep(out.reaction_force, tb.reaction_force), rep(out.reaction_torque, tb.reaction_torque);
+    rep(out.cutting_force, tb.cutting_force), rep(out.cutting_torque, tb.cutting_torque), rep(out.blade_depth, tb.blade_depth);
     return out;
 }
 
