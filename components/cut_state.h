@@ -62,6 +62,10 @@ struct CutState {
     std::vector<double> delay_wall;   ///< [s]
     std::vector<double> quad_ms;      ///< wall time of each quad update [ms]
     std::vector<int> split_by_tool;   ///< per tool: splits its blade queued over the run
+    /// Per tool: how far its blade moved along its own edge inside the tissue over the run [m] (a
+    /// stab): an edge moving along itself sweeps no surface, so that travel cut nothing
+    /// (systems/cut/cutting_force.h measures it; the end of the run says so).
+    std::vector<double> stab_travel;
 };
 
 }  // namespace xcut

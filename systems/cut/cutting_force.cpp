@@ -140,6 +140,7 @@ void compute_cutting_forces(World& w, ElementBvh& bvh) {
     tb.cutting_force.assign(n, Vec3::Zero());
     tb.cutting_torque.assign(n, Vec3::Zero());
     tb.blade_depth.assign(n, 0.0);
+    w.cut_state.stab_travel.resize(n, 0.0);
     if (w.cut_state.mean_edge == 0.0 && w.elements.count() > 0)
         w.cut_state.mean_edge = mean_edge_length(w.elements, w.nodes.rest, w.mesh_elements);
     const double dt = w.solver.dt;
@@ -166,6 +167,12 @@ void compute_cutting_forces(World& w, ElementBvh& bvh) {
             tb.cutting_torque[i] += (tip + s * (heel - tip) - tb.position[i]).cross(f);
             tb.blade_depth[i] += length;
         }
+        // A stab: the edge, in the tissue, moving along itself (its motion across the edge under a
+        // tenth of its speed) sweeps no surface and cuts nothing; the run's end says how far.
+        const Vec3 v_mid = 0.5 * (v_tip + v_heel);
+        const double speed = v_mid.norm(), across = (v_mid - v_mid.dot(along) * along).norm();
+        if (!flat && tb.blade_depth[i] > 0.0 && speed > kCuttingSpeedFloor && across < 0.1 * speed)
+            w.cut_state.stab_travel[i] += speed * dt;
     }
     tb.reaction_force = tb.cutting_force;
     tb.reaction_torque = tb.cutting_torque;

@@ -7,6 +7,7 @@
 #include "systems/cut/enrichment_system.h"
 #include "engine/io/metrics_columns.h"
 #include "engine/io/scene.h"
+#include "engine/io/scene_checks.h"
 #include "systems/pipeline.h"
 #include "systems/tool_system.h"
 #include "tests/test_helpers.h"
@@ -98,6 +99,23 @@ TEST(CuttingForce, AStabFeelsOnlyTheFrictionOfTheLips) {
     EXPECT_NEAR(depth, 0.01 - 0.0019, 1e-12);
     EXPECT_NEAR(w.tools.cutting_force[0].z(), 30.0 * depth, 1e-9) << "friction against the motion (-z)";
     EXPECT_NEAR(w.tools.cutting_force[0].y(), 0.0, 1e-12) << "an edge sliding along itself opens nothing";
+}
+
+// A stab cuts nothing today (an edge moving along itself sweeps no surface), and is not silent: the
+// end of the run says how far the blade went that way.
+TEST(CuttingForce, AStabIsReportedAtTheEndOfTheRun) {
+    World w = block(0.0, 0.002, 0.02);
+    w.tools.trajectory[0] = {key(0.0, Vec3(0.0151, 0.0031, 0.0)), key(1.0, Vec3(0.0151, 0.0031, -0.01))};
+    ElementBvh bvh;
+    for (int s = 1; s <= 100; ++s) force_at(w, bvh, 0.01 * s);
+    ASSERT_EQ(w.cut_state.stab_travel.size(), 1u);
+    EXPECT_NEAR(w.cut_state.stab_travel[0], 0.01, 1e-9) << "10 mm down its own edge, in the tissue throughout";
+    bool said = false;
+    for (const std::string& note : end_of_run_notes(w)) said = said || note.find("(a stab)") != std::string::npos;
+    EXPECT_TRUE(said);
+    World across = block(0.01, 0.002, 0.02);  // cutting across its edge: no stab
+    for (int s = 1; s <= 100; ++s) force_at(across, bvh, 0.01 * s);
+    EXPECT_EQ(across.cut_state.stab_travel[0], 0.0);
 }
 
 TEST(CuttingForce, LayersAddTheirToughnessTimesTheirDepth) {
