@@ -34,10 +34,17 @@ std::array<Vec3, 4> vertices(const World& w, int f) {
     return x;
 }
 
-/// The plane of XFEM cut c inside virtual element v's vertices x, oriented into v's side: a point
-/// and a normal [m]. The cut points sit on the parent's edges at parameters taken in the rest shape;
-/// the element's own map carries them to its current vertices.
-void side_plane(const World& w, int c, int v, const std::array<Vec3, 4>& x, Vec3& point, Vec3& normal) {
+/// One side of an XFEM cut inside a virtual element: n . (x - point) >= 0 (> 0 when `open`: the
+/// lower side, so an edge lying in the cut counts once).
+struct Side {
+    Vec3 point, normal;
+    bool open = false;
+};
+
+/// The side of XFEM cut c that virtual element v holds, in its vertices x [m]. The cut points sit on
+/// the parent's edges at parameters taken in the rest shape; the element's own map carries them to
+/// its current vertices.
+Side side_of(const World& w, int c, int v, const std::array<Vec3, 4>& x) {
     const CutElements& ce = w.cuts;
     const int dim = w.elements.dim, e = ce.element[c];
     const auto& mesh_nodes = w.elements.nodes[e];
@@ -49,38 +56,37 @@ void side_plane(const World& w, int c, int v, const std::array<Vec3, 4>& x, Vec3
         const double t = std::clamp((ce.points[c][k] - X0).dot(X1 - X0) / (X1 - X0).squaredNorm(), 0.0, 1.0);
         p[np++] = x[ends[0]] + t * (x[ends[1]] - x[ends[0]]);
     }
-    point = p[0];
-    normal = Vec3::Zero();
+    const int8_t side = w.virtual_elements.side[v];
+    Side out{p[0], Vec3::Zero(), side < 0};
     if (dim == 2) {
         const Vec3 d = np > 1 ? Vec3(p[1] - p[0]) : Vec3::UnitX();
-        normal = Vec3(-d.y(), d.x(), 0.0);
+        out.normal = Vec3(-d.y(), d.x(), 0.0);
     } else {  // the largest cross product of two chords: the points are coplanar up to the fit
         for (int j = 1; j < np; ++j)
             for (int k = j + 1; k < np; ++k) {
                 const Vec3 n = (p[j] - p[0]).cross(p[k] - p[0]);
-                if (n.squaredNorm() > normal.squaredNorm()) normal = n;
+                if (n.squaredNorm() > out.normal.squaredNorm()) out.normal = n;
             }
     }
-    const int8_t side = w.virtual_elements.side[v];
     double toward = 0.0;  // the side's own nodes lie on its side of the plane
     for (int a = 0; a < w.elements.nodes_per_element(); ++a)
-        if (w.enriched.sign[mesh_nodes[a]] == side) toward += normal.dot(x[a] - point);
-    if (toward < 0.0) normal = -normal;
+        if (w.enriched.sign[mesh_nodes[a]] == side) toward += out.normal.dot(x[a] - out.point);
+    if (toward < 0.0) out.normal = -out.normal;
+    return out;
 }
 
-/// Appends force element f's part of the edge (tip -> heel), cut to the half-space (point, normal)
-/// when `halved` (`open`: without its plane: the lower side, so an edge in the cut counts once).
-/// 2D: the whole [0, 1] if the tip is inside.
-void clip_element(const World& w, int f, const Vec3& tip, const Vec3& heel, bool halved, bool open, const Vec3& point,
-                  const Vec3& normal, bool fresh, std::vector<EdgeInterval>& out) {
+/// Appends force element f's part of the edge (tip -> heel), within `side` if given. 2D: the whole
+/// [0, 1] if the tip is inside.
+void clip_element(const World& w, int f, const Vec3& tip, const Vec3& heel, const Side* side, bool fresh,
+                  std::vector<EdgeInterval>& out) {
     const std::array<Vec3, 4> x = vertices(w, f);
     double s0 = 0.0, s1 = 1.0;
     if (w.elements.dim == 2) {
-        const double level = normal.dot(tip - point);
-        if (!in_triangle_xy(x, tip) || (halved && (level < 0.0 || (open && level == 0.0)))) return;
+        const double level = side ? side->normal.dot(tip - side->point) : 1.0;
+        if (!in_triangle_xy(x, tip) || level < 0.0 || (side && side->open && level == 0.0)) return;
     } else {
         clip_to_tet(x, tip, heel, s0, s1);
-        if (halved && s0 <= s1) clip_to_half_space(tip, heel, point, normal, s0, s1, open);
+        if (side && s0 <= s1) clip_to_half_space(tip, heel, side->point, side->normal, s0, s1, side->open);
         if (!(s1 > s0)) return;
     }
     out.push_back({s0, s1, w.elements.material[f], fresh});
@@ -95,7 +101,6 @@ std::vector<EdgeInterval> edge_in_tissue(const World& w, ElementBvh& bvh, const 
     std::sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
     std::vector<EdgeInterval> out;
-    const Vec3 none = Vec3::Zero();
     for (const int e : candidates) {
         const int c = e < static_cast<int>(w.cuts.cut_of_element.size()) ? w.cuts.cut_of_element[e] : -1;
         if (c >= 0) {
@@ -103,15 +108,14 @@ std::vector<EdgeInterval> edge_in_tissue(const World& w, ElementBvh& bvh, const 
             for (const int v : w.cuts.virtual_element[c]) {
                 if (v < 0) continue;
                 const int f = w.virtual_elements.element[v];
-                Vec3 point, normal;
-                side_plane(w, c, v, vertices(w, f), point, normal);
-                clip_element(w, f, tip, heel, true, w.virtual_elements.side[v] < 0, point, normal, fresh, out);
+                const Side side = side_of(w, c, v, vertices(w, f));
+                clip_element(w, f, tip, heel, &side, fresh, out);
             }
         } else if (e < static_cast<int>(w.snap.pieces.size()) && !w.snap.pieces[e].empty()) {
             for (const int f : w.snap.pieces[e])
-                if (w.elements.weight[f] > 0.0) clip_element(w, f, tip, heel, false, false, none, none, false, out);
+                if (w.elements.weight[f] > 0.0) clip_element(w, f, tip, heel, nullptr, false, out);
         } else if (w.elements.weight[e] > 0.0) {
-            clip_element(w, e, tip, heel, false, false, none, none, true, out);
+            clip_element(w, e, tip, heel, nullptr, true, out);
         }
         if (flat && !out.empty()) break;  // a point on a shared edge counts once
     }
@@ -153,10 +157,11 @@ void compute_cutting_forces(World& w, ElementBvh& bvh) {
         const Vec3 v_tip = dt > 0.0 ? Vec3((tip - tip0) / dt) : Vec3::Zero();
         const Vec3 v_heel = dt > 0.0 ? Vec3((heel - heel0) / dt) : Vec3::Zero();
         const Vec3 along = (heel - tip).normalized();
+        const double edge_length = (heel - tip).norm();
         const bool flat = w.elements.dim == 2;
         for (const EdgeInterval& k : edge_in_tissue(w, bvh, tip, heel)) {
             const Material& m = w.materials.list[k.material];
-            const double length = flat ? m.thickness : (k.s1 - k.s0) * (heel - tip).norm();
+            const double length = flat ? m.thickness : (k.s1 - k.s0) * edge_length;
             const double s = flat ? 0.0 : 0.5 * (k.s0 + k.s1);
             const Vec3 v = (1.0 - s) * v_tip + s * v_heel;
             const Vec3 across = flat ? v : Vec3(v - v.dot(along) * along);

@@ -18,8 +18,9 @@
 //    itself opens nothing), the friction against all of it;
 //  - the fracture term counts only where the blade opens new surface: uncut elements and tip
 //    elements (a progressive front's, not yet fully crossed). A cut element the blade has crossed
-//    fully, or a snapping piece, is its own wound: a blade drawn back along it feels the friction
-//    only. On the semi front the edge sits in the partly crossed, still whole elements ahead of the
+//    fully, or a snapping piece, is its own wound: a blade drawn back along it feels the friction,
+//    and the toughness only where its edge is still in whole elements (the row at its tip that the
+//    tip's own front crossed partly, which the semi front never splits). On the semi front the edge sits in the partly crossed, still whole elements ahead of the
 //    wound, on the progressive one in its tip elements: steady cutting feels J_c w throughout;
 //  - a velocity below kCuttingSpeedFloor is scaled down linearly (F = -J_c w v / floor), so a blade
 //    held still feels nothing rather than a force that flips with the rounding of its velocity.

@@ -8,7 +8,6 @@
 #include "engine/parallel.h"
 #include "systems/pipeline.h"
 #include "tools/bench/bench.h"
-#include "tools/bench/bench_cut.h"
 
 namespace xcut {
 namespace {
