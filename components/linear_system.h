@@ -23,6 +23,8 @@ struct LinearFactor;
 struct AmgHierarchy;
 /// A hierarchy being built off the step (systems/solver/amg_background.h); opaque here.
 struct PendingHierarchy;
+/// A Cholesky factor being computed off the step (systems/solver/factor_background.h); opaque here.
+struct PendingFactor;
 
 /// What the kept solutions of earlier steps belong to (systems/kernels/solver/projected_guess.h): a step
 /// with another key starts them again (a cut changes the DOFs, the elements or the pattern). A
@@ -69,8 +71,11 @@ struct LinearSystem {
     SolutionHistory history;               ///< earlier steps' solutions: the next step's first guess
     int projected_guesses = 0;             ///< steps whose first guess came from them
 
-    // Renewing the kept preconditioner off the step (amg: systems/solver/amg_background.h).
+    // Renewing the kept preconditioner off the step (amg: systems/solver/amg_background.h, cholesky:
+    // systems/solver/factor_background.h).
     std::shared_ptr<PendingHierarchy> pending_amg;  ///< a hierarchy being built, if any
+    std::shared_ptr<PendingFactor> pending_factor;  ///< a factor being computed, if any
+    int augmented_steps = 0;  ///< cholesky: solves of a grown system through the old factor and an augmented block
     /// This step's kept preconditioner, for the metrics: 0 kept as it is, 1 aged while a renewed
     /// one is built off the step, 2 a renewed one taken into use, 3 built in the step.
     int step_preconditioner = 0;

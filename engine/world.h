@@ -70,6 +70,10 @@ struct SolverSettings {
     /// "renew_delay": amg renews an aged hierarchy off the step, taking the new one this many steps
     /// after asking (systems/solver/amg_background.h); 0: in the step that finds it aged [steps]
     int renew_delay = 3;
+    /// "factor_delay": cholesky renews its factor off the step (at a cut, the old one goes on for
+    /// the grown system through an augmented block; an aged one goes on as it is), taking the new
+    /// one this many steps after asking (systems/solver/factor_background.h); 0: in the step [steps]
+    int factor_delay = 10;
     /// "guess_history": the step's solve starts from the Galerkin projection onto the solutions of
     /// this many earlier steps (systems/kernels/solver/projected_guess.h); 0: from the previous step's [-]
     int guess_history = 6;

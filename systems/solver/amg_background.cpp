@@ -1,6 +1,6 @@
 #include "systems/solver/amg_background.h"
 
-#include <chrono>
+#include "engine/background_threads.h"
 
 namespace xcut {
 
@@ -13,7 +13,7 @@ std::shared_ptr<PendingHierarchy> start_background_hierarchy(const LinearSystem&
     matrix->value = A.value, matrix->topology = A.topology;
     auto pending = std::make_shared<PendingHierarchy>();
     pending->requested_step = requested_step, pending->due_step = due_step;
-    pending->result = std::async(std::launch::async, [matrix, position, mask, ratio]() {
+    pending->result = run_in_background<std::shared_ptr<AmgHierarchy>>([matrix, position, mask, ratio]() {
         auto h = std::make_shared<AmgHierarchy>();
         try {
             build_amg(*matrix, position, mask, *h);
@@ -26,11 +26,5 @@ std::shared_ptr<PendingHierarchy> start_background_hierarchy(const LinearSystem&
     return pending;
 }
 
-std::shared_ptr<AmgHierarchy> take_background_hierarchy(PendingHierarchy& pending, double& wait_ms) {
-    const auto t0 = std::chrono::steady_clock::now();
-    std::shared_ptr<AmgHierarchy> h = pending.result.get();
-    wait_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    return h;
-}
 
 }  // namespace xcut

@@ -3,35 +3,30 @@
 // of contact and cutting of heterogeneous soft-tissues": the preconditioner is rebuilt
 // asynchronously, and the simulation does not wait for it). When the kept policy says the hierarchy
 // has aged (CG needs twice its first count, or it is solver.refactor_every steps old), the step
-// asks for a new one, built on a thread of its own from copies of that step's matrix, positions and
-// held axes, and goes on with the old one. The new one is taken at the first solve of the step
+// asks for a new one, built on the background thread (engine/background_threads.h) from copies of
+// that step's matrix, positions and held axes, and goes on with the old one. The new one is taken at the first solve of the step
 // solver.renew_delay steps later: a fixed step, never "whenever the thread finishes", so results do
 // not depend on the machine's load. That step waits for it if it is not ready, and the wait is
 // measured (LinearSystem::step_wait_ms). The setup is single-threaded Eigen code (no BLAS, no
 // OpenMP: systems/kernels/solver/amg.h), so it runs beside the step's own threads safely.
 #include <Eigen/Core>
-#include <future>
 #include <memory>
 #include <vector>
 
 #include "components/linear_system.h"
 #include "systems/kernels/solver/amg.h"
+#include "systems/solver/background_result.h"
 
 namespace xcut {
 
-struct PendingHierarchy {
-    std::future<std::shared_ptr<AmgHierarchy>> result;
-    int requested_step = 0;  ///< World::step when it was asked for
-    int due_step = 0;        ///< the World::step at whose first solve it is taken
-};
+/// A hierarchy being built off the step, taken with take_when_due (systems/solver/background_result.h).
+/// A setup that failed (its coarsest factor not SPD, out of memory) comes back with ok false.
+struct PendingHierarchy : PendingResult<AmgHierarchy> {};
 
 /// Starts building a hierarchy for A (its pattern and values now), `position` and `mask`, for
 /// stiff_scale / mass_scale = `ratio`, due at `due_step`.
 std::shared_ptr<PendingHierarchy> start_background_hierarchy(const LinearSystem& A, const std::vector<Eigen::Vector3d>& position,
                                                              const Eigen::VectorXd& mask, double ratio, int requested_step,
                                                              int due_step);
-/// The hierarchy, waiting for the thread if it has not finished; `wait_ms` the time waited [ms]. A
-/// setup that failed (its coarsest factor not SPD, out of memory) comes back with ok false.
-std::shared_ptr<AmgHierarchy> take_background_hierarchy(PendingHierarchy& pending, double& wait_ms);
 
 }  // namespace xcut

@@ -1,13 +1,10 @@
 #include "systems/solver/linear_solver.h"
 
-#include <omp.h>
 #include <unistd.h>
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 #include <cmath>
 #include <exception>
-#include <mutex>
 #include <fmt/format.h>
 
 #include "engine/parallel.h"
@@ -15,63 +12,37 @@
 #include "systems/kernels/solver/projected_guess.h"
 #include "systems/kernels/solver/team_cg.h"
 #include "systems/solver/amg_background.h"
+#include "systems/solver/cholesky_factor.h"
+#include "systems/solver/factor_background.h"
 #include "systems/solver/linear_assembly.h"
 
 namespace xcut {
 
-/// CHOLMOD's supernodal factor of the scalar copy of A (symmetric: its CSR arrays are its CSC ones).
-struct LinearFactor {
-    Eigen::SparseMatrix<double> matrix;
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt;
-    uint64_t topology = 0;     ///< pattern the symbolic analysis was made for
-    bool ok = false;           ///< the last numeric factorization succeeded
-    int last_iterations = 0;   ///< CG iterations of the last solve with this factor
-};
-
 namespace {
 
-/// Runs f with CHOLMOD's own OpenMP loops kept serial. Debian's CHOLMOD 3 opens 4-thread parallel
-/// regions inside its supernodal factorization (CHOLMOD_OMP_NUM_THREADS); on two cores beside the
-/// engine's threads their wake-ups cost more than they save (the default scene ran 20-40 % slower).
-/// With no parallel level allowed to be active, the runtime runs them on the calling thread.
-/// One lock around every call, process-wide: CHOLMOD's BLAS (Debian's serial OpenBLAS) is not safe
-/// to call from two threads at once, and the OpenMP setting changed here is the process's. Two
-/// simulations stepped from two threads (the Python API) corrupted each other's factors without it.
-template <class F>
-void without_library_threads(F&& f) {
-    static std::mutex library;
-    std::lock_guard<std::mutex> lock(library);
-    const int levels = omp_get_max_active_levels();
-    omp_set_max_active_levels(0);
-    try {
-        f();
-    } catch (...) {
-        omp_set_max_active_levels(levels);
-        throw;
-    }
-    omp_set_max_active_levels(levels);
-}
+/// The cholesky method renews its factor off the step (systems/solver/factor_background.h).
+bool off_step_factors(const World& w) { return w.linear.method == "cholesky" && w.solver.factor_delay > 0; }
 
-/// Factors A (symbolically too when the pattern changed). False if CHOLMOD found it not SPD.
+/// Factors A in the step (symbolically too when the pattern changed), solved through views of its
+/// supernodes when the method renews its factor off the step (as a background one is). False if
+/// CHOLMOD found A not SPD.
 bool factorize(World& w) {
     LinearSystem& A = w.linear;
-    if (!A.factor) A.factor = std::make_shared<LinearFactor>();
+    const bool viewed = off_step_factors(w);
+    if (!A.factor || A.factor->is_viewed != viewed) A.factor = std::make_shared<LinearFactor>(viewed);
     LinearFactor& f = *A.factor;
     const bool fresh_pattern = f.topology != A.topology || f.matrix.rows() != 3 * A.rows();
     copy_to_scalar(A, f.matrix, fresh_pattern);
-    without_library_threads([&] {
-        if (fresh_pattern) f.llt.analyzePattern(f.matrix);
-        f.llt.factorize(f.matrix);
-    });
+    compute_factor(f, fresh_pattern);
     if (fresh_pattern) {
         f.topology = A.topology;
         ++A.symbolic_factorizations;
-        A.factor_nonzeros = f.llt.cholmod().lnz;
     }
+    A.factor_nonzeros = f.lnz;
+    f.computed_step = w.step;
     ++A.factorizations;
     A.factor_age = 0;
     A.step_preconditioner = 3;
-    f.ok = f.llt.info() == Eigen::Success;
     return f.ok;
 }
 
@@ -126,6 +97,14 @@ namespace {
 /// kept hierarchy's first count + slack (the in-step renewal waits for kAmgRenewGrowth, 2x + 4).
 constexpr double kAmgEarlyGrowth = 1.5;
 constexpr int kAmgEarlySlack = 2;
+/// cholesky, off the step: a successor is asked for once a solve needs more than this fraction of
+/// solver.refactor_iterations.
+constexpr double kFactorEarlyFraction = 0.5;
+/// ... or once its augmented block holds more new DOFs than this (its dense Schur complement is
+/// applied every CG iteration).
+constexpr int kFactorAugmentLimit = 120;
+/// ... and renewed in the step past this multiple of solver.refactor_iterations.
+constexpr int kFactorInStepGrowth = 4;
 
 /// Records a CG result in `out`; whether it reached the tolerance.
 bool accepted(const CgResult& cg, const CgLimits& limits, LinearSolve& out) {
@@ -264,9 +243,9 @@ public:
     bool take_due_hierarchy() {
         if (!A_.pending_amg || A_.pending_amg->due_step > w_.step) return false;
         double wait = 0.0;
-        std::shared_ptr<AmgHierarchy> h = take_background_hierarchy(*A_.pending_amg, wait);
+        std::shared_ptr<AmgHierarchy> h = take_when_due(*A_.pending_amg, wait);
         A_.pending_amg.reset();
-        A_.step_wait_ms += wait, A_.wait_ms_total += wait, A_.wait_ms_max = std::max(A_.wait_ms_max, wait);
+        record_wait(wait);
         if (!h->ok) return true;
         // Held to the count its predecessor started at: its own first solve comes a few steps after
         // the state it was built for, and a count inflated by that would let it age unrenewed.
@@ -279,17 +258,38 @@ public:
     }
 
     /// cholesky / direct: CG preconditioned by CHOLMOD's factor, solved on one thread of the team.
-    void cholesky(bool new_pattern) {
+    /// cholesky renews it off the step (systems/solver/factor_background.h): at a cut the old one
+    /// goes on through an augmented block, an aged one as it is, until the successor is due.
+    void cholesky() {
         const SolverSettings& s = w_.solver;
+        const bool off_step = off_step_factors(w_);
+        const bool failed_off_step = take_due_factor();
         LinearFactor* f = A_.factor.get();
-        const bool stale = !f || new_pattern || !f->ok || A_.method == "direct" || A_.factor_age >= s.refactor_every ||
-                           f->last_iterations > s.refactor_iterations;
+        bool augmented = off_step && f && f->ok && f->topology != A_.topology && augment_for_grown_system(w_, *f, mask_);
+        const bool aged = f && (A_.factor_age >= s.refactor_every || f->last_iterations > s.refactor_iterations);
+        // Off the step the renewal costs the step nothing, so it is asked for at half the count
+        // (kFactorEarlyFraction): the successor arrives about when the kept one would have aged.
+        const bool aging = f && f->last_iterations > kFactorEarlyFraction * s.refactor_iterations;
+        const bool augment_grew = augmented && static_cast<int>(f->augment.parent.size()) > kFactorAugmentLimit;
+        if (off_step && f && f->ok && (augment_grew || aged || aging) && !A_.pending_factor && !failed_off_step) {
+            A_.pending_factor = start_background_factor(A_, f->snapshot, w_.step, w_.step + s.factor_delay);
+            ++A_.background_builds;
+        }
+        // Renewed in the step all the same when its successor would come too late: CG needed more
+        // than kFactorInStepGrowth x refactor_iterations (a large step that turned the elements).
+        const bool spent = f && f->last_iterations > kFactorInStepGrowth * s.refactor_iterations;
+        const bool stale = !f || !f->ok || A_.method == "direct" || failed_off_step ||
+                           (f->topology != A_.topology && !augmented) || (aged && !off_step) || spent;
+        if (A_.pending_factor) A_.step_preconditioner = std::max(A_.step_preconditioner, 1);
+        if (augmented) ++A_.augmented_steps;
         const auto solve_factor = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-            without_library_threads([&] { z = f->llt.solve(r); });
+            if (f->lower) return solve_with_factor(*f, augmented, r, z);  // no BLAS
+            with_cholmod_blas([&] { f->solve(r, z); });
         };
         const auto renew = [&] {
             const bool ok = factorize(w_);
             f = A_.factor.get();
+            augmented = false;
             return ok;
         };
         const auto solved = [&](int iterations) {
@@ -300,7 +300,36 @@ public:
                   [&] { return cg(Preconditioning::kSingle, no_rows, solve_factor); }, solved);
     }
 
+    /// Takes the factor computed off the step that is due at this step (waiting for it if it is
+    /// not ready); true if it failed (the step then factors A itself, as a failed factorization
+    /// always did). One older than the factor in use (a solve renewed it in a step since) is dropped.
+    bool take_due_factor() {
+        if (!A_.pending_factor || A_.pending_factor->due_step > w_.step) return false;
+        double wait = 0.0;
+        std::shared_ptr<LinearFactor> f = take_when_due(*A_.pending_factor, wait);
+        const int requested = A_.pending_factor->requested_step;
+        A_.pending_factor.reset();
+        record_wait(wait);
+        if (!f->ok) return true;
+        if (A_.factor && A_.factor->ok && A_.factor->computed_step > requested) {
+            retire_factor(std::move(f));
+            return false;
+        }
+        retire_factor(std::move(A_.factor));
+        A_.factor = std::move(f);
+        A_.factor_age = w_.step - requested;
+        ++A_.factorizations, ++A_.symbolic_factorizations, ++A_.swaps;
+        A_.factor_nonzeros = A_.factor->lnz;
+        A_.step_preconditioner = std::max(A_.step_preconditioner, 2);
+        return false;
+    }
+
 private:
+    /// A step's wait for a preconditioner computed off the step [ms].
+    void record_wait(double wait) {
+        A_.step_wait_ms += wait, A_.wait_ms_total += wait, A_.wait_ms_max = std::max(A_.wait_ms_max, wait);
+    }
+
     World& w_;
     LinearSystem& A_;
     const Eigen::VectorXd& b_;
@@ -335,7 +364,7 @@ LinearSolve solve(World& w, const StepOperator& op, double mass_scale, double st
                   const Eigen::VectorXd& mask, Eigen::VectorXd& x, const CgLimits& limits, SolutionHistory* history,
                   const StepMatrix* filled) {
     LinearSystem& A = w.linear;
-    const bool new_pattern = filled ? filled->new_pattern : fill_step_matrix(w, op, mass_scale, stiff_scale).new_pattern;
+    if (!filled) fill_step_matrix(w, op, mass_scale, stiff_scale);
     const bool matrix_free = A.method == "jacobi";  // resolved by fill_step_matrix
     const GuessKey key{static_cast<int>(b.size()), w.elements.count(), matrix_free ? 0 : A.topology};
     if (history && history->key == key &&
@@ -350,7 +379,7 @@ LinearSolve solve(World& w, const StepOperator& op, double mass_scale, double st
         AssembledSolve solve(w, b, mask, limits, x, out);
         if (A.method == "block_jacobi") solve.accept(solve.block_jacobi());
         else if (A.method == "amg") solve.amg(stiff_scale / mass_scale);
-        else solve.cholesky(new_pattern);
+        else solve.cholesky();
     }
     if (history && out.converged) remember_solution(*history, key, w.solver.guess_history, x, mask);
     return out;
@@ -389,7 +418,7 @@ StepMatrix fill_step_matrix(World& w, const StepOperator& op, double mass_scale,
     StepMatrix out;
     if (A.method == "jacobi") return out;
     out.assembled = true;
-    out.new_pattern = ensure_linear_pattern(w);
+    ensure_linear_pattern(w);
     assemble_step_matrix(w, op, mass_scale, stiff_scale);
     return out;
 }

@@ -4,17 +4,20 @@
 //  - "jacobi": matrix-free CG with the diagonal of A (the paper's setting; no assembly, least memory);
 //  - "block_jacobi": CG on the assembled A (systems/solver/linear_assembly.h) with its 3x3 diagonal blocks
 //    inverted: cheap per iteration, least memory of the assembled methods;
-//  - "cholesky": CG preconditioned by a CHOLMOD supernodal Cholesky factor of an earlier step's A
-//    (Chen, Davis, Hager & Rajamanickam, ACM TOMS 35(3), 2008). Rotations change slowly, so an old
-//    factor stays a near-exact inverse: 1-5 iterations. Refactored numerically when CG needs more
-//    than `solver.refactor_iterations` or the factor is `solver.refactor_every` steps old, and
-//    symbolically and numerically when the topology changes (a cut). The step at which a new factor
-//    is taken depends only on the iteration counts, never on timing: replays stay bit-identical;
-//  - "direct": the same factor computed every step (CG then converges in one or two iterations);
+//  - "cholesky": CG preconditioned by a CHOLMOD Cholesky factor of an earlier step's A (Chen,
+//    Davis, Hager & Rajamanickam, ACM TOMS 35(3), 2008; systems/solver/cholesky_factor.h).
+//    Rotations change slowly, so an old factor stays a near-exact inverse: 1-5 iterations. Renewed
+//    when CG needs more than `solver.refactor_iterations` or the factor is `solver.refactor_every`
+//    steps old, and when a cut adds DOFs: off the step (systems/solver/factor_background.h), the old
+//    factor going on meanwhile (at a cut through an augmented block for the new DOFs,
+//    systems/solver/factor_augment.h), the new one taken `solver.factor_delay` steps later; with
+//    factor_delay 0, or a snapping remesh, in the step. The step at which a new factor is taken
+//    depends only on the steps and the iteration counts, never on timing: replays stay bit-identical;
+//  - "direct": a supernodal factor computed every step (CG then converges in one or two iterations);
 //  - "amg": CG preconditioned by a smoothed-aggregation multigrid V-cycle (systems/kernels/solver/amg.h),
 //    10-20 iterations at any size; the hierarchy is kept, carried over to the new DOFs at a cut
 //    (no setup at the cut step), and renewed when CG needs twice its first count or when it is
-//    `solver.refactor_every` steps old: off the step, built on a thread of its own and taken
+//    `solver.refactor_every` steps old: off the step, built on the background thread and taken
 //    `solver.renew_delay` steps later (systems/solver/amg_background.h); in the step when the
 //    step's stiffness weight grows (the kept smoother's bounds would not hold) or renew_delay is 0;
 //  - "auto": cholesky up to 10,000 DOFs while its factor's estimated memory fits in a quarter of
@@ -67,7 +70,6 @@ inline LinearSolve solve_linear(World& world, const StepOperator& op, double mas
 /// A filled for a step by fill_step_matrix.
 struct StepMatrix {
     bool assembled = false;    ///< the method assembles A (all but jacobi), and it is filled
-    bool new_pattern = false;  ///< its pattern was made anew (the topology changed)
 };
 /// Assembles A = mass_scale M + stiff_scale (K + K_c) into world.linear for the state as it is, if
 /// the method assembles it (the pattern first, if the topology changed).

@@ -38,12 +38,16 @@ Case block(const std::string& name, int tets, int steps) {
 
 std::vector<Case> cases(bool tiny) {
     if (tiny) return {skin("skin_2mm", 0.002, 40), block("block_5k", 5000, 30)};
-    // The thin skins renew their multigrid hierarchy during the cut: once more with it renewed in
-    // the step (solver.renew_delay 0), for the off-step renewal's share in the same run.
+    // The thin skins renew their multigrid hierarchy during the cut, the 2 mm skin its Cholesky
+    // factor: once more with it renewed in the step (solver.renew_delay / factor_delay 0), for the
+    // off-step renewal's share in the same run.
+    Case in_step_2mm = skin("skin_2mm_factor_in_step", 0.002, 130);
+    in_step_2mm.scene.solver.factor_delay = 0;
     Case in_step_1mm = skin("skin_1mm_renew_in_step", 0.001, 130), in_step_07mm = skin("skin_0.7mm_renew_in_step", 0.0007, 130);
     in_step_1mm.scene.solver.renew_delay = in_step_07mm.scene.solver.renew_delay = 0;
-    return {skin("skin_2mm", 0.002, 130), skin("skin_1mm", 0.001, 130), in_step_1mm, skin("skin_0.7mm", 0.0007, 130),
-            in_step_07mm, block("block_20k", 20000, 100), block("block_53k", 53000, 100), block("block_200k", 200000, 60)};
+    return {skin("skin_2mm", 0.002, 130), in_step_2mm, skin("skin_1mm", 0.001, 130), in_step_1mm,
+            skin("skin_0.7mm", 0.0007, 130), in_step_07mm, block("block_20k", 20000, 100),
+            block("block_53k", 53000, 100), block("block_200k", 200000, 60)};
 }
 
 double max_of(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
@@ -90,7 +94,7 @@ std::vector<CutStepBenchRow> run_cutstep_bench(const CutStepBenchOptions& o) {
     std::vector<Case> all = cases(o.tiny);
     if (!o.cases.empty())
         std::erase_if(all, [&](const Case& c) { return std::find(o.cases.begin(), o.cases.end(), c.name) == o.cases.end(); });
-    if (all.empty()) throw InputError("--cases", "", "no such case in this configuration (skin_2mm, skin_1mm, "
+    if (all.empty()) throw InputError("--cases", "", "no such case in this configuration (skin_2mm, skin_2mm_factor_in_step, skin_1mm, "
                                       "skin_1mm_renew_in_step, skin_0.7mm, skin_0.7mm_renew_in_step, block_20k, block_53k, block_200k; --tiny: "
                                       "skin_2mm, block_5k)");
     std::vector<CutStepBenchRow> rows;

@@ -1,0 +1,59 @@
+#pragma once
+// The old Cholesky factor solving the grown system of a cut, through an augmented block (after
+// Yeung, Crouch & Pothen 2016, "Interactively cutting and constraining vertices in meshes using
+// augmented matrices": the factor in use keeps solving, the new DOFs are handled by a small Schur
+// complement, and a fresh factor is computed off the step).
+//
+// A split adds phantom nodes (the other side's vertices, components/cut_elements.h) after the
+// nodes the factor was computed for. In the jump basis x_new = E x_old + a (a: each phantom's jump
+// from its mesh node, the shifted-Heaviside DOF of the paper's eq. 1), the grown matrix A' becomes
+//   T^T A' T = [[A11, B], [B^T, C]],  B = A'_12 + E^T A'_22,  C = A'_22,
+// and A11 is the stiffness of the old DOFs with every jump zero: the two virtual elements of a
+// split element then sum to the whole element (their weights V_s/V sum to 1), so A11 is the matrix
+// the old factor was computed for, up to the rotations' drift since. The preconditioner is the
+// exact inverse of [[L L^T, B], [B^T, C]] by block elimination:
+//   Y = L^-1 P B (sparse: B's columns touch a few rows, their solves only the rows those reach),
+//   S = C - Y^T Y (dense, one row per new DOF), factored by Cholesky,
+//   forward  v = L^-1 P g1,  a = S^-1 (g2 - Y^T v),  backward  u = P^T L^-T (v - Y a),
+// with g = T^T r before and z = T (u, a) after. Per application: one solve with the old factor
+// plus two products with Y and one with S^-1. Extended at each new pattern for the DOFs new since:
+// their columns of Y (one reach per node for its three axes) and their rows of S.
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "components/linear_system.h"
+#include "systems/solver/lower_factor.h"
+
+namespace xcut {
+
+struct FactorAugment {
+    uint64_t topology = 0;            ///< the pattern of A it was last extended for
+    int base = 0;                     ///< scalar rows of the factor (the old DOFs)
+    std::vector<int> parent;          ///< per new scalar DOF: its mesh node's scalar DOF (jump basis), or -1
+    /// Y = L^-1 P B by columns, one per new DOF: column k's rows and values are
+    /// [y_start[k], y_start[k + 1]) of y_row, y_value.
+    std::vector<int> y_start{0}, y_row;
+    std::vector<double> y_value;
+    Eigen::MatrixXd S;                ///< C - Y^T Y
+    Eigen::LLT<Eigen::MatrixXd> schur;
+    bool ok = false;                  ///< S was positive definite
+
+    int columns() const { return static_cast<int>(parent.size()); }
+};
+
+/// Extends the augmented block to A's new DOFs (block rows [base/3, A.rows()) over the factor
+/// `lf`; `parent` as FactorAugment::parent, for all of them). The columns of DOFs it already holds
+/// are kept as they were computed (stale like the factor itself); only the DOFs new since are
+/// solved for, with their rows and columns of S. False if S is not positive definite (the old
+/// factor is too far from the grown system's old block): the caller factors A anew.
+bool extend_augment(const LinearSystem& A, const LowerFactor& lf, std::vector<int> parent, FactorAugment& g);
+
+/// z = T M^-1 T^T r, M = [[L L^T, B], [B^T, C]] (the augmented preconditioner); r and z of A's size.
+/// `forward` and `backward` solve with L and L^T in place (lf's own loops, or CHOLMOD's solves).
+void apply_augment(const LowerFactor& lf, const FactorAugment& g, const std::function<void(Eigen::VectorXd&)>& forward,
+                   const std::function<void(Eigen::VectorXd&)>& backward, const Eigen::VectorXd& r, Eigen::VectorXd& z);
+
+}  // namespace xcut

@@ -1,0 +1,59 @@
+#include "systems/solver/factor_background.h"
+
+#include "engine/background_threads.h"
+#include "systems/kernels/solver/block_sparse.h"
+
+namespace xcut {
+
+std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<LinearSystem> snapshot,
+                                                       int requested_step, int due_step) {
+    if (!snapshot) snapshot = std::make_shared<LinearSystem>();
+    if (snapshot->topology != A.topology || snapshot->value.size() != A.value.size()) {
+        snapshot->row_offset = A.row_offset, snapshot->column = A.column, snapshot->diagonal = A.diagonal;
+        snapshot->topology = A.topology;
+    }
+    snapshot->value = A.value;
+    auto f = std::make_shared<LinearFactor>(true);
+    f->topology = A.topology, f->computed_step = requested_step, f->snapshot = snapshot;
+    auto pending = std::make_shared<PendingFactor>();
+    pending->requested_step = requested_step, pending->due_step = due_step;
+    pending->result = run_in_background<std::shared_ptr<LinearFactor>>([f]() {
+        try {
+            copy_to_scalar(*f->snapshot, f->matrix, true);
+            compute_factor(*f, true);
+        } catch (const std::exception&) {  // out of memory: the step factors in itself
+            f->ok = false;
+        }
+        return f;
+    });
+    return pending;
+}
+
+void retire_factor(std::shared_ptr<LinearFactor> f) {
+    if (f) post_background_job([f = std::move(f)]() mutable { f.reset(); });
+}
+
+bool augment_for_grown_system(const World& w, LinearFactor& f, const Eigen::VectorXd& mask) {
+    const LinearSystem& A = w.linear;
+    const int base_nodes = static_cast<int>(f.matrix.rows()) / 3;
+    if (f.augment.ok && f.augment.topology == A.topology) return true;
+    if (base_nodes < w.mesh_nodes || A.rows() < base_nodes) return false;
+    std::vector<int> parent;  // per new scalar DOF: its mesh node's, both axes free; else -1
+    for (int j = base_nodes; j < A.rows(); ++j) {
+        const int phantom = j - w.mesh_nodes;
+        if (phantom >= w.enriched.count()) return false;
+        const int node = w.enriched.node_of_phantom[phantom];
+        for (int c = 0; c < 3; ++c)
+            parent.push_back(mask[3 * node + c] != 0.0 && mask[3 * j + c] != 0.0 ? 3 * node + c : -1);
+    }
+    if (!f.lower) return false;
+    return extend_augment(A, *f.lower, std::move(parent), f.augment);
+}
+
+void solve_with_factor(const LinearFactor& f, bool augmented, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+    if (!augmented) return f.solve(r, z);
+    apply_augment(*f.lower, f.augment, [&](Eigen::VectorXd& x) { f.lower->forward(x); },
+                  [&](Eigen::VectorXd& x) { f.lower->backward(x); }, r, z);
+}
+
+}  // namespace xcut

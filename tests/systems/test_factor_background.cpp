@@ -1,0 +1,209 @@
+// The cholesky method's factor renewed off the step (systems/solver/factor_background.h) and the
+// augmented block through which the old factor solves a grown system
+// (systems/solver/factor_augment.h): exact against a dense solve of the grown matrix, taken at a
+// fixed step, the same bits for any thread count and load, every step at the scene's tolerance,
+// and close to factoring in the step.
+#include <Eigen/SparseCholesky>
+#include <random>
+
+#include "systems/kernels/solver/block_sparse.h"
+#include "systems/solver/cholesky_factor.h"
+#include "systems/solver/factor_augment.h"
+#include "systems/solver/factor_background.h"
+#include "tests/systems/background_runs.h"
+
+namespace xcut {
+namespace {
+
+/// A dense SPD matrix of 3 `nodes` rows (diagonally dominant, so it stays SPD with blocks zeroed),
+/// the axes whose mask is 0 filtered as the assembly filters them (row and column zero, diagonal 1).
+Eigen::MatrixXd dense_spd(int nodes, const Eigen::VectorXd& mask) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Eigen::MatrixXd G(3 * nodes, 3 * nodes);
+    for (int i = 0; i < G.size(); ++i) G.data()[i] = u(rng);
+    Eigen::MatrixXd M = G * G.transpose() + 30.0 * nodes * Eigen::MatrixXd::Identity(3 * nodes, 3 * nodes);
+    for (int i = 0; i < 3 * nodes; ++i)
+        if (mask[i] == 0.0) M.row(i).setZero(), M.col(i).setZero(), M(i, i) = 1.0;
+    return M;
+}
+
+/// The first `nodes` block rows and columns of M as the assembled system stores them (every block).
+LinearSystem block_system(const Eigen::MatrixXd& M, int nodes) {
+    LinearSystem A;
+    A.row_offset.push_back(0);
+    for (int i = 0; i < nodes; ++i) {
+        for (int j = 0; j < nodes; ++j) {
+            A.column.push_back(j);
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) A.value.push_back(M(3 * i + r, 3 * j + c));
+        }
+        A.diagonal.push_back(static_cast<int>(A.column.size()) - nodes + i);
+        A.row_offset.push_back(static_cast<int>(A.column.size()));
+    }
+    A.topology = 40 + nodes;
+    return A;
+}
+
+/// A factor of the grown matrix's old block in the jump basis (AMD ordering).
+struct JumpFactor {
+    Eigen::SparseMatrix<double> L;
+    std::vector<int> perm, parent;  ///< parent: per new scalar DOF, as FactorAugment::parent
+    LowerFactor lf;
+};
+
+void make_jump_factor(const Eigen::MatrixXd& M, int old_nodes, const std::vector<int>& parent_node,
+                      const Eigen::VectorXd& mask, JumpFactor& out) {
+    const int base = 3 * old_nodes, n = static_cast<int>(M.rows());
+    Eigen::MatrixXd T = Eigen::MatrixXd::Identity(n, n);  // (u, a) -> (x_old, x_new)
+    for (size_t j = 0; j < parent_node.size(); ++j)
+        for (int c = 0; c < 3; ++c) {
+            const int q = 3 * static_cast<int>(j) + c, p = 3 * parent_node[j] + c;
+            const bool free = mask[p] != 0.0 && mask[base + q] != 0.0;
+            out.parent.push_back(free ? p : -1);
+            if (free) T(base + q, p) = 1.0;
+        }
+    const Eigen::MatrixXd jump = T.transpose() * M * T;
+    const Eigen::SparseMatrix<double> A11 = jump.topLeftCorner(base, base).sparseView();
+    Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt(A11);
+    ASSERT_EQ(llt.info(), Eigen::Success);
+    out.L = llt.matrixL();
+    out.L.makeCompressed();
+    out.perm.resize(base);
+    for (int k = 0; k < base; ++k) out.perm[k] = llt.permutationPinv().indices()[k];
+    ASSERT_TRUE(view_columns(base, out.L.outerIndexPtr(), nullptr, out.L.innerIndexPtr(), out.L.valuePtr(), out.perm.data(), out.lf));
+}
+
+/// The augmented solve of A = M's first `nodes` blocks against a dense solve: equal when the factor
+/// is of the old block in the jump basis (M is then T^T A' T itself).
+void expect_exact(const Eigen::MatrixXd& M, const JumpFactor& jf, FactorAugment& g, const Eigen::VectorXd& mask) {
+    const int n = static_cast<int>(M.rows());
+    ASSERT_TRUE(extend_augment(block_system(M, n / 3), jf.lf, jf.parent, g));
+    EXPECT_EQ(g.columns(), n - jf.lf.rows());
+    const Eigen::VectorXd r = Eigen::VectorXd::Random(n).cwiseProduct(mask);
+    Eigen::VectorXd z;
+    apply_augment(jf.lf, g, [&](Eigen::VectorXd& x) { jf.lf.forward(x); }, [&](Eigen::VectorXd& x) { jf.lf.backward(x); }, r, z);
+    const Eigen::VectorXd expected = M.llt().solve(r);
+    EXPECT_LE((z - expected).norm(), 1e-10 * expected.norm()) << "largest difference " << (z - expected).cwiseAbs().maxCoeff();
+}
+
+/// expect_exact on a fresh augmented block: `old_nodes` old nodes, a phantom per entry of `parent_node`.
+void expect_exact_fresh(int old_nodes, const std::vector<int>& parent_node, const Eigen::VectorXd& mask) {
+    const Eigen::MatrixXd M = dense_spd(old_nodes + static_cast<int>(parent_node.size()), mask);
+    JumpFactor jf;
+    make_jump_factor(M, old_nodes, parent_node, mask, jf);
+    FactorAugment g;
+    expect_exact(M, jf, g, mask);
+}
+
+TEST(FactorAugment, ExactWhenTheFactorIsTheOldBlockInTheJumpBasis) {
+    expect_exact_fresh(8, {0, 5, 2}, Eigen::VectorXd::Ones(33));
+}
+
+TEST(FactorAugment, ExactWithHeldAxes) {
+    Eigen::VectorXd mask = Eigen::VectorXd::Ones(33);
+    mask[0] = mask[1] = 0.0;    // node 0 held in x and y: its phantom's jump there has no parent
+    mask[3 * 8 + 6 + 2] = 0.0;  // the third phantom's z held
+    expect_exact_fresh(8, {0, 5, 2}, mask);
+}
+
+TEST(FactorAugment, NoNewDofsIsTheFactorAlone) { expect_exact_fresh(6, {}, Eigen::VectorXd::Ones(18)); }
+
+// Extended step by step (two phantoms, then a third): the kept columns are reused, and the result
+// is the block built at once when the later phantom does not couple to the earlier ones.
+TEST(FactorAugment, ExtendingKeepsTheColumnsAlreadySolved) {
+    const Eigen::VectorXd mask = Eigen::VectorXd::Ones(33);
+    Eigen::MatrixXd M = dense_spd(11, mask);
+    M.block(30, 24, 3, 6).setZero(), M.block(24, 30, 6, 3).setZero();
+    JumpFactor jf;
+    make_jump_factor(M, 8, {0, 5, 2}, mask, jf);
+    FactorAugment g;
+    std::vector<int> first(jf.parent.begin(), jf.parent.begin() + 6);
+    ASSERT_TRUE(extend_augment(block_system(M, 10), jf.lf, first, g));
+    const std::vector<int> y_start = g.y_start;
+    const std::vector<double> y_value = g.y_value;
+    expect_exact(M, jf, g, mask);
+    EXPECT_TRUE(std::equal(y_value.begin(), y_value.end(), g.y_value.begin())) << "the first six columns were kept";
+    EXPECT_EQ(g.y_start.size(), y_start.size() + 3);
+}
+
+// The step's solve through views of CHOLMOD's supernodes (Eigen's dense kernels, no BLAS) is
+// CHOLMOD's own solve, on a 3D grid Laplacian large enough for supernodes of many columns.
+TEST(FactorBackground, SupernodeViewsSolveAsCholmodDoes) {
+    const int g = 12, n = g * g * g;
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < n; ++i) {
+        t.emplace_back(i, i, 6.1);
+        for (int d : {1, g, g * g})
+            if (i + d < n) t.emplace_back(i, i + d, -1.0), t.emplace_back(i + d, i, -1.0);
+    }
+    LinearFactor f(true);
+    f.matrix.resize(n, n);
+    f.matrix.setFromTriplets(t.begin(), t.end());
+    ASSERT_TRUE(compute_factor(f, true));
+    ASSERT_TRUE(f.lower);
+    int widest = 0;
+    for (const auto& s : f.lower->supernodes) widest = std::max(widest, s.cols);
+    EXPECT_GT(widest, 8) << "supernodes of many columns";
+    const Eigen::VectorXd r = Eigen::VectorXd::Random(n);
+    Eigen::VectorXd z;
+    f.solve(r, z);
+    const Eigen::VectorXd expected = f.llt.solve(r);
+    EXPECT_LE((z - expected).norm(), 1e-12 * expected.norm());
+    EXPECT_LE((f.matrix * z - r).norm(), 1e-10 * r.norm());
+}
+
+// A successor that is not SPD comes back with ok false (the step then factors in itself).
+TEST(FactorBackground, AFailedFactorIsReported) {
+    Eigen::MatrixXd M = 2.0 * Eigen::MatrixXd::Identity(6, 6);
+    M(3, 3) = -1.0;
+    auto pending = start_background_factor(block_system(M, 2), nullptr, 0, 3);
+    double wait = -1.0;
+    const std::shared_ptr<LinearFactor> f = take_when_due(*pending, wait);
+    EXPECT_FALSE(f->ok);
+    EXPECT_GE(wait, 0.0);
+}
+
+/// The default skin with cholesky through its incision (110 steps: the blade cuts from step 20).
+SkinRun run_skin(int threads, int factor_delay) {
+    return run_default_skin(threads, 110, [&](SolverSettings& s) {
+        s.linear = "cholesky";
+        s.factor_delay = factor_delay;
+    });
+}
+
+TEST(FactorBackground, NoStepFactorsThroughTheCut) {
+    const SkinRun r = run_skin(2, 10);
+    ASSERT_GT(r.cuts, 0) << "the blade cut during the run";
+    EXPECT_GT(r.augmented, 0) << "steps solved the grown system through the augmented block";
+    EXPECT_GT(r.swaps, 0) << "factors computed off the step were taken";
+    int last_swap = -1, first_stale = -1;
+    for (int i = 0; i < static_cast<int>(r.state.size()); ++i) {
+        EXPECT_LE(r.residual[i], 1e-6) << "step " << i + 1;
+        EXPECT_NE(r.state[i], 3) << "step " << i + 1 << " factored in the step";
+        // The most: the load's factor while the slab first sags, before its successor arrives
+        // (factored in the step, it was renewed at 9).
+        EXPECT_LE(r.iterations[i], 15) << "step " << i + 1;
+        if (r.state[i] == 1 && first_stale < 0) first_stale = i;
+        if (r.state[i] != 2) continue;
+        // A successor is taken ten steps after it was asked for: the first one ten steps after the
+        // first stale step, the next ones at least ten steps apart.
+        if (last_swap < 0) EXPECT_EQ(i, first_stale + 10) << "step " << i + 1;
+        else EXPECT_GE(i - last_swap, 10) << "step " << i + 1;
+        last_swap = i;
+    }
+}
+
+TEST(FactorBackground, SameBitsForAnyThreadCountAndLoad) {
+    expect_same_bits_for_any_thread_count_and_load([](int threads) { return run_skin(threads, 10); });
+}
+
+TEST(FactorBackground, CloseToFactoringInTheStep) {
+    const SkinRun off = run_skin(2, 10), in = run_skin(2, 0);
+    EXPECT_EQ(in.augmented, 0);
+    EXPECT_EQ(in.swaps, 0) << "factor_delay 0: nothing is computed off the step";
+    expect_close_to_renewing_in_the_step(off, in);
+}
+
+}  // namespace
+}  // namespace xcut
