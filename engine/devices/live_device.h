@@ -1,10 +1,13 @@
 #pragma once
 // A tool device moved live by another thread: the viewer's mouse and keys, a tracker over the
-// network. The other thread sets a target pose whenever it has one; the physics takes it at the end
-// of each step and sees the tool move along a straight segment (slerp for the orientation) from
-// where the last step left it, so a blade sampled inside the step (ToolBodies::sweep) sweeps the
-// way the hand went and cuts what it passed. Every pose given lands in a recorded session
-// (SessionRecorder), so a live session replays bit for bit.
+// network. The other thread sets a target pose whenever it has one; the physics takes the targets
+// given since its last step at the end of the next one and sees the tool move along the path they
+// make (straight between them, slerp for the orientation; spaced evenly over the step, so that the
+// same calls give the same path whatever the timing, as a Python controller's must), so a blade sampled inside the step (ToolBodies::sweep) sweeps the way the hand
+// went and cuts what it passed, even when the physics is slower than the hand: a press, a drag and
+// a release given within one step still cut (only the newest target was kept before, and a quick
+// drag in a viewer slowed by a busy machine cut nothing). Every pose given to the physics lands in
+// a recorded session (SessionRecorder), so a live session replays bit for bit.
 #include <mutex>
 #include <vector>
 
@@ -38,7 +41,10 @@ protected:
 
 private:
     const char* kind_;
-    Keyframe target_, from_, to_;  ///< newest target; the segment of the current step
+    Keyframe target_, from_, to_;  ///< newest target; the current step's start and end
+    /// The targets given since the last step began; `path_` is the current step's: from_, then
+    /// them, in simulated time.
+    std::vector<Keyframe> given_, path_;
     std::vector<Keyframe> script_;  ///< followed while not live
     bool live_ = true, take_over_ = false, started_ = false;
 };

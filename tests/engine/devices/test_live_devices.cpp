@@ -35,6 +35,24 @@ TEST(LiveDevices, TargetEndsTheStepAndEarlierTimesInterpolate) {
     EXPECT_NEAR(d.pose(0.15).position.x(), 0.02, 1e-15);
 }
 
+// Targets given within one step make its path, evenly over the step: a press, a drag and a release
+// between two steps are all swept.
+TEST(LiveDevices, TargetsGivenWithinOneStepMakeItsPath) {
+    LiveDevice d(at(0.0, Vec3::Zero()), "test");
+    d.pose(0.0);
+    for (const Vec3& p : {Vec3(0, 0, 1), Vec3(0, 0, -1), Vec3(4, 0, -1), Vec3(4, 0, 1)})
+        d.set_target(p, Eigen::Quaterniond::Identity());
+    const auto near = [&](double t, const Vec3& p) { return (d.pose(t).position - p).norm() < 1e-12; };
+    EXPECT_TRUE(near(0.4, Vec3(4, 0, 1))) << "the step's end is the newest target";
+    EXPECT_TRUE(near(0.1, Vec3(0, 0, 1)));
+    EXPECT_TRUE(near(0.2, Vec3(0, 0, -1))) << "pressed";
+    EXPECT_TRUE(near(0.25, Vec3(2, 0, -1))) << "dragged while pressed";
+    EXPECT_TRUE(near(0.3, Vec3(4, 0, -1)));
+    d.set_target(Vec3(5, 0, 1), Eigen::Quaterniond::Identity());
+    EXPECT_TRUE(near(0.5, Vec3(5, 0, 1)));
+    EXPECT_TRUE(near(0.45, Vec3(4.5, 0, 1))) << "one target: the straight segment, as before";
+}
+
 TEST(LiveDevices, FollowsItsScriptUntilTakenOver) {
     LiveDevice d({at(0.0, Vec3::Zero()), at(1.0, Vec3(0.1, 0, 0))}, "test");
     EXPECT_FALSE(d.live());
@@ -110,6 +128,34 @@ TEST(LiveDevices, HandDrivenCutRecordsAndReplaysWithTheAddedTool) {
     EXPECT_EQ(replay->world.cuts.count(), cuts);
     EXPECT_EQ(state_hash(replay->world), recorded);
     fs::remove_all(dir);
+}
+
+// A hand quicker than the physics: the whole incision (press, a 40 mm drag, release) given between
+// two steps still cuts along its path (only the newest target, the lifted blade, was kept before:
+// a quick drag in a viewer slowed by a busy machine cut nothing).
+TEST(LiveDevices, ADragWithinOneStepCuts) {
+    Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json", live_scalpel_overrides());
+    std::vector<LiveDevice*> hands;
+    register_device_type("viewer", [&hands](const DeviceSpec&, const std::string&, const Keyframe& start) {
+        auto d = std::make_unique<LiveDevice>(start, "viewer");
+        hands.push_back(d.get());
+        return d;
+    });
+    auto sim = make_simulation(scene, false);
+    ASSERT_EQ(hands.size(), 1u);
+    step_simulation(*sim);
+    const auto target = [&](double x, double z) { hands[0]->set_target(Vec3(x, 0.01, z), Eigen::Quaterniond::Identity()); };
+    target(0.01, 0.01);  // above the skin, then down through it
+    for (int i = 0; i <= 20; ++i) target(0.01 + 0.002 * i, -0.0005);
+    target(0.05, 0.01);  // lifted
+    step_simulation(*sim);
+    int by_hand = 0;  // cut elements left of the scripted scalpel's line x = 31 mm
+    for (int e : sim->world.cuts.element) {
+        double x = 0.0;
+        for (int n : sim->world.elements.nodes[e]) x += 0.25 * sim->world.nodes.rest[n].x();
+        by_hand += x < 0.026 ? 1 : 0;
+    }
+    EXPECT_GT(by_hand, 10) << "the blade swept the drag's path within the step";
 }
 
 TEST(LiveDevices, SceneDeviceFieldsAreChecked) {
