@@ -84,6 +84,26 @@ uint64_t state_hash(const World& w) {
     return h;
 }
 
+/// Registers the "viewer" device type as live devices collected in `hands`.
+void register_hands(std::vector<LiveDevice*>& hands) {
+    register_device_type("viewer", [&hands](const DeviceSpec&, const std::string&, const Keyframe& start) {
+        auto d = std::make_unique<LiveDevice>(start, "viewer");
+        hands.push_back(d.get());
+        return d;
+    });
+}
+
+/// Cut elements left of the scripted scalpel's line x = 31 mm: the hand's.
+int cut_by_hand(const World& w) {
+    int n = 0;
+    for (int e : w.cuts.element) {
+        double x = 0.0;
+        for (int v : w.elements.nodes[e]) x += 0.25 * w.nodes.rest[v].x();
+        n += x < 0.026 ? 1 : 0;
+    }
+    return n;
+}
+
 // A hand-driven incision across x at y = 10 mm (the scripted scalpel never reaches it): it cuts,
 // it is recorded with the session's overrides, and `--replay` rebuilds the scene with the added
 // tool and gives the same bits.
@@ -95,11 +115,7 @@ TEST(LiveDevices, HandDrivenCutRecordsAndReplaysWithTheAddedTool) {
     EXPECT_EQ(scene.devices[1].type, "viewer");
     EXPECT_THROW(make_simulation(scene, false), InputError) << "no factory: `xcut run` has no viewer";
     std::vector<LiveDevice*> hands;
-    register_device_type("viewer", [&hands](const DeviceSpec&, const std::string&, const Keyframe& start) {
-        auto d = std::make_unique<LiveDevice>(start, "viewer");
-        hands.push_back(d.get());
-        return d;
-    });
+    register_hands(hands);
     const fs::path dir = testing::temp_dir("live_session");
     uint64_t recorded = 0;
     int cuts = 0;
@@ -113,13 +129,7 @@ TEST(LiveDevices, HandDrivenCutRecordsAndReplaysWithTheAddedTool) {
         }
         cuts = sim->world.cuts.count();
         recorded = state_hash(sim->world);
-        int by_hand = 0;  // cut elements left of the scripted scalpel's line x = 31 mm
-        for (int e : sim->world.cuts.element) {
-            double x = 0.0;
-            for (int n : sim->world.elements.nodes[e]) x += 0.25 * sim->world.nodes.rest[n].x();
-            by_hand += x < 0.026 ? 1 : 0;
-        }
-        EXPECT_GT(by_hand, 10) << "the hand's blade cut along its path";
+        EXPECT_GT(cut_by_hand(sim->world), 10) << "the hand's blade cut along its path";
     }
     const std::vector<std::string> session = read_session_overrides(dir.string());
     EXPECT_EQ(session, overrides);
@@ -136,11 +146,7 @@ TEST(LiveDevices, HandDrivenCutRecordsAndReplaysWithTheAddedTool) {
 TEST(LiveDevices, ADragWithinOneStepCuts) {
     Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json", live_scalpel_overrides());
     std::vector<LiveDevice*> hands;
-    register_device_type("viewer", [&hands](const DeviceSpec&, const std::string&, const Keyframe& start) {
-        auto d = std::make_unique<LiveDevice>(start, "viewer");
-        hands.push_back(d.get());
-        return d;
-    });
+    register_hands(hands);
     auto sim = make_simulation(scene, false);
     ASSERT_EQ(hands.size(), 1u);
     step_simulation(*sim);
@@ -149,13 +155,7 @@ TEST(LiveDevices, ADragWithinOneStepCuts) {
     for (int i = 0; i <= 20; ++i) target(0.01 + 0.002 * i, -0.0005);
     target(0.05, 0.01);  // lifted
     step_simulation(*sim);
-    int by_hand = 0;  // cut elements left of the scripted scalpel's line x = 31 mm
-    for (int e : sim->world.cuts.element) {
-        double x = 0.0;
-        for (int n : sim->world.elements.nodes[e]) x += 0.25 * sim->world.nodes.rest[n].x();
-        by_hand += x < 0.026 ? 1 : 0;
-    }
-    EXPECT_GT(by_hand, 10) << "the blade swept the drag's path within the step";
+    EXPECT_GT(cut_by_hand(sim->world), 10) << "the blade swept the drag's path within the step";
 }
 
 TEST(LiveDevices, SceneDeviceFieldsAreChecked) {
