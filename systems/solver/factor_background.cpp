@@ -37,7 +37,8 @@ bool augment_for_grown_system(const World& w, LinearFactor& f, const Eigen::Vect
     const LinearSystem& A = w.linear;
     const int base_nodes = static_cast<int>(f.matrix.rows()) / 3;
     if (f.augment.ok && f.augment.topology == A.topology) return true;
-    if (base_nodes < w.mesh_nodes || A.rows() < base_nodes) return false;
+    // A snapping remesh moves the old nodes' elements: no jump basis, the old block is not kept.
+    if (w.snap.elements_split > 0 || base_nodes < w.mesh_nodes || A.rows() < base_nodes) return false;
     std::vector<int> parent;  // per new scalar DOF: its mesh node's, both axes free; else -1
     for (int j = base_nodes; j < A.rows(); ++j) {
         const int phantom = j - w.mesh_nodes;
