@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "components/nodes.h"
@@ -66,6 +67,17 @@ struct CutState {
     /// stab): an edge moving along itself sweeps no surface, so that travel cut nothing
     /// (systems/cut/cutting_force.h measures it; the end of the run says so).
     std::vector<double> stab_travel;
+    /// Per element split so far: the unit normal of the blade that split it [-].
+    std::unordered_map<int, Vec3> split_normal;
+    /// Per tool: the elements already split along another plane (more than kRecutAngle away) that
+    /// its blade crossed. xcut splits an element once: they keep their first cut, and the end of
+    /// the run says so (an incision that meets a wound stops about an element short of it).
+    std::vector<int> recut_ignored;
+    std::unordered_set<int64_t> recut_seen;  ///< element * 64 + tool, counted once
 };
+
+/// The angle between a blade and an element's earlier cut past which crossing it would be a second
+/// cut [rad] (30 degrees).
+inline constexpr double kRecutAngle = 0.5235987755982988;
 
 }  // namespace xcut

@@ -216,6 +216,15 @@ std::vector<std::string> end_of_run_notes(const World& w) {
                 "edge sweeps, and an edge moving along itself sweeps none, so that travel made no incision; move the "
                 "blade across its edge to cut",
                 w.tools.name[i], 1e3 * stab[i]));
+    // A blade across an earlier wound: xcut splits an element once.
+    const std::vector<int>& recut = w.cut_state.recut_ignored;
+    for (int i = 0; i < static_cast<int>(recut.size()) && i < w.tools.count(); ++i)
+        if (recut[i] > 0)
+            out.push_back(fmt::format(
+                "tool \"{}\" crossed {} element{} already cut along another plane: xcut splits an element once "
+                "(docs/xfem.md), so they keep their first cut; where an incision meets a wound it stops about an "
+                "element short of it, and a closed loop does not free its piece",
+                w.tools.name[i], recut[i], recut[i] == 1 ? "" : "s"));
     return out;
 }
 

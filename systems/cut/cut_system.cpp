@@ -208,24 +208,26 @@ void remove_from_list(BladeCut& bc, int e, int list) {
     l.erase(std::remove(l.begin(), l.end(), e), l.end());
 }
 
+/// Where local edge k of element e crosses the quad (its parameter along the edge), and which of
+/// the quad's triangles it crosses (`tri`).
+std::optional<double> edge_crossing(const World& w, int e, int k, const CutQuad& q, int& tri) {
+    const int dim = w.elements.dim;
+    const int* ed = edge_nodes(dim, k);
+    const Vec3& a = w.nodes.position[w.elements.nodes[e][ed[0]]];
+    const Vec3& b = w.nodes.position[w.elements.nodes[e][ed[1]]];
+    tri = 0;
+    if (dim != 3) return segment_segment_2d(a, b, q.corner[0], q.corner[3]);
+    std::optional<double> t = segment_triangle(a, b, q.corner[0], q.corner[1], q.corner[2]);
+    if (!t) t = segment_triangle(a, b, q.corner[0], q.corner[2], q.corner[3]), tri = 1;
+    return t;
+}
+
 /// Tests the candidate's edges against the quad; returns how many new distinct edges it crossed.
 int test_element(World& w, BladeCut& bc, int e, const CutQuad& q, const Vec3 normal[2]) {
-    const Elements& el = w.elements;
-    const int dim = el.dim;
-    const Vec3* x = w.nodes.position.data();
     int found = 0;
-    for (int k = 0; k < edge_count(dim); ++k) {
-        const int* ed = edge_nodes(dim, k);
-        const Vec3& a = x[el.nodes[e][ed[0]]];
-        const Vec3& b = x[el.nodes[e][ed[1]]];
-        std::optional<double> t;
+    for (int k = 0; k < edge_count(w.elements.dim); ++k) {
         int tri = 0;
-        if (dim == 3) {
-            t = segment_triangle(a, b, q.corner[0], q.corner[1], q.corner[2]);
-            if (!t) t = segment_triangle(a, b, q.corner[0], q.corner[2], q.corner[3]), tri = 1;
-        } else {
-            t = segment_segment_2d(a, b, q.corner[0], q.corner[3]);
-        }
+        const std::optional<double> t = edge_crossing(w, e, k, q, tri);
         if (!t) continue;
         auto it = bc.crossing.find(e);
         if (it == bc.crossing.end()) {
@@ -242,6 +244,35 @@ int test_element(World& w, BladeCut& bc, int e, const CutQuad& q, const Vec3 nor
         ++found;
     }
     return found;
+}
+
+/// The unit normal of the blade over the element's crossed edges (their quads' normals, each
+/// turned to the first's side).
+Vec3 crossing_normal(const ElementCrossings& c) {
+    Vec3 sum = Vec3::Zero(), first = Vec3::Zero();
+    for (int k = 0; k < 6; ++k) {
+        if (!(c.mask >> k & 1)) continue;
+        if (first.isZero()) first = c.normal[k];
+        sum += c.normal[k].dot(first) < 0.0 ? Vec3(-c.normal[k]) : c.normal[k];
+    }
+    return sum.norm() > 0.0 ? Vec3(sum.normalized()) : sum;
+}
+
+/// An element already split that the quad of `tool` crosses along another plane: counted once per
+/// tool (CutState::recut_ignored; the end of the run says so).
+void note_recut(World& w, int e, const CutQuad& q, const Vec3& quad_normal, int tool) {
+    CutState& cs = w.cut_state;
+    const auto it = cs.split_normal.find(e);
+    const double n = quad_normal.norm();
+    if (it == cs.split_normal.end() || n == 0.0 || std::abs(it->second.dot(quad_normal)) / n > std::cos(kRecutAngle)) return;
+    bool crosses = false;
+    for (int k = 0; k < edge_count(w.elements.dim) && !crosses; ++k) {
+        int tri = 0;
+        crosses = edge_crossing(w, e, k, q, tri).has_value();
+    }
+    if (!crosses || !cs.recut_seen.insert(int64_t(e) * 64 + tool).second) return;
+    if (static_cast<int>(cs.recut_ignored.size()) <= tool) cs.recut_ignored.resize(tool + 1, 0);
+    ++cs.recut_ignored[tool];
 }
 
 /// Queues the splits of the elements the last quad crossed and moves the others through the lists,
@@ -270,6 +301,7 @@ void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed) {
                 w.pending_cuts.push_back(ev);
                 if (cs.queued.empty()) cs.queued.assign(w.mesh_elements, 0);
                 cs.queued[e] = 1;
+                cs.split_normal[e] = crossing_normal(c);
                 cs.delay_sim.push_back(w.time - c.first_time);
                 cs.delay_wall.push_back(wall_seconds() - c.first_wall);
                 ++cs.elements_split;
@@ -330,9 +362,11 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
     std::vector<int> crossed;
     for (int e : candidates) {
         if ((!cut.empty() && cut[e] >= 0) || (!cs.queued.empty() && cs.queued[e])) {
-            if (!cs.progressive) continue;
             const auto tip = bc.crossing.find(e);  // a progressive front's tip element is still tested
-            if (tip == bc.crossing.end() || !tip->second.split) continue;
+            if (!cs.progressive || tip == bc.crossing.end() || !tip->second.split) {
+                note_recut(w, e, q, normal[0], tool);
+                continue;
+            }
         }
         ++cs.elements_tested;
         const int found = test_element(w, bc, e, q, normal);

@@ -4,7 +4,9 @@
 #include <random>
 #include <set>
 
+#include "engine/io/scene_checks.h"
 #include "engine/parallel.h"
+#include "systems/pipeline.h"
 #include "systems/cut/cut_system.h"
 #include "systems/kernels/mesh_measures.h"
 #include "systems/tool_system.h"
@@ -224,6 +226,33 @@ TEST(CutSystem, TwoDimensionalBladeSplitsTrianglesCrossedOnTwoEdges) {
     }
     EXPECT_FALSE(expected.empty());
     EXPECT_EQ(split, expected);
+}
+
+// An X incision on the default skin: a second scalpel across the first wound meets elements already
+// cut along another plane. xcut splits an element once, and the end of the run says so, naming the
+// tool; the first incision alone says nothing of the kind.
+TEST(CutSystem, ABladeAcrossAnEarlierWoundIsReported) {
+    const auto notes_of = [](const std::vector<std::string>& overrides, int steps, std::vector<int>& recut) {
+        Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json", overrides);
+        scene.visual_subdivisions = scene.collision_subdivisions = -1;
+        auto sim = make_simulation(scene, false);
+        for (int i = 0; i < steps; ++i) step_simulation(*sim);
+        recut = sim->world.cut_state.recut_ignored;
+        std::string all;
+        for (const std::string& n : end_of_run_notes(sim->world)) all += n + "\n";
+        return all;
+    };
+    std::vector<int> recut;
+    const std::string one = notes_of({}, 130, recut);
+    EXPECT_EQ(one.find("already cut"), std::string::npos) << one;
+    const std::string x = notes_of({R"(tools+={"name": "cross", "blade": {"tip": [0, 0, -0.003], "heel": [0, 0, 0.004]},
+        "trajectory": [{"time": 0, "position": [0.016, 0.0203, 0.03]}, {"time": 1.25, "position": [0.016, 0.0203, 0.03]},
+                       {"time": 1.3, "position": [0.016, 0.0203, 0]}, {"time": 2.0, "position": [0.046, 0.0203, 0]}]})"},
+                                   210, recut);
+    EXPECT_NE(x.find("tool \"cross\" crossed"), std::string::npos) << x;
+    ASSERT_EQ(recut.size(), 2u);
+    EXPECT_EQ(recut[0], 0) << "the first scalpel met no earlier wound";
+    EXPECT_GT(recut[1], 0);
 }
 
 }  // namespace
