@@ -2,12 +2,13 @@
 // A tool device moved live by another thread: the viewer's mouse and keys, a tracker over the
 // network. The other thread sets a target pose whenever it has one; the physics takes the targets
 // given since its last step at the end of the next one and sees the tool move along the path they
-// make (straight between them, slerp for the orientation; spaced evenly over the step, so that the
-// same calls give the same path whatever the timing, as a Python controller's must), so a blade sampled inside the step (ToolBodies::sweep) sweeps the way the hand
-// went and cuts what it passed, even when the physics is slower than the hand: a press, a drag and
-// a release given within one step still cut (only the newest target was kept before, and a quick
-// drag in a viewer slowed by a busy machine cut nothing). Every pose given to the physics lands in
-// a recorded session (SessionRecorder), so a live session replays bit for bit.
+// make (straight between them, slerp for the orientation), spaced evenly over the step so that the
+// same calls give the same path whatever the timing, as a Python controller's must. A blade
+// sampled inside the step (ToolBodies::sweep) sweeps the way the hand went and cuts what it passed,
+// even when the physics is slower than the hand: a press, a drag and a release given within one
+// step still cut (only the newest target was kept before, and a quick drag in a viewer slowed by a
+// busy machine cut nothing). Every pose given to the physics lands in a recorded session
+// (SessionRecorder), so a live session replays bit for bit.
 #include <mutex>
 #include <vector>
 

@@ -4,18 +4,20 @@
 // soft-tissues": the preconditioner is updated asynchronously; Yeung, Crouch & Pothen 2016: the old
 // factor solves the grown system through an augmented block meanwhile).
 //  - At a cut (an XFEM split adds phantom DOFs), the factor in use goes on for the grown system
-//    through an augmented block (systems/solver/factor_augment.h), built in the step in
-//    O(new DOFs) work, and a fresh factor of the step's A is asked for.
-//  - An aged factor (CG needs more than solver.refactor_iterations, or it is solver.refactor_every
-//    steps old) goes on as it is while its successor is computed.
+//    through an augmented block (systems/solver/factor_augment.h), extended in the step by the new
+//    DOFs' columns.
+//  - A successor is asked for when CG needs more than half of solver.refactor_iterations, when the
+//    factor is solver.refactor_every steps old, or when the augmented block holds 120 DOFs; the
+//    factor in use goes on meanwhile. It is renewed in the step only past 4x refactor_iterations,
+//    after a failed solve, or after a snapping remesh (no jump basis there).
 // The successor is computed on the background thread (engine/background_threads.h) from a copy of
-// the step's scalar A (CHOLMOD's simplicial factor, AMD ordering: no BLAS, no OpenMP, so it runs
-// beside the step's solves safely) and taken at the first solve of the step solver.factor_delay steps after it was asked
-// for: a fixed step, never "whenever the thread finishes", so results do not depend on the
-// machine's load. That step waits for it if it is not ready, and the wait is measured
-// (LinearSystem::step_wait_ms). A successor that failed (not SPD) is replaced by a factor computed
-// in that step, as a failed factorization always was. Two factors live at once only between the
-// request and the swap.
+// the step's A (CHOLMOD's supernodal factor, under with_cholmod_blas: only that thread calls BLAS,
+// since the step solves through views of the supernodes, systems/solver/lower_factor.h) and taken
+// at the first solve of the step solver.factor_delay steps after it was asked for: a fixed step,
+// never "whenever the thread finishes", so results do not depend on the machine's load. That step
+// waits for it if it is not ready, and the wait is measured (LinearSystem::step_wait_ms). A
+// successor that failed (not SPD) is replaced by a factor computed in that step, as a failed
+// factorization always was. Two factors live at once only between the request and the swap.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <memory>
@@ -29,15 +31,17 @@ namespace xcut {
 /// A factor being computed off the step (taken by take_when_due, systems/solver/background_result.h).
 struct PendingFactor : PendingResult<LinearFactor> {};
 
-/// Starts computing a simplicial factor of A (copied into `snapshot`, reused storage or null: A
-/// changes from the next step on), due at `due_step`.
+/// Starts computing a factor of A, to be solved through views of its supernodes, due at `due_step`.
+/// A is copied into `snapshot` (storage handed on from factor to factor, or null): it changes from
+/// the next step on.
 std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<LinearSystem> snapshot,
                                                        int requested_step, int due_step);
 /// Lets the background thread free a factor no longer in use (its pages given back off the step).
 void retire_factor(std::shared_ptr<LinearFactor> f);
 
 /// Builds f.augment for world.linear when A grew from f's DOFs by phantom nodes only (an XFEM
-/// split; a snapping remesh is not) and f is simplicial; true if f now solves A through it.
+/// split; a snapping remesh is not) and f has views of its supernodes; true if f now solves A
+/// through it.
 bool augment_for_grown_system(const World& world, LinearFactor& f, const Eigen::VectorXd& mask);
 
 /// z = A^-1 r with the kept factor: directly, or through its augmented block when A has grown.

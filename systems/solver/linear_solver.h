@@ -6,12 +6,12 @@
 //    inverted: cheap per iteration, least memory of the assembled methods;
 //  - "cholesky": CG preconditioned by a CHOLMOD Cholesky factor of an earlier step's A (Chen,
 //    Davis, Hager & Rajamanickam, ACM TOMS 35(3), 2008; systems/solver/cholesky_factor.h).
-//    Rotations change slowly, so an old factor stays a near-exact inverse: 1-5 iterations. Renewed
-//    when CG needs more than `solver.refactor_iterations` or the factor is `solver.refactor_every`
-//    steps old, and when a cut adds DOFs: off the step (systems/solver/factor_background.h), the old
-//    factor going on meanwhile (at a cut through an augmented block for the new DOFs,
-//    systems/solver/factor_augment.h), the new one taken `solver.factor_delay` steps later; with
-//    factor_delay 0, or a snapping remesh, in the step. The step at which a new factor is taken
+//    Rotations change slowly, so an old factor stays a near-exact inverse: 1-5 iterations. A cut's
+//    new DOFs are solved through an augmented block on the old factor (systems/solver/factor_augment.h);
+//    the factor is renewed off the step (systems/solver/factor_background.h) when CG needs more
+//    than half of `solver.refactor_iterations`, when it is `solver.refactor_every` steps old, or
+//    when the block holds 120 DOFs, and taken `solver.factor_delay` steps later; with
+//    factor_delay 0, or after a snapping remesh, in the step. The step at which a new factor is taken
 //    depends only on the steps and the iteration counts, never on timing: replays stay bit-identical;
 //  - "direct": a supernodal factor computed every step (CG then converges in one or two iterations);
 //  - "amg": CG preconditioned by a smoothed-aggregation multigrid V-cycle (systems/kernels/solver/amg.h),
