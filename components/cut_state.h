@@ -69,7 +69,7 @@ struct CutState {
     std::vector<double> stab_travel;
     /// Per element split so far: the unit normal of the blade that split it [-].
     std::unordered_map<int, Vec3> split_normal;
-    /// Per tool: the elements already split along another plane (more than kRecutAngle away) that
+    /// Per tool: the elements already split along another plane (more than 30 degrees from its cut, kRecutCos) that
     /// its blade crossed. xcut splits an element once: they keep their first cut, and the end of
     /// the run says so (an incision that meets a wound stops about an element short of it).
     std::vector<int> recut_ignored;
@@ -77,7 +77,7 @@ struct CutState {
 };
 
 /// The angle between a blade and an element's earlier cut past which crossing it would be a second
-/// cut [rad] (30 degrees).
-inline constexpr double kRecutAngle = 0.5235987755982988;
+/// cut: 30 degrees, as its cosine [-].
+inline constexpr double kRecutCos = 0.8660254037844387;
 
 }  // namespace xcut

@@ -264,7 +264,7 @@ void note_recut(World& w, int e, const CutQuad& q, const Vec3& quad_normal, int 
     CutState& cs = w.cut_state;
     const auto it = cs.split_normal.find(e);
     const double n = quad_normal.norm();
-    if (it == cs.split_normal.end() || n == 0.0 || std::abs(it->second.dot(quad_normal)) / n > std::cos(kRecutAngle)) return;
+    if (it == cs.split_normal.end() || n == 0.0 || std::abs(it->second.dot(quad_normal)) / n > kRecutCos) return;
     bool crosses = false;
     for (int k = 0; k < edge_count(w.elements.dim) && !crosses; ++k) {
         int tri = 0;

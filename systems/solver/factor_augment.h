@@ -21,7 +21,6 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 #include <cstdint>
-#include <functional>
 #include <vector>
 
 #include "components/linear_system.h"
@@ -52,8 +51,6 @@ struct FactorAugment {
 bool extend_augment(const LinearSystem& A, const LowerFactor& lf, std::vector<int> parent, FactorAugment& g);
 
 /// z = T M^-1 T^T r, M = [[L L^T, B], [B^T, C]] (the augmented preconditioner); r and z of A's size.
-/// `forward` and `backward` solve with L and L^T in place (lf's own loops, or CHOLMOD's solves).
-void apply_augment(const LowerFactor& lf, const FactorAugment& g, const std::function<void(Eigen::VectorXd&)>& forward,
-                   const std::function<void(Eigen::VectorXd&)>& backward, const Eigen::VectorXd& r, Eigen::VectorXd& z);
+void apply_augment(const LowerFactor& lf, const FactorAugment& g, const Eigen::VectorXd& r, Eigen::VectorXd& z);
 
 }  // namespace xcut

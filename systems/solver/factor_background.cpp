@@ -38,7 +38,7 @@ bool augment_for_grown_system(const World& w, LinearFactor& f, const Eigen::Vect
     const int base_nodes = static_cast<int>(f.matrix.rows()) / 3;
     if (f.augment.ok && f.augment.topology == A.topology) return true;
     // A snapping remesh moves the old nodes' elements: no jump basis, the old block is not kept.
-    if (w.snap.elements_split > 0 || base_nodes < w.mesh_nodes || A.rows() < base_nodes) return false;
+    if (!f.lower || w.snap.elements_split > 0 || base_nodes < w.mesh_nodes || A.rows() < base_nodes) return false;
     std::vector<int> parent;  // per new scalar DOF: its mesh node's, both axes free; else -1
     for (int j = base_nodes; j < A.rows(); ++j) {
         const int phantom = j - w.mesh_nodes;
@@ -47,14 +47,12 @@ bool augment_for_grown_system(const World& w, LinearFactor& f, const Eigen::Vect
         for (int c = 0; c < 3; ++c)
             parent.push_back(mask[3 * node + c] != 0.0 && mask[3 * j + c] != 0.0 ? 3 * node + c : -1);
     }
-    if (!f.lower) return false;
     return extend_augment(A, *f.lower, std::move(parent), f.augment);
 }
 
 void solve_with_factor(const LinearFactor& f, bool augmented, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
     if (!augmented) return f.solve(r, z);
-    apply_augment(*f.lower, f.augment, [&](Eigen::VectorXd& x) { f.lower->forward(x); },
-                  [&](Eigen::VectorXd& x) { f.lower->backward(x); }, r, z);
+    apply_augment(*f.lower, f.augment, r, z);
 }
 
 }  // namespace xcut

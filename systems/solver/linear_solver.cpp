@@ -270,7 +270,7 @@ public:
         // Off the step the renewal costs the step nothing, so it is asked for at half the count
         // (kFactorEarlyFraction): the successor arrives about when the kept one would have aged.
         const bool aging = f && f->last_iterations > kFactorEarlyFraction * s.refactor_iterations;
-        const bool augment_grew = augmented && static_cast<int>(f->augment.parent.size()) > kFactorAugmentLimit;
+        const bool augment_grew = augmented && f->augment.columns() > kFactorAugmentLimit;
         if (off_step && f && f->ok && (augment_grew || aged || aging) && !A_.pending_factor && !failed_off_step) {
             A_.pending_factor = start_background_factor(A_, f->snapshot, w_.step, w_.step + s.factor_delay);
             ++A_.background_builds;
