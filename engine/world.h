@@ -69,7 +69,7 @@ struct SolverSettings {
     int refactor_every = 200;        ///< "refactor_every": ... or when the factor is this many steps old
     /// "renew_delay": amg renews an aged hierarchy off the step, taking the new one this many steps
     /// after asking (systems/solver/amg_background.h); 0: in the step that finds it aged [steps]
-    int renew_delay = 3;
+    int renew_delay = 6;
     /// "factor_delay": cholesky renews its factor off the step (at a cut, the old one goes on for
     /// the grown system through an augmented block; an aged one goes on as it is), taking the new
     /// one this many steps after asking (systems/solver/factor_background.h); 0: in the step [steps]

@@ -392,7 +392,7 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
     s.linear = sol.choice("linear", "auto", {"auto", "jacobi", "block_jacobi", "amg", "cholesky", "direct"});
     s.refactor_iterations = sol.integer("refactor_iterations", 8, 1, 1000000);
     s.refactor_every = sol.integer("refactor_every", 200, 1, 1000000);
-    s.renew_delay = sol.integer("renew_delay", 3, 0, 1000);
+    s.renew_delay = sol.integer("renew_delay", 6, 0, 1000);
     s.factor_delay = sol.integer("factor_delay", 10, 0, 1000);
     s.max_substeps = sol.integer("max_substeps", 16, 1, 1024);
     s.guess_history = sol.integer("guess_history", 6, 0, 64);
