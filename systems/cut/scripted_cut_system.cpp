@@ -56,7 +56,7 @@ bool inside_segment(const CutPlane& pl, const Vec3& q) {
 
 }  // namespace
 
-int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon) {
+int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressive) {
     const Elements& el = w.elements;
     const int dim = el.dim, npe = el.nodes_per_element();
     const CutPlane pl = plane_of(polygon, dim);
@@ -74,20 +74,24 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon) {
             H[a] = !sign.empty() && sign[j] != 0 ? sign[j] : (ev.level[a] >= 0.0 ? 1 : -1);
         }
         bool crossed = false, complete = true;
+        uint8_t inside = 0;  // the edges crossed inside the polygon
         const int edges = dim == 3 ? 6 : 3;
-        for (int k = 0; k < edges && complete; ++k) {
+        for (int k = 0; k < edges && (complete || progressive); ++k) {
             const int* ed = dim == 3 ? kTetEdges[k] : kTriEdges[k];
             if (H[ed[0]] == H[ed[1]]) continue;
             const double li = ev.level[ed[0]], lj = ev.level[ed[1]];
             const double t = li != lj ? std::clamp(li / (li - lj), 0.0, 1.0) : 0.5;
             const Vec3 q = w.nodes.position[el.nodes[e][ed[0]]] +
                            t * (w.nodes.position[el.nodes[e][ed[1]]] - w.nodes.position[el.nodes[e][ed[0]]]);
-            complete = dim == 3 ? inside_polygon(pl, polygon, q) : inside_segment(pl, q);
+            const bool in = dim == 3 ? inside_polygon(pl, polygon, q) : inside_segment(pl, q);
+            complete = complete && in;
+            inside |= static_cast<uint8_t>(in) << k;
             ev.edge_t[k] = t;
             ev.edge_has_t[k] = 1;
             crossed = true;
         }
-        if (crossed && complete) {
+        if (crossed && (complete || (progressive && inside != 0))) {
+            if (!complete) ev.crossed = inside;  // a tip element: its other split edges are held
             w.pending_cuts.push_back(ev);
             ++queued;
         }

@@ -11,7 +11,10 @@
 namespace xcut {
 
 /// Queues (into world.pending_cuts) the splits for one polygon. Returns how many were queued.
-int queue_polygon_cut(World& world, const std::vector<Vec3>& polygon);
+/// `progressive`: an element the polygon enters but does not cross completely is split too, as a
+/// progressive front's tip element (CutEvent::crossed: the edges crossed inside the polygon; the
+/// enrichment holds the nodes of its other split edges, docs/xfem.md).
+int queue_polygon_cut(World& world, const std::vector<Vec3>& polygon, bool progressive = false);
 
 SystemDesc scripted_cut_system();
 

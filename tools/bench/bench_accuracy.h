@@ -9,9 +9,11 @@
 // The references: CalculiX's quadratic elements, extrapolated, when it is installed
 // (tools/studies/calculix_reference.h); else beam theory (3), the conforming linear-tet reference
 // (5, tools/studies/crack_reference.h) and Tada, Paris & Irwin's handbook (6), and the summary says so.
-// Each run: build the mesh, cut it (scripted planar cut), solve the static equilibrium; run time =
-// wall time of cut + solve. Writes one CSV row per run and, with python3-matplotlib, one PNG per
-// problem (error against run time, log-log; tools/report/plot_accuracy.py). The CSV is complete without it.
+// Each run: build the mesh, cut it (scripted planar cut), solve the static equilibrium; its run time
+// is the wall time of cut + solve, its CPU time the process's over the same span (all threads): the
+// cutters are compared at equal CPU time, which another process on the machine does not inflate.
+// Writes one CSV row per run and, with python3-matplotlib, one PNG per problem (error against CPU
+// time, log-log; tools/report/plot_accuracy.py). The CSV is complete without it.
 #include <string>
 #include <vector>
 
@@ -32,6 +34,10 @@ struct AccuracyBenchOptions {
     /// (a / W times the finest level must be an integer: the tip on a grid line).
     std::vector<double> crack_ratios{0.2, 0.3, 0.4, 0.6};
     std::vector<int> sweep_reference_levels{20, 40, 80, 160};  ///< their references' levels
+    /// Problem 6 with the blade stopped at `stops` positions inside one cell past the tip, at level
+    /// `stop_level`: each cutter's error against a reference for the crack the blade made (0: none).
+    int stop_level = 80, stops = 10;
+    std::vector<int> stop_reference_levels{10, 20, 40, 80};  ///< their references' levels
     std::string csv = "results/bench_accuracy.csv";      ///< PNGs beside it: accuracy_problem<k>.png
     std::string cache_dir;                               ///< default: $XDG_CACHE_HOME/xcut/accuracy (~/.cache/xcut/accuracy)
     /// One thread by default: the suite compares methods, not parallel scaling, and single-thread
@@ -52,6 +58,7 @@ struct AccuracyRow {
     int dofs = 0;                 ///< dim x DOF nodes after the cut
     int split = 0;                ///< mesh elements the cut split
     double run_s = 0.0;           ///< wall time of cut + static solve [s]
+    double cpu_s = 0.0;           ///< CPU time of the process over the same span, every thread's [s]
     int newton = 0, cg = 0;       ///< Newton iterations, CG iterations summed
     double value = 0.0;           ///< tip deflection (3), RMS sample displacement (5), CMOD (6) [m]
     double reference = 0.0;       ///< its reference [m]
@@ -68,21 +75,21 @@ struct ReferenceNote {
 /// whose reference's own error estimate is above 1/10 of the smallest error it would score is not
 /// scored (its rows are left out, and `notes` says so).
 std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& options, std::vector<ReferenceNote>* notes = nullptr);
-/// Columns: problem,cutter,resolution,element_size_m,dofs,split,run_time_s,newton,cg_iterations,
+/// Columns: problem,cutter,resolution,element_size_m,dofs,split,run_time_s,cpu_time_s,newton,cg_iterations,
 /// value_m,reference_m,error; then the summary lines, each as a comment ("# ...").
 void write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>& rows,
                         const std::vector<std::string>& summary = {});
-/// One run of a cutter set against the other cutter's error-against-run-time front.
+/// One run of a cutter set against the other cutter's error-against-CPU-time front.
 struct FrontComparison {
     const AccuracyRow* run = nullptr;
-    double other_error = 0.0;  ///< the other cutter's error at this run time, interpolated log-log; 0: outside its range
+    double other_error = 0.0;  ///< the other cutter's error at this CPU time, interpolated log-log; 0: outside its range
     double ratio = 0.0;        ///< run's error / other_error (below 1: this run is the more accurate); 0: outside
 };
 /// Every XFEM and snapping run of `problem`, each against the other cutter's front (its runs
-/// sorted by run time, interpolated log-log between the two that bracket this run's time).
+/// sorted by CPU time, interpolated log-log between the two that bracket this run's).
 std::vector<FrontComparison> compare_fronts(const std::vector<AccuracyRow>& rows, int problem);
 /// The verdicts, one line each: problem 3's finest and Richardson-extrapolated deflection; for
-/// problems 5 and 6, every run against the other cutter at equal run time, and the levels where
+/// problems 5 and 6, every run against the other cutter at equal CPU time, and the levels where
 /// each cutter wins; problem 6's finest CMOD against the 5 % tolerance. No averaged verdict.
 std::vector<std::string> accuracy_summary(const std::vector<AccuracyRow>& rows, const std::vector<ReferenceNote>& notes = {});
 /// Prints the table and the targets, writes the CSV (and plots); returns 0.

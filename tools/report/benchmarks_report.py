@@ -297,14 +297,14 @@ def accuracy_section(d, plt, plots):
         cutters = list(dict.fromkeys(r["cutter"] for r in sel))
         header = ["level", "h mm"]
         for c in cutters:
-            header += [f"{c} DOFs", f"{c} run s", f"{c} error %"]
+            header += [f"{c} DOFs", f"{c} run s", f"{c} CPU s", f"{c} error %"]
         body = []
         for level in sorted({r["resolution"] for r in sel}):
             at = {r["cutter"]: r for r in sel if r["resolution"] == level}
             line = [level, 1e3 * next(iter(at.values()))["element_size_m"]]
             for c in cutters:
                 r = at.get(c)
-                line += [r["dofs"], r["run_time_s"], 100 * r["error"]] if r else ["–"] * 3
+                line += [r["dofs"], r["run_time_s"], r.get("cpu_time_s", "–"), 100 * r["error"]] if r else ["–"] * 4
             body.append(line)
         out += [f"### {names.get(problem, f'Problem {problem}')}", "", table(header, body), ""]
     out += [f"- {c}" for c in comments] + [""]
@@ -314,16 +314,16 @@ def accuracy_section(d, plt, plots):
 
         os.makedirs(plots, exist_ok=True)
         rel = os.path.relpath(plots, os.path.dirname(ARGS.doc))
-        out += ["### Error against run time", ""]
-        out += [f"![problem {p}: error against run time]({rel}/{name})\n" for p, name in plot_accuracy.plot(
+        out += ["### Error against CPU time", ""]
+        out += [f"![problem {p}: error against CPU time]({rel}/{name})\n" for p, name in plot_accuracy.plot(
             plt, rows, plots, plot_accuracy.bands(os.path.join(d, "bench_accuracy.csv")))]
     elif plots:  # no new plots (--no-plots, no matplotlib): the ones already drawn stay linked
         rel = os.path.relpath(plots, os.path.dirname(ARGS.doc))
         drawn = [(p, f"accuracy_problem{p}.png") for p in sorted({r["problem"] for r in rows})]
         drawn = [(p, name) for p, name in drawn if os.path.exists(os.path.join(plots, name))]
         if drawn:
-            out += ["### Error against run time", ""]
-            out += [f"![problem {p}: error against run time]({rel}/{name})\n" for p, name in drawn]
+            out += ["### Error against CPU time", ""]
+            out += [f"![problem {p}: error against CPU time]({rel}/{name})\n" for p, name in drawn]
     return "\n".join(out).rstrip()
 
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Plots of `xcut bench --suite accuracy` (docs/BENCHMARKS.md) from its CSV: one PNG per
-docs/verification.md problem, relative error against run time (cut + static solve), log-log, every
+docs/verification.md problem, relative error against CPU time (cut + static solve), log-log, every
 cutter of that problem on one plot, each point labelled with its resolution, and the reference's own
 error estimate as a grey band (errors inside it are not resolved). Comment lines ("# ...", the
 suite's verdicts) give the band and are otherwise skipped. tools/report/benchmarks_report.py calls
@@ -48,7 +48,7 @@ def plot(plt, rows, outdir, band=None):
                          key=lambda r: int(r["resolution"]))
             if not sel:
                 continue
-            t = [float(r["run_time_s"]) for r in sel]
+            t = [float(r.get("cpu_time_s") or r["run_time_s"]) for r in sel]  # records before CPU time: wall
             e = [100.0 * float(r["error"]) for r in sel]
             colour, style = STYLE[cutter]
             ax.loglog(t, e, style, color=colour, label=cutter)
@@ -61,7 +61,7 @@ def plot(plt, rows, outdir, band=None):
             solver, estimate = band[problem]
             ax.axhspan(estimate / 10, estimate, color="0.6", alpha=0.35,  # up to the reference's own error
                        label=f"reference ({solver}): its error {estimate:.2g} %")
-        ax.set_xlabel("run time: cut + static solve [s] (labels: resolution)")
+        ax.set_xlabel("CPU time: cut + static solve [s] (labels: resolution)")
         ax.set_ylabel("relative error [%]")
         ax.set_title(TITLES.get(problem, "Problem " + problem), fontsize=10)
         ax.grid(alpha=0.3, which="both")

@@ -125,13 +125,13 @@ std::vector<Probe> locate_points(const World& w, const std::vector<Vec3>& points
 
 Vec3 probe_displacement(const World& w, const Probe& p) { return bound_position(w, p.element, p.bary) - p.rest; }
 
-int cut_with_polygon(World& w, const std::vector<Vec3>& polygon) {
+int cut_with_polygon(World& w, const std::vector<Vec3>& polygon, bool progressive) {
     if (w.snap.enabled) {
         prepare_snap_cut(w);
     } else {
         prepare_enrichment(w);
     }
-    queue_polygon_cut(w, polygon);
+    queue_polygon_cut(w, polygon, progressive && !w.snap.enabled);
     return w.snap.enabled ? apply_snap_events(w) : apply_cut_events(w);
 }
 

@@ -59,8 +59,9 @@ std::vector<Probe> locate_points(const World& world, const std::vector<Vec3>& re
 Vec3 probe_displacement(const World& world, const Probe& probe);
 
 /// Splits the elements the planar polygon (2D: segment) crosses completely, with the world's cutter
-/// (XFEM unless world.snap.enabled); returns the mesh elements split.
-int cut_with_polygon(World& world, const std::vector<Vec3>& polygon);
+/// (XFEM unless world.snap.enabled); returns the mesh elements split. `progressive` (XFEM only):
+/// the elements it enters too, as a progressive front's tip elements (a blade stopped there).
+int cut_with_polygon(World& world, const std::vector<Vec3>& polygon, bool progressive = false);
 
 // ---- Problem 5: partial cut, block pulled apart ----------------------------------------------------
 
