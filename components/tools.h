@@ -41,6 +41,10 @@ struct ToolBodies {
     std::vector<uint8_t> has_blade;
     std::vector<Vec3> blade_tip;                    ///< cutting edge, tool frame: deep end [m]
     std::vector<Vec3> blade_heel;                   ///< cutting edge, tool frame: shallow end [m]
+    /// The blade's face (3D): from its cutting edge to its back, tool frame [m]; the face is the
+    /// parallelogram tip, heel, heel + back, tip + back, and it cuts what it passes through (a stab
+    /// pushed along the edge too). Zero: an edge only, which cuts only what it sweeps.
+    std::vector<Vec3> blade_back;
     std::vector<ToolShape> shape;                   ///< contact shape (kNone: the tool touches nothing)
     std::vector<double> contact_stiffness;          ///< penalty stiffness per contact vertex [N/m]
     std::vector<double> contact_damping;            ///< normal damping per contact vertex [N s/m]

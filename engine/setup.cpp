@@ -128,6 +128,7 @@ int add_scalpel(World& world, const std::string& name, const std::vector<Keyfram
     tb.has_blade.push_back(1);
     tb.blade_tip.push_back(tip);
     tb.blade_heel.push_back(heel);
+    tb.blade_back.push_back(Vec3::Zero());
     return tb.count() - 1;
 }
 

@@ -1,4 +1,6 @@
 // xcut stress: the stability suite (docs/verification.md problems 7-9); exit 1 if an invariant broke.
+#include <filesystem>
+
 #include "tools/studies/stress.h"
 #include "tools/xcut_commands.h"
 
@@ -14,9 +16,14 @@ Command add_stress_command(CLI::App& app) {
     cmd->add_option("--csv", o->csv, "CSV of every case");
     cmd->add_option("--front", o->front, "Problem 8's cutter.front: semi (the paper's) or progressive")
         ->check(CLI::IsMember({"semi", "progressive"}));
+    cmd->add_option("--blades", o->blades, "Problem 8's scalpels per trajectory: 1, or 2 to this many at once "
+                                           "(crossing in one step, stabs, blades with a face)")
+        ->check(CLI::Range(1, 4));
     return {cmd, [o, cmd] {
                 o->csv_given = cmd->count("--csv") > 0;
                 if (!o->csv_given && o->front != "semi") o->csv = "results/bench_stress_" + o->front + ".csv";
+                if (!o->csv_given && o->blades > 1)
+                    o->csv = std::filesystem::path(o->csv).replace_extension().string() + "_blades.csv";
                 return stress_command(*o);
             }};
 }

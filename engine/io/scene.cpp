@@ -170,12 +170,21 @@ void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) 
         t.allow_only({"name", "blade", "shape", "contact", "trajectory", "trajectory_csv", "device"});
         tb.name.push_back(t.string("name", fmt::format("tool{}", i)));
         const JsonFields blade = t.object("blade");
-        blade.allow_only({"tip", "heel"});
+        blade.allow_only({"tip", "heel", "back"});
         tb.has_blade.push_back(t.has("blade") ? 1 : 0);
         tb.blade_tip.push_back(blade.vec3("tip", Vec3::Zero()));
         tb.blade_heel.push_back(blade.vec3("heel", Vec3::Zero()));
         if (t.has("blade") && !((tb.blade_heel.back() - tb.blade_tip.back()).norm() > 1e-9))
             blade.fail("heel", "the blade has zero length: tip and heel must differ by more than 1e-9 m");
+        tb.blade_back.push_back(blade.vec3("back", Vec3::Zero()));
+        if (blade.has("back")) {
+            const Vec3 edge = tb.blade_heel.back() - tb.blade_tip.back(), back = tb.blade_back.back();
+            if (!(back.norm() > 1e-6) || !(back.norm() <= 1.0))
+                blade.fail("back", fmt::format("{:.3g} m long: the blade's width, from its edge to its back, in (1e-6, 1] m",
+                                               back.norm()));
+            if (!(edge.cross(back).norm() > 0.5 * edge.norm() * back.norm()))
+                blade.fail("back", "runs within 30 degrees of the edge (tip to heel): the blade's face would have no width");
+        }
         std::vector<Keyframe> keys;
         scene.devices.push_back(read_device(t, top.file()));
         const bool live = scene.devices.back().type != "scripted";
@@ -486,6 +495,10 @@ World build_world(const Scene& scene) {
                                                         scene.constraints.nodes[i]);
     if (mesh.dim == 2 && world.gravity.z() != 0.0)
         throw InputError(scene.file, "gravity", "a 2D (plate) scene lies in the xy plane: gravity[2] must be 0");
+    for (int i = 0; mesh.dim == 2 && i < scene.tools.count(); ++i)
+        if (i < static_cast<int>(scene.tools.blade_back.size()) && scene.tools.blade_back[i] != Vec3::Zero())
+            throw InputError(scene.file, fmt::format("tools[{}].blade.back", i),
+                             "a 2D scene's blade is a point in the plane: it has no face (give tip and heel only)");
     for (size_t i = 0; i < scene.cuts.size(); ++i) {
         const size_t need = mesh.dim == 2 ? 2 : 3;
         if ((mesh.dim == 2) != (scene.cuts[i].polygon.size() == 2) || scene.cuts[i].polygon.size() < need)

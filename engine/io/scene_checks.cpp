@@ -207,10 +207,12 @@ std::vector<std::string> end_of_run_notes(const World& w) {
         if (w.tools.has_blade[i] && (i >= static_cast<int>(split.size()) || split[i] == 0))
             out.push_back(fmt::format("tool \"{}\" cut nothing: its blade crossed no element", w.tools.name[i]));
     }
-    // A blade pushed along its own edge through the tissue (a stab) sweeps no surface: say how far.
+    // A blade without a face pushed along its own edge through the tissue (a stab) sweeps no
+    // surface: say how far. A blade with one (blade.back) cuts with its face.
     const std::vector<double>& stab = w.cut_state.stab_travel;
     for (int i = 0; i < static_cast<int>(stab.size()) && i < w.tools.count(); ++i)
-        if (stab[i] > w.cut_state.mean_edge && w.cut_state.mean_edge > 0.0)
+        if (stab[i] > w.cut_state.mean_edge && w.cut_state.mean_edge > 0.0 &&
+            (i >= static_cast<int>(w.tools.blade_back.size()) || w.tools.blade_back[i] == Vec3::Zero()))
             out.push_back(fmt::format(
                 "tool \"{}\" moved {:.3g} mm along its own edge inside the tissue (a stab): a cut is the surface its "
                 "edge sweeps, and an edge moving along itself sweeps none, so that travel made no incision; move the "

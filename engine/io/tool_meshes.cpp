@@ -61,7 +61,16 @@ ToolTriangles tool_triangles(const ToolBodies& tools, double size) {
                 t.blade.push_back(0);
             }
         }
-        if (tools.has_blade[i]) {  // the edge, and a back behind it: against the blade's motion (else the tool's -x)
+        const bool faced = tools.has_blade[i] && i < static_cast<int>(tools.blade_back.size());
+        const Vec3 face = faced ? Vec3(R * tools.blade_back[i]) : Vec3::Zero();
+        if (face != Vec3::Zero()) {  // the blade's own face: tip, heel, heel + back, tip + back
+            const Vec3 tip = p + R * tools.blade_tip[i], heel = p + R * tools.blade_heel[i];
+            const int base = static_cast<int>(t.position.size());
+            for (const Vec3& v : {tip, heel, Vec3(heel + face), Vec3(tip + face)}) t.position.push_back(v);
+            t.triangles.push_back({base, base + 1, base + 2});
+            t.triangles.push_back({base, base + 2, base + 3});
+            t.blade.push_back(1), t.blade.push_back(1);
+        } else if (tools.has_blade[i]) {  // the edge, and a back behind it: against the blade's motion (else the tool's -x)
             const Vec3 tip = p + R * tools.blade_tip[i], heel = p + R * tools.blade_heel[i];
             const Vec3 edge = (heel - tip).normalized();
             Vec3 ahead = i < static_cast<int>(tools.velocity.size()) ? tools.velocity[i] : Vec3::Zero();

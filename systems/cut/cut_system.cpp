@@ -15,11 +15,12 @@ namespace {
 /// The world's mesh elements at their current positions, as the BVH takes them.
 MeshView mesh_view(const World& w) { return {&w.elements, &w.nodes.position, w.mesh_elements, w.mesh_nodes}; }
 
-/// Where a swept quad can reach: its box, and the planes of its two triangles (a non-planar quad is
-/// two triangles; an element the quad crosses straddles one of their planes).
+/// Where the quads of one update can reach (the edge's sweep, the blade's face): their box, and the
+/// planes of their triangles (a non-planar quad is two triangles; an element a quad crosses
+/// straddles one of their planes), each as a point and a normal.
 struct QuadReach {
-    Vec3 lo, hi, point;
-    Vec3 normal[2];
+    Vec3 lo, hi;
+    std::vector<std::pair<Vec3, Vec3>> planes;
 };
 
 /// Whether element e's box at current positions meets the quad's box and straddles the plane of one
@@ -33,8 +34,8 @@ bool may_reach(const World& w, int e, const QuadReach& q) {
     }
     if (!((elo.array() <= q.hi.array()).all() && (ehi.array() >= q.lo.array()).all())) return false;
     const Vec3 centre = 0.5 * (elo + ehi), half = 0.5 * (ehi - elo);
-    for (const Vec3& normal : q.normal) {
-        const double reach = normal.cwiseAbs().dot(half), offset = normal.dot(centre - q.point);
+    for (const auto& [point, normal] : q.planes) {
+        const double reach = normal.cwiseAbs().dot(half), offset = normal.dot(centre - point);
         if (std::abs(offset) <= reach * (1.0 + 1e-9) + 1e-12 * normal.norm()) return true;
     }
     return false;
@@ -222,13 +223,28 @@ std::optional<double> edge_crossing(const World& w, int e, int k, const CutQuad&
     return t;
 }
 
-/// Tests the candidate's edges against the quad; returns how many new distinct edges it crossed.
-int test_element(World& w, BladeCut& bc, int e, const CutQuad& q, const Vec3 normal[2]) {
+/// The quad's two triangles' normals (2D: the swept segment's normal) [m^2; 2D m].
+std::array<Vec3, 2> quad_normals(int dim, const CutQuad& q) {
+    if (dim != 3) {
+        const Vec3 d = q.corner[3] - q.corner[0];
+        return {Vec3(-d.y(), d.x(), 0.0), Vec3(-d.y(), d.x(), 0.0)};
+    }
+    return {(q.corner[1] - q.corner[0]).cross(q.corner[2] - q.corner[0]),
+            (q.corner[2] - q.corner[0]).cross(q.corner[3] - q.corner[0])};
+}
+
+/// Tests the candidate's edges against the quads (the edge's sweep, and the blade's face when it
+/// has one); returns how many new distinct edges it crossed.
+int test_element(World& w, BladeCut& bc, int e, const std::vector<const CutQuad*>& quads,
+                 const std::vector<std::array<Vec3, 2>>& normals) {
     int found = 0;
     for (int k = 0; k < edge_count(w.elements.dim); ++k) {
         int tri = 0;
-        const std::optional<double> t = edge_crossing(w, e, k, q, tri);
+        std::optional<double> t;
+        size_t which = 0;
+        for (; which < quads.size() && !t; ++which) t = edge_crossing(w, e, k, *quads[which], tri);
         if (!t) continue;
+        const Vec3& normal = normals[which - 1][tri];
         auto it = bc.crossing.find(e);
         if (it == bc.crossing.end()) {
             ElementCrossings fresh;
@@ -240,7 +256,7 @@ int test_element(World& w, BladeCut& bc, int e, const CutQuad& q, const Vec3 nor
         if (c.mask >> k & 1) continue;  // this edge already counted: a trembling blade
         c.mask |= uint8_t(1u << k);
         c.t[k] = *t;
-        c.normal[k] = normal[tri];
+        c.normal[k] = normal;
         ++found;
     }
     return found;
@@ -323,7 +339,7 @@ void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed) {
 
 }  // namespace
 
-void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
+void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, const CutQuad* face) {
     CutState& cs = w.cut_state;
     if (static_cast<int>(cs.blade.size()) <= tool) cs.blade.resize(tool + 1);
     BladeCut& bc = cs.blade[tool];
@@ -331,28 +347,31 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
     const int dim = w.elements.dim;
     ++cs.quads_built;
     cs.quads.push_back(q);
-    Vec3 normal[2];
-    if (dim == 3) {
-        normal[0] = (q.corner[1] - q.corner[0]).cross(q.corner[2] - q.corner[0]);
-        normal[1] = (q.corner[2] - q.corner[0]).cross(q.corner[3] - q.corner[0]);
-    } else {
-        const Vec3 d = q.corner[3] - q.corner[0];
-        normal[0] = normal[1] = Vec3(-d.y(), d.x(), 0.0);
-    }
-    const double length = std::max((q.corner[3] - q.corner[0]).norm(), (q.corner[2] - q.corner[1]).norm());
+    std::vector<const CutQuad*> quads{&q};
+    if (face) quads.push_back(face), cs.quads.push_back(*face);
+    std::vector<std::array<Vec3, 2>> normals;
+    for (const CutQuad* c : quads) normals.push_back(quad_normals(dim, *c));
+    double length = 0.0;
+    for (const CutQuad* c : quads)
+        length = std::max({length, (c->corner[3] - c->corner[0]).norm(), (c->corner[2] - c->corner[1]).norm()});
     std::vector<int> candidates;
     if (!bc.front.empty() && !cs.bvh_every_quad) {
         const int depth = cs.min_depth + static_cast<int>(std::ceil(length / std::max(cs.mean_edge, 1e-300)));
-        QuadReach reach{q.corner[0], q.corner[0], q.corner[0], {normal[0], normal[1]}};
-        for (const Vec3& c : q.corner) reach.lo = reach.lo.cwiseMin(c), reach.hi = reach.hi.cwiseMax(c);
+        QuadReach reach{q.corner[0], q.corner[0], {}};
+        for (size_t k = 0; k < quads.size(); ++k) {
+            for (const Vec3& v : quads[k]->corner) reach.lo = reach.lo.cwiseMin(v), reach.hi = reach.hi.cwiseMax(v);
+            for (const Vec3& n : normals[k]) reach.planes.emplace_back(quads[k]->corner[0], n);
+        }
         const Vec3 pad = Vec3::Constant(1e-9 * std::max(1.0, (reach.hi - reach.lo).norm()));  // rounding only
         reach.lo -= pad, reach.hi += pad;
         candidates = neighbourhood(w, bc.front, depth, reach);
     } else {
         Vec3 centre = Vec3::Zero();
-        for (const Vec3& c : q.corner) centre += 0.25 * c;
+        for (const CutQuad* c : quads)
+            for (const Vec3& v : c->corner) centre += v / (4.0 * quads.size());
         double radius = 0.0;
-        for (const Vec3& c : q.corner) radius = std::max(radius, (c - centre).norm());
+        for (const CutQuad* c : quads)
+            for (const Vec3& v : c->corner) radius = std::max(radius, (v - centre).norm());
         bvh.ensure(mesh_view(w), cs.mean_edge);
         bvh.query_ball(centre, radius, candidates);
         std::sort(candidates.begin(), candidates.end());
@@ -364,12 +383,12 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
         if ((!cut.empty() && cut[e] >= 0) || (!cs.queued.empty() && cs.queued[e])) {
             const auto tip = bc.crossing.find(e);  // a progressive front's tip element is still tested
             if (!cs.progressive || tip == bc.crossing.end() || !tip->second.split) {
-                note_recut(w, e, q, normal[0], tool);
+                for (size_t k = 0; k < quads.size(); ++k) note_recut(w, e, *quads[k], normals[k][0], tool);
                 continue;
             }
         }
         ++cs.elements_tested;
-        const int found = test_element(w, bc, e, q, normal);
+        const int found = test_element(w, bc, e, quads, normals);
         cs.crossings_found += found;
         if (found > 0) crossed.push_back(e);
     }
@@ -394,29 +413,37 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool) {
 
 namespace {
 
+/// The blade at one point of its path: its edge, and its face from the edge to its back (zero: none) [m].
+struct BladeAt {
+    Vec3 tip, heel, back;
+};
+
+/// The quad the edge swept from the anchor to `b`, and with a face, the face at `b` (it cuts what it
+/// passes through: a stab pushed along the edge sweeps no surface with its edge).
+void cut_to(World& w, ElementBvh& bvh, int i, const BladeAt& b) {
+    CutState& cs = w.cut_state;
+    const CutQuad face{{b.tip, b.heel, b.heel + b.back, b.tip + b.back}};
+    process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], b.heel, b.tip}}, i,
+                     b.back == Vec3::Zero() ? nullptr : &face);
+    cs.anchor_tip[i] = b.tip, cs.anchor_heel[i] = b.heel;
+}
+
 /// Cuts along one blade's path over the step: a quad from the anchor to each point of the path the
 /// blade has moved `threshold` away from it; then, if the blade has stopped (it ends the step where
 /// it ended the last), the stretch left shorter than the threshold, so an incision ends where the
 /// blade ends.
-void sweep_blade(World& w, ElementBvh& bvh, int i, const std::vector<std::pair<Vec3, Vec3>>& path, double threshold) {
+void sweep_blade(World& w, ElementBvh& bvh, int i, const std::vector<BladeAt>& path, double threshold) {
     CutState& cs = w.cut_state;
-    const auto moved = [&](const Vec3& tip, const Vec3& heel) {
-        return std::max((tip - cs.anchor_tip[i]).norm(), (heel - cs.anchor_heel[i]).norm());
+    const auto moved = [&](const BladeAt& b) {
+        return std::max((b.tip - cs.anchor_tip[i]).norm(), (b.heel - cs.anchor_heel[i]).norm());
     };
-    for (size_t k = path.size() > 1 ? 1 : 0; k < path.size(); ++k) {
-        const auto& [tip, heel] = path[k];
-        if (moved(tip, heel) < threshold) continue;
-        process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], heel, tip}}, i);
-        cs.anchor_tip[i] = tip, cs.anchor_heel[i] = heel;
-    }
-    const auto& [tip, heel] = path.back();
-    const bool stopped = tip == cs.last_tip[i] && heel == cs.last_heel[i];
-    cs.last_tip[i] = tip, cs.last_heel[i] = heel;
-    const double left = moved(tip, heel);
-    if (stopped && left > 1e-6 * threshold && left < threshold) {
-        process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], heel, tip}}, i);
-        cs.anchor_tip[i] = tip, cs.anchor_heel[i] = heel;
-    }
+    for (size_t k = path.size() > 1 ? 1 : 0; k < path.size(); ++k)
+        if (moved(path[k]) >= threshold) cut_to(w, bvh, i, path[k]);
+    const BladeAt& end = path.back();
+    const bool stopped = end.tip == cs.last_tip[i] && end.heel == cs.last_heel[i];
+    cs.last_tip[i] = end.tip, cs.last_heel[i] = end.heel;
+    const double left = moved(end);
+    if (stopped && left > 1e-6 * threshold && left < threshold) cut_to(w, bvh, i, end);
 }
 
 }  // namespace
@@ -438,21 +465,23 @@ void run_cut_system(World& w, ElementBvh& bvh) {
     for (int i = 0; i < tb.count(); ++i) {
         if (!tb.has_blade[i]) continue;
         // The blade's path over the step (ToolBodies::sweep), or only where it is now.
-        std::vector<std::pair<Vec3, Vec3>> path;
+        std::vector<BladeAt> path;
         if (i < static_cast<int>(tb.sweep.size()) && !tb.sweep[i].empty()) {
             for (const Keyframe& k : tb.sweep[i]) {
-                Vec3 tip, heel;
-                blade_at(tb, i, k, tip, heel);
-                path.emplace_back(tip, heel);
+                BladeAt b;
+                blade_at(tb, i, k, b.tip, b.heel);
+                b.back = blade_back_at(tb, i, k.orientation);
+                path.push_back(b);
             }
         } else {
-            Vec3 tip, heel;
-            blade_in_world(w.tools, i, tip, heel);
-            path.emplace_back(tip, heel);
+            BladeAt b;
+            blade_in_world(w.tools, i, b.tip, b.heel);
+            b.back = blade_back_at(tb, i, tb.orientation[i]);
+            path.push_back(b);
         }
         if (!cs.anchored[i]) {
-            cs.anchored[i] = 1, cs.anchor_tip[i] = path.front().first, cs.anchor_heel[i] = path.front().second;
-            cs.last_tip[i] = path.front().first, cs.last_heel[i] = path.front().second;
+            cs.anchored[i] = 1, cs.anchor_tip[i] = path.front().tip, cs.anchor_heel[i] = path.front().heel;
+            cs.last_tip[i] = path.front().tip, cs.last_heel[i] = path.front().heel;
         }
         sweep_blade(w, bvh, i, path, threshold);
     }

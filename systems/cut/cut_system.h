@@ -17,6 +17,9 @@
 //    which edges are crossed now, until it is fully crossed.
 //  - Each bladed tool has its own lists and front (CutState::blade): several scalpels cut
 //    independently; an element queued by one is not tested again by any.
+//  - A blade with a face (`blade.back`, ToolBodies::blade_back) also cuts what its face passes
+//    through: each quad is tested with the face where the quad ends, so a stab (the blade pushed
+//    along its own edge, whose edge sweeps no surface) makes an incision the shape of the face.
 // 2D: the blade is a point (its tip) moving in the plane; the quad is the segment it swept.
 #include <memory>
 
@@ -27,8 +30,9 @@
 namespace xcut {
 
 /// Processes one quad of bladed tool `tool` (corners: tip0, heel0, heel1, tip1; 2D uses tip0 ->
-/// tip1) against that tool's own lists and front. Queues splits.
-void process_cut_quad(World& world, ElementBvh& bvh, const CutQuad& quad, int tool = 0);
+/// tip1) against that tool's own lists and front, and with `face` the blade's face where the quad
+/// ends (tip1, heel1, heel1 + back, tip1 + back): an edge crossed by either counts. Queues splits.
+void process_cut_quad(World& world, ElementBvh& bvh, const CutQuad& quad, int tool = 0, const CutQuad* face = nullptr);
 /// One step of the cutter for every bladed tool.
 void run_cut_system(World& world, ElementBvh& bvh);
 /// Builds the first-contact BVH (boxes grown by one mean edge) before the first step, so the

@@ -48,24 +48,27 @@ std::set<int> run_cutter(World& w, double t_end, double dt) {
     return split;
 }
 
-/// Independent reference: a tet is fully crossed by the swept rectangle x = kX, y in [y0, y1]
-/// (the blade spans the thickness) when it straddles the plane and every straddling edge meets the
-/// plane at y in [y0, y1].
-std::set<int> expected_split(const World& w, double y0, double y1, double plane_x = kX) {
-    const double kX = plane_x;
+/// Independent reference: a tet is fully crossed by a region of the plane x = plane_x when it
+/// straddles the plane and every straddling edge meets the plane inside the region.
+template <class Inside>
+std::set<int> crossed_inside(const World& w, double plane_x, Inside inside_region) {
     std::set<int> out;
     for (int e = 0; e < w.mesh_elements; ++e) {
         bool straddles = false, inside = true;
         for (const auto& ed : kTetEdges) {
             const Vec3 a = w.nodes.rest[w.elements.nodes[e][ed[0]]], b = w.nodes.rest[w.elements.nodes[e][ed[1]]];
-            if ((a.x() - kX) * (b.x() - kX) >= 0) continue;
+            if ((a.x() - plane_x) * (b.x() - plane_x) >= 0) continue;
             straddles = true;
-            const double y = a.y() + (kX - a.x()) / (b.x() - a.x()) * (b.y() - a.y());
-            inside = inside && y >= y0 && y <= y1;
+            inside = inside && inside_region(Vec3(a + (plane_x - a.x()) / (b.x() - a.x()) * (b - a)));
         }
         if (straddles && inside) out.insert(e);
     }
     return out;
+}
+
+/// The swept rectangle x = plane_x, y in [y0, y1] (the blade spans the thickness).
+std::set<int> expected_split(const World& w, double y0, double y1, double plane_x = kX) {
+    return crossed_inside(w, plane_x, [&](const Vec3& q) { return q.y() >= y0 && q.y() <= y1; });
 }
 
 TEST(CutSystem, StraightIncisionSplitsExactlyTheCrossedElements) {
@@ -253,6 +256,28 @@ TEST(CutSystem, ABladeAcrossAnEarlierWoundIsReported) {
     ASSERT_EQ(recut.size(), 2u);
     EXPECT_EQ(recut[0], 0) << "the first scalpel met no earlier wound";
     EXPECT_GT(recut[1], 0);
+}
+
+// A stab: a scalpel pushed point-first down along its own vertical edge into a 10 mm block. Its edge
+// sweeps no surface; with a face 6 mm wide (blade.back) it splits exactly the elements the faces it
+// passed through cross completely (the plane x = kX, y in [ya, ya + 6 mm], from the deepest tip
+// up), an independent count like expected_split's. Without a face it splits nothing.
+TEST(CutSystem, AStabCutsWhatTheBladesFacePasses) {
+    const double ya = 0.0071, width = 0.006, deepest = 0.004;
+    auto stab = [&](const Vec3& back) {
+        World w = world_from_mesh(generate_box(grid({0.04, 0.02, 0.01}, {20, 10, 5})));
+        Keyframe above = key(0.0, kX, ya), below = key(1.0, kX, ya);
+        above.position.z() = 0.014, below.position.z() = deepest;
+        add_scalpel(w, "scalpel", {above, below}, Vec3::Zero(), Vec3(0, 0, 0.004));
+        w.tools.blade_back[0] = back;
+        return std::pair{run_cutter(w, 1.2, 0.01), w};
+    };
+    EXPECT_TRUE(stab(Vec3::Zero()).first.empty()) << "an edge moving along itself sweeps no surface";
+    const auto [split, w] = stab(Vec3(0, width, 0));
+    const std::set<int> expected = crossed_inside(
+        w, kX, [&](const Vec3& q) { return q.y() >= ya && q.y() <= ya + width && q.z() >= deepest; });
+    EXPECT_GT(expected.size(), 10u);
+    EXPECT_EQ(split, expected);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 
 #include "components/cut_elements.h"
 #include "systems/pipeline.h"
@@ -17,9 +18,11 @@
 namespace xcut {
 namespace {
 
-/// CI's stress run: 100 trajectories of `seed` on the `front`, every invariant asserted.
-void hundred_trajectories(unsigned seed, const std::string& front) {
+/// CI's stress run: 100 trajectories of `seed` on the `front` (`blades` > 1: 2 to that many
+/// scalpels each), every invariant asserted.
+void hundred_trajectories(unsigned seed, const std::string& front, int blades = 1) {
     StressOptions o;
+    o.blades = blades;
     o.count = 100;
     o.budget_s = 1e9;  // all 100, however slow the machine
     o.seed = seed;
@@ -36,7 +39,7 @@ void hundred_trajectories(unsigned seed, const std::string& front) {
     EXPECT_EQ(all.open_edges, 0) << "no gap in the surfaces";
     EXPECT_EQ(all.pinched_edges, 0) << "every surface a 2-manifold: each edge in two triangles";
     EXPECT_EQ(all.zero_area, 0) << "no triangle without area";
-    EXPECT_GT(summary.at("8 many cuts").cases, 0);
+    EXPECT_EQ(summary.at(blades > 1 ? "8 many blades" : "8 many cuts").cases, 100);
     // Backward Euler solved to convergence does not gain energy, at any dt up to 0.1 s.
     EXPECT_EQ(summary.at("9 large steps, Newton").energy_over, 0)
         << "max energy / work " << summary.at("9 large steps, Newton").max_energy_ratio;
@@ -60,6 +63,47 @@ TEST(Stress, HundredTrajectoriesKeepEveryInvariant) { hundred_trajectories(7, "s
 // The progressive front on other trajectories (seed 8): tip elements split on entry and opened edge
 // by edge keep the surfaces closed, 2-manifold and without zero-area triangles.
 TEST(Stress, HundredProgressiveTrajectoriesKeepEveryInvariant) { hundred_trajectories(8, "progressive"); }
+
+// Several scalpels at once (seed 9, 2-4 each): crossing one another's path in one step, through mesh
+// nodes along grid planes, stabbing with a face; the surfaces stay closed, 2-manifold, without
+// zero-area triangles, on both fronts.
+TEST(Stress, HundredMultiBladeTrajectoriesKeepEveryInvariant) {
+    hundred_trajectories(9, "semi", 4);
+    hundred_trajectories(10, "progressive", 4);
+}
+
+// The multi-blade generator makes what it says: 2 to 4 blades, stabs straight down their vertical
+// edge with a face, blades with and without a face, the second blade through the first's waypoint
+// at the same instant, waypoints on a grid plane.
+TEST(Stress, MultiBladeScenesHoldEveryKindOfBlade) {
+    std::mt19937_64 rng(3);
+    int stabs = 0, faces = 0, faceless = 0, crossing = 0, on_grid = 0;
+    std::set<int> counts;
+    for (int n = 0; n < 200; ++n) {
+        const Scene s = random_blades_scene(rng, "semi", 4);
+        const ToolBodies& tb = s.tools;
+        counts.insert(tb.count());
+        ASSERT_EQ(tb.blade_back.size(), static_cast<size_t>(tb.count()));
+        for (int b = 0; b < tb.count(); ++b) {
+            const auto& k = tb.trajectory[b];
+            const bool stab = k[0].position.head<2>() == k[2].position.head<2>() && k[0].position.z() > k[2].position.z();
+            stabs += stab;
+            faces += tb.blade_back[b] != Vec3::Zero();
+            faceless += tb.blade_back[b] == Vec3::Zero();
+            if (stab) EXPECT_NE(tb.blade_back[b], Vec3::Zero()) << "a stab cuts with its face";
+            if (b == 1) crossing += k[1].position == tb.trajectory[0][1].position;
+            const auto grid = [](double v) { return std::abs(v / 0.004 - std::round(v / 0.004)) < 1e-12; };
+            on_grid += !stab && ((grid(k[0].position.x()) && grid(k[1].position.x()) && grid(k[2].position.x())) ||
+                                 (grid(k[0].position.y()) && grid(k[1].position.y()) && grid(k[2].position.y())));
+        }
+    }
+    EXPECT_EQ(counts, (std::set<int>{2, 3, 4}));
+    EXPECT_GT(stabs, 0);
+    EXPECT_GT(faces, stabs) << "drawn blades with a face too";
+    EXPECT_GT(faceless, 0);
+    EXPECT_GT(crossing, 0);
+    EXPECT_GT(on_grid, 0);
+}
 
 // A run short of the record's 10^4 trajectories writes <record>_quick.csv, never the record.
 TEST(Stress, AShortRunNeverOverwritesTheRecord) {

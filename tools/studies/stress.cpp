@@ -137,6 +137,43 @@ Scene random_cut_scene(std::mt19937_64& rng, const std::string& front) {
     return s;
 }
 
+Scene random_blades_scene(std::mt19937_64& rng, const std::string& front, int blades) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    Scene s = random_cut_scene(rng, front);
+    ToolBodies& tb = s.tools;
+    tb = ToolBodies{};
+    const int count = 2 + static_cast<int>(u(rng) * (blades - 1));
+    const double cell = 0.004;  // the slab's cells: 10 x 10 x 2 over 40 x 40 x 4 mm
+    for (int b = 0; b < count; ++b) {
+        const bool stab = u(rng) < 0.25, face = stab || u(rng) < 0.5;
+        const double depth = 0.001 + 0.005 * u(rng), tilt = stab ? 0.0 : (u(rng) - 0.5) * 0.8;
+        tb.name.push_back(fmt::format("scalpel{}", b));
+        tb.has_blade.push_back(1);
+        tb.blade_tip.push_back(Vec3(0, std::sin(tilt) * 0.006, -std::cos(tilt) * depth));
+        tb.blade_heel.push_back(Vec3(0, -std::sin(tilt) * 0.003, 0.003));
+        tb.blade_back.push_back(face ? Vec3(0, 0.004, 0) : Vec3::Zero());
+        std::vector<Keyframe> keys(3);
+        const Eigen::Quaterniond turn(Eigen::AngleAxisd(2 * M_PI * u(rng), Vec3::UnitZ()));
+        const double gx = cell * std::round(10 * u(rng)), gy = cell * std::round(10 * u(rng));
+        const int along = u(rng) < 0.25 ? 1 + (u(rng) < 0.5) : 0;  // 1: x = gx, 2: y = gy for every waypoint
+        for (int k = 0; k < 3; ++k) {
+            keys[k].time = 0.2 * k;
+            keys[k].orientation = turn;
+            keys[k].position = Vec3(along == 1 ? gx : 0.04 * u(rng), along == 2 ? gy : 0.04 * u(rng), 0.004);
+        }
+        if (stab) {  // straight down along the vertical edge, from above the slab
+            const Vec3 at = keys[0].position;
+            keys[0].position = at + Vec3(0, 0, 0.006), keys[1].position = at, keys[2].position = at - Vec3(0, 0, 0.002);
+        }
+        if (b == 1 && !stab && u(rng) < 0.5)
+            keys[1].position = tb.trajectory[0][1].position;  // through the first blade's point at t = 0.2 s
+        tb.trajectory.push_back(keys);
+        tb.position.push_back(keys.front().position);
+        tb.orientation.push_back(keys.front().orientation);
+    }
+    return s;
+}
+
 namespace {
 
 std::vector<Vec3> square(const Vec3& centre, const Vec3& normal) {
@@ -170,10 +207,10 @@ std::vector<CaseResult> slivers() {
     return out;
 }
 
-/// Problem 8: one random trajectory's run.
-CaseResult random_cut(std::mt19937_64& rng, int index, const std::string& front) {
-    auto sim = make_simulation(random_cut_scene(rng, front), false);
-    CaseResult r{"8 many cuts", fmt::format("trajectory {}", index)};
+/// Problem 8: one random trajectory's run (`blades` > 1: several scalpels).
+CaseResult random_cut(std::mt19937_64& rng, int index, const std::string& front, int blades) {
+    auto sim = make_simulation(blades > 1 ? random_blades_scene(rng, front, blades) : random_cut_scene(rng, front), false);
+    CaseResult r{blades > 1 ? "8 many blades" : "8 many cuts", fmt::format("trajectory {}", index)};
     run_steps(*sim, kRandomCutSteps, [](const World& w) { return w.metrics.current.gravity_work; }, r);
     return r;
 }
@@ -261,7 +298,7 @@ std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     int done = 0;
     for (; done < o.count; ++done) {
-        record(random_cut(rng, done, o.front));
+        record(random_cut(rng, done, o.front, o.blades));
         bar.update(done + 1);
         if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > o.budget_s) {
             ++done;

@@ -5,7 +5,8 @@
 //  7  slivers: a clamped block cut through at delta * h from a node layer (delta = 1e-1 ... 1e-9)
 //     and exactly through a face, an edge and a node, 50 steps under gravity;
 //  8  many cuts: random scalpel trajectories (three random waypoints, random depth and tilt) over a
-//     slab with visual and collision surfaces, `count` of them within the time budget;
+//     slab with visual and collision surfaces, `count` of them within the time budget; with
+//     `blades` > 1, several scalpels per trajectory (crossing in one step, stabs, faces);
 //  9  large steps: dt = 1e-4 ... 0.1 s on a slab twisted 180 degrees and released, and on a block cut
 //     through and compressed to 50 % and released; once with the paper's once-linearized implicit
 //     Euler ("9 large steps"), once with Newton iterations to convergence ("9 large steps, Newton").
@@ -34,6 +35,11 @@ constexpr int kStressRecordCount = 10000;  ///< trajectories of the committed re
 /// random depth (1-6 mm below the top) and tilt (±0.4 rad about its path); `front` is its
 /// cutter.front ("semi" or "progressive").
 Scene random_cut_scene(std::mt19937_64& rng, const std::string& front = "semi");
+/// The same slab cut by 2 to `blades` scalpels at once, each drawn through three random waypoints
+/// or stabbed straight down along its edge, half of them with a face 4 mm wide (blade.back): the
+/// second blade crosses the first's path at the same instant (in one step) half the time, and a
+/// quarter of the drawn blades keep to a grid plane (a cut through mesh nodes and edges).
+Scene random_blades_scene(std::mt19937_64& rng, const std::string& front, int blades);
 
 struct StressOptions {
     int count = 200;          ///< random trajectories of problem 8
@@ -42,6 +48,7 @@ struct StressOptions {
     std::string csv = "results/bench_stress.csv";
     bool csv_given = false;   ///< false: a run short of kStressRecordCount writes <csv>_quick.csv instead
     std::string front = "semi";  ///< problem 8's cutter.front
+    int blades = 1;           ///< problem 8's scalpels per trajectory: 1, or 2 to this many (random_blades_scene)
     bool progress = true;
 };
 
