@@ -81,6 +81,12 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
             return h.all(s.snapped, s.split, s.level, s.pieces, s.piece_parent, s.piece_side, s.piece_live, s.extra_root,
                          s.snaps, s.points, s.copies, s.elements_split);
         }
+        case kPieces: {
+            const Pieces& p = w.pieces;
+            h.all(p.topology, p.of_element, p.volume, p.anchored, p.body, p.sliver, p.count, p.initial);
+            for (const PieceEvent& e : p.log) h.all(e.step, e.time, e.volume, e.body, e.anchored);
+            return;
+        }
         default: return;
     }
 }

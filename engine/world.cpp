@@ -24,6 +24,7 @@ const char* component_name(uint32_t bit) {
         case kContacts: return "Contacts";
         case kCutState: return "CutState";
         case kSnap: return "SnapMesh";
+        case kPieces: return "Pieces";
         default: return "?";
     }
 }
@@ -46,11 +47,11 @@ uint32_t World::present() const {
     if (!constraints.boxes.empty() || !constraints.nodes.empty()) mask |= kConstraints;
     if (gravity.squaredNorm() > 0.0) mask |= kGravity;
     if (!output.directory.empty()) mask |= kOutput;
-    if (!cut_plan.cuts.empty()) mask |= kCutPlan | kCutEvents;
+    if (!cut_plan.cuts.empty()) mask |= kCutPlan | kCutEvents | kPieces;
     if (cuts.count() > 0) mask |= kXfem;
     if (tools.count() > 0) mask |= kTools;
     for (uint8_t blade : tools.has_blade)
-        if (blade) mask |= kCutEvents | kCutState;
+        if (blade) mask |= kCutEvents | kCutState | kPieces;
     for (const ToolShape& s : tools.shape)
         if (s.kind != ToolShape::kNone) mask |= kShapedTools | kContacts;
     if (snap.enabled) mask |= kSnap;

@@ -16,6 +16,7 @@
 #include "components/material.h"
 #include "components/metrics.h"
 #include "components/nodes.h"
+#include "components/pieces.h"
 #include "components/snap_mesh.h"
 #include "components/surface_mesh.h"
 #include "components/tools.h"
@@ -45,6 +46,7 @@ enum ComponentBit : uint32_t {
     kContacts = 1u << 17,    ///< this step's tool contacts
     kCutState = 1u << 18,    ///< the blades' crossing lists, fronts and cut figures
     kSnap = 1u << 19,        ///< the snapping cutter's pieces and copies
+    kPieces = 1u << 20,      ///< the connected pieces of tissue; present when the scene has any cutter
 };
 const char* component_name(uint32_t bit);
 std::string component_list(uint32_t mask);
@@ -131,6 +133,7 @@ struct World {
     CutElements cuts;
     VirtualElements virtual_elements;
     EnrichedDofs enriched;
+    Pieces pieces;           ///< the connected pieces of tissue (systems/cut/pieces_system.h)
     SnapMesh snap;           ///< the snapping-and-subdivision cutter, when the scene chooses it
     SurfaceMesh visual;
     SurfaceMesh collision;   ///< the surface tools touch (paper §3.5): coarser than the visual one

@@ -4,6 +4,7 @@
 #include "systems/cut/cut_system.h"
 #include "systems/cut/cutting_force.h"
 #include "systems/cut/enrichment_system.h"
+#include "systems/cut/pieces_system.h"
 #include "systems/force_system.h"
 #include "systems/solver/linear_solver.h"
 #include "systems/surface/mapping_system.h"
@@ -27,6 +28,7 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
     scheduler.add(cut_system(bvh));
     scheduler.add(scripted_cut_system());
     scheduler.add(world.snap.enabled ? snap_cut_system(world) : enrichment_system());
+    scheduler.add(pieces_system());
     scheduler.add(cutting_force_system(bvh));
     scheduler.add(force_system());
     scheduler.add(rebind_system());

@@ -3,7 +3,8 @@
 // Fig. 2; docs/architecture.md draws it). The engine's step loop (engine/simulation.h) runs whatever
 // pipeline it is handed; this is the one `xcut`, the tests and the benchmarks hand it.
 //
-//   ToolSystem → CutSystem → ScriptedCutSystem → EnrichmentSystem | SnapCutSystem → ForceSystem
+//   ToolSystem → CutSystem → ScriptedCutSystem → EnrichmentSystem | SnapCutSystem → PiecesSystem
+//     → ForceSystem
 //     → RebindSystem → CollisionSystem → SolverSystem → WatchdogSystem → MappingSystem → OutputSystem
 #include <memory>
 #include <string>

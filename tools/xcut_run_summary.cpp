@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/error.h"
+#include "systems/cut/pieces_system.h"
 #include "systems/xfem_queries.h"
 
 namespace xcut {
@@ -24,6 +25,9 @@ RunFigures run_figures(const World& w, int steps, double secs) {
         for (int j = 0; j < w.mesh_nodes; ++j) f.max_opening_m = std::max(f.max_opening_m, enriched_displacement(w, j).norm());
     f.snap_elements_split = w.snap.elements_split, f.snap_nodes_snapped = w.snap.snaps;
     f.refactored_steps = w.metrics.refactored_steps, f.substepped_steps = w.metrics.substepped_steps;
+    if ((w.present() & kPieces) != 0) f.pieces = w.pieces.count;
+    for (const PieceEvent& e : w.pieces.log) f.freed_volumes_m3.push_back(e.volume);
+    f.pieces_line = pieces_report(w);
     return f;
 }
 
@@ -39,6 +43,7 @@ void print_figures(const RunFigures& f, int max_substeps) {
     if (f.elements_split > 0)
         fmt::print("cut: {} elements split, {} enriched DOF nodes ({} held by the crack front), max opening |a_j| {:.4g} m\n",
                    f.elements_split, f.enriched_nodes, f.front_held_nodes, f.max_opening_m);
+    if (!f.pieces_line.empty()) fmt::print("{}\n", f.pieces_line);
 }
 
 nlohmann::json figures_json(const RunFigures& f) {
@@ -48,7 +53,8 @@ nlohmann::json figures_json(const RunFigures& f) {
             {"elements_split", f.elements_split}, {"enriched_nodes", f.enriched_nodes},
             {"front_held_nodes", f.front_held_nodes}, {"max_opening_m", f.max_opening_m},
             {"snap_elements_split", f.snap_elements_split}, {"snap_nodes_snapped", f.snap_nodes_snapped},
-            {"refactored_steps", f.refactored_steps}, {"substepped_steps", f.substepped_steps}};
+            {"refactored_steps", f.refactored_steps}, {"substepped_steps", f.substepped_steps},
+            {"pieces", f.pieces}, {"freed_volumes_m3", f.freed_volumes_m3}};
 }
 
 void write_summary(const std::string& path, const RunSummary& s) {

@@ -18,6 +18,11 @@ struct RunFigures {
     double max_opening_m = 0.0;                                        ///< max |a_j|
     int snap_elements_split = 0, snap_nodes_snapped = 0;               ///< the snapping baseline
     int refactored_steps = 0, substepped_steps = 0;
+    /// Pieces of tissue now (-1: the scene has no cutter), and the rest volumes of the pieces cuts
+    /// freed, in order [m^3]; pieces_line is the console's line on them ("" if none).
+    int pieces = -1;
+    std::vector<double> freed_volumes_m3;
+    std::string pieces_line;
 };
 
 RunFigures run_figures(const World& world, int steps, double wall_seconds);

@@ -27,6 +27,7 @@ std::vector<MetricColumn> metric_columns(const World& world, int& split_total) {
     const std::vector<std::string>& systems = world.metrics.system_names;
     for (size_t i = 0; i < systems.size(); ++i)
         c.push_back({systems[i] + "_ms", i < m.system_ms.size() ? m.system_ms[i] : 0.0, 'f'});
+    if ((world.present() & kPieces) != 0) c.push_back({"pieces", double(world.pieces.count), 'd'});
     if (world.tools.count() > 0) {
         // Delays of the splits queued in this step (the tail of the run-long list). elements_split
         // counts what the cutter applied (a queued split whose nodes an earlier cut already put on

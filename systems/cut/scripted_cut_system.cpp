@@ -60,18 +60,19 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressi
     const Elements& el = w.elements;
     const int dim = el.dim, npe = el.nodes_per_element();
     const CutPlane pl = plane_of(polygon, dim);
-    const auto& sign = w.enriched.sign;
     const auto& cut = w.cuts.cut_of_element;
     int queued = 0;
     for (int e = 0; e < w.mesh_elements; ++e) {
         if (!cut.empty() && cut[e] >= 0) continue;
         CutEvent ev;
         ev.element = e;
+        // The sides of this cut's plane. Not the sides earlier cuts fixed: a node an earlier cut put
+        // on one side lies on either side of this one, and an element this plane does not cross is
+        // not split (the EnrichmentSystem orients the split by the fixed sides).
         std::array<int8_t, 4> H{};
         for (int a = 0; a < npe; ++a) {
-            const int j = el.nodes[e][a];
-            ev.level[a] = (w.nodes.position[j] - pl.origin).dot(pl.normal);
-            H[a] = !sign.empty() && sign[j] != 0 ? sign[j] : (ev.level[a] >= 0.0 ? 1 : -1);
+            ev.level[a] = (w.nodes.position[el.nodes[e][a]] - pl.origin).dot(pl.normal);
+            H[a] = ev.level[a] >= 0.0 ? 1 : -1;
         }
         bool crossed = false, complete = true;
         uint8_t inside = 0;  // the edges crossed inside the polygon

@@ -74,6 +74,16 @@ void bind_state(py::class_<PySimulation>& c) {
         d["cut_elements"] = owned(std::move(cut), {nc});
         d["enriched_nodes"] = owned(std::move(nodes), {nn});
         d["opening_m"] = owned(std::move(open), {nn});
+        // The pieces of tissue, slivers left out (components/pieces.h).
+        const xcut::Pieces& p = s.world().pieces;
+        std::vector<double> volume;
+        std::vector<uint8_t> anchored;
+        for (size_t k = 0; k < p.volume.size(); ++k)
+            if (!p.sliver[k]) volume.push_back(p.volume[k]), anchored.push_back(p.anchored[k]);
+        const py::ssize_t np = static_cast<py::ssize_t>(volume.size());
+        d["pieces"] = np;
+        d["piece_volume_m3"] = owned(std::move(volume), {np});
+        d["piece_anchored"] = owned(std::move(anchored), {np});
         return d;
     });
     c.def("surface", [](PySimulation& s, bool collision) { Lock l(s.mutex()); return surface_dict(s.surface(collision)); },

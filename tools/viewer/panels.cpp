@@ -77,6 +77,7 @@ void plot(const char* label, const std::deque<float>& values, const char* unit) 
 void readouts(const Snapshot& s, PanelState& st) {
     ImGui::Text("linear solve: %s, %d CG iterations, residual %.2e", s.linear.c_str(), s.cg_iterations, s.cg_residual);
     ImGui::Text("DOFs %d, enriched nodes %d, elements split %d", s.dofs, s.enriched_nodes, s.elements_split);
+    if (s.pieces_freed > 0) ImGui::Text("pieces %d (%d freed by cuts)", s.pieces, s.pieces_freed);
     ImGui::Text("kinetic %.3e J, elastic %.3e J", s.kinetic, s.elastic);
     if (ImGui::BeginTable("schedule", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit)) {
         for (size_t i = 0; i < s.systems.size(); ++i) {

@@ -113,6 +113,7 @@ void take_snapshot(const World& w, const SnapshotOptions& options, Snapshot& out
     out.dofs = m.dofs;
     out.enriched_nodes = w.enriched.count();
     out.elements_split = w.cuts.count() + w.snap.elements_split;
+    out.pieces = w.pieces.count, out.pieces_freed = static_cast<int>(w.pieces.log.size());
     out.kinetic = m.kinetic_energy, out.elastic = m.elastic_energy;
 }
 

@@ -51,6 +51,7 @@ struct Snapshot {
     int cg_iterations = 0;
     double cg_residual = 0.0;
     int dofs = 0, enriched_nodes = 0, elements_split = 0;
+    int pieces = 0, pieces_freed = 0;  ///< pieces of tissue now, and those cuts freed (components/pieces.h)
     double kinetic = 0.0, elastic = 0.0;  ///< [J]
     bool dim3 = true;
 };
