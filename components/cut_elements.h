@@ -63,6 +63,11 @@ struct EnrichedDofs {
     std::vector<uint8_t> enriched;     ///< node belongs to a cut element
     std::vector<uint8_t> front_fixed;  ///< crack-front rule (§3.5) holds a_j = 0: no phantom (yet)
     std::vector<int> phantom;          ///< DOF node holding the other side's vertex, -1 if none
+    /// The plane of the cut that fixed H_j (rest configuration): a point on it and its unit normal,
+    /// pointing to the side H = +1; zero normal while H_j = 0. The phantom is that cut's copy of the
+    /// node, so a cut element uses it only for its part across that plane from the node
+    /// (systems/cut/enrichment_system.cpp, same_incision).
+    std::vector<Vec3> sign_point, sign_normal;
     std::vector<int> node_of_phantom;  ///< per phantom (index - mesh_nodes): its mesh node
 
     int count() const { return static_cast<int>(node_of_phantom.size()); }

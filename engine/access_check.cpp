@@ -48,7 +48,7 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
                   c.crossed_log, c.cut_of_element);
             h.all(w.virtual_elements.parent, w.virtual_elements.side, w.virtual_elements.element);
             const EnrichedDofs& en = w.enriched;
-            return h.all(en.sign, en.enriched, en.front_fixed, en.phantom, en.node_of_phantom);
+            return h.all(en.sign, en.enriched, en.front_fixed, en.phantom, en.node_of_phantom, en.sign_point, en.sign_normal);
         }
         case kTools: {
             const ToolBodies& t = w.tools;

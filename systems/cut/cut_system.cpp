@@ -182,9 +182,7 @@ bool tip_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) {
     std::array<int, 4> H{};
     ev = CutEvent{};
     ev.element = e;
-    double shortest = 1e300;
-    for (int k = 0; k < ne; ++k)
-        shortest = std::min(shortest, (x[el.nodes[e][edge_nodes(dim, k)[0]]] - x[el.nodes[e][edge_nodes(dim, k)[1]]]).norm());
+    const double shortest = shortest_edge(el, x, e);
     for (int a = 0; a < npe; ++a) {
         ev.level[a] = (x[el.nodes[e][a]] - pts[0]).dot(n);
         H[a] = ev.level[a] >= 0.0 ? 1 : -1;

@@ -19,6 +19,8 @@ void prepare_enrichment(World& w) {
     en.enriched.assign(w.mesh_nodes, 0);
     en.front_fixed.assign(w.mesh_nodes, 0);
     en.phantom.assign(w.mesh_nodes, -1);
+    en.sign_point.assign(w.mesh_nodes, Vec3::Zero());
+    en.sign_normal.assign(w.mesh_nodes, Vec3::Zero());
     w.cuts.cut_of_element.assign(w.mesh_elements, -1);
     // Room for virtual elements and phantom nodes, so a split never copies the whole mesh arrays
     // (a reallocation of 50k tets costs ~8 ms). Reserved pages are not touched until used, so this
@@ -35,6 +37,49 @@ void prepare_enrichment(World& w) {
 }
 
 namespace {
+
+/// Unit normal of a planar cut through an element from its n edge points, rest configuration (the
+/// largest cross product of two chords from the first point; 2D: the first chord turned by 90
+/// degrees); zero for fewer than two points.
+Vec3 points_normal(const std::array<Vec3, 4>& p, int n, int dim) {
+    Vec3 best = Vec3::Zero();
+    if (dim == 2 && n >= 2) best = Vec3(p[0].y() - p[1].y(), p[1].x() - p[0].x(), 0.0);
+    for (int a = 1; dim == 3 && a < n; ++a)
+        for (int b = a + 1; b < n; ++b) {
+            const Vec3 v = (p[a] - p[0]).cross(p[b] - p[0]);
+            if (v.squaredNorm() > best.squaredNorm()) best = v;
+        }
+    return best.squaredNorm() > 0.0 ? Vec3(best.normalized()) : Vec3::Zero();
+}
+
+/// Whether cut element c uses node j's phantom for its part on the other side from j. The phantom
+/// is the copy of j across the cut that fixed H_j (its plane: EnrichedDofs::sign_point,
+/// sign_normal), so it carries the material across that plane. Element c's other part lies there
+/// when c continues that incision, straight or turning; it does not when c belongs to another
+/// incision that reaches j from j's own side of the first (a T, an X, a loop closing on itself):
+/// then c keeps the real node on both sides at j, as the crack-front rule does, and that incision
+/// does not open at j. Sharing the phantom would tie c's other part to the first wound's far lip
+/// (the elastic energy of a multi-blade trajectory jumped 25-fold at such a split,
+/// docs/BENCHMARKS.md).
+/// How clearly on the node's own side of its first cut element c's other part must lie to be another
+/// incision: 0.1 of c's shortest edge [-]. A first cut through or near the node's layer puts the
+/// parts of the elements that continue it on that plane; they continue the incision.
+constexpr double kOtherIncisionMargin = 0.1;
+
+bool same_incision(const World& w, int c, int j) {
+    const EnrichedDofs& en = w.enriched;
+    const Vec3& normal = en.sign_normal[j];
+    if (normal.squaredNorm() == 0.0) return true;
+    const Elements& el = w.elements;
+    const auto& nodes = el.nodes[w.cuts.element[c]];
+    Vec3 centre = Vec3::Zero();
+    int n = 0;
+    for (int a = 0; a < el.nodes_per_element(); ++a)
+        if (en.sign[nodes[a]] != en.sign[j]) centre += w.nodes.rest[nodes[a]], ++n;
+    if (n == 0) return true;
+    const double across = (centre / n - en.sign_point[j]).dot(normal) * en.sign[j];
+    return across <= kOtherIncisionMargin * shortest_edge(el, w.nodes.rest.data(), w.cuts.element[c]);
+}
 
 /// Splits one element as `ev` asks; returns false if it is already cut or the signs do not differ.
 bool record_cut(World& w, const CutEvent& ev) {
@@ -72,7 +117,13 @@ bool record_cut(World& w, const CutEvent& ev) {
         points[np] = edge_point(X, dim, k, t[k]);
         point_edge[np++] = static_cast<int8_t>(k);
     }
+    // This cut's plane, its normal toward H = +1: kept by the nodes it gives a side.
+    Vec3 normal = points_normal(points, np, dim);
+    double toward = 0.0;
+    for (int a = 0; a < npe; ++a) toward += H[a] * (X[a] - points[0]).dot(normal);
+    if (toward < 0.0) normal = -normal;
     for (int a = 0; a < npe; ++a) {
+        if (en.sign[c[a]] == 0) en.sign_point[c[a]] = points[0], en.sign_normal[c[a]] = normal;
         en.sign[c[a]] = H[a];
         en.enriched[c[a]] = 1;
     }
@@ -182,7 +233,8 @@ void build_virtual_elements(World& w, int c) {
         std::array<int, 4> verts = el.nodes[e];
         for (int a = 0; a < npe; ++a) {
             const int j = el.nodes[e][a];
-            if (w.enriched.sign[j] != side && w.enriched.phantom[j] >= 0) verts[a] = w.enriched.phantom[j];
+            if (w.enriched.sign[j] != side && w.enriched.phantom[j] >= 0 && same_incision(w, c, j))
+                verts[a] = w.enriched.phantom[j];
         }
         int& ve = w.cuts.virtual_element[c][s];
         if (ve >= 0) {
