@@ -3,6 +3,7 @@
 // elements, the virtual elements of cut elements, the snapping cutter's pieces) belong to one piece
 // when they share a DOF node, real or phantom: a cut that runs through a body frees the part it
 // closes off, and the two parts then share no DOF (systems/cut/pieces_system.h counts them).
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -20,7 +21,7 @@ struct PieceEvent {
 struct Pieces {
     /// What the count was made for: cut elements, enriched DOF nodes, the snapping cutter's splits
     /// and copies, force elements. A step that changes none of them cannot change the pieces.
-    std::vector<long long> topology;
+    std::array<long long, 6> topology{-1, -1, -1, -1, -1, -1};
     /// Per force element: its piece; -1 if it carries no volume (a cut mesh element, weight 0, or a
     /// side floored at kMinSideFraction, which joins nothing)
     std::vector<int> of_element;

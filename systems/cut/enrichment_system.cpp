@@ -52,6 +52,11 @@ Vec3 points_normal(const std::array<Vec3, 4>& p, int n, int dim) {
     return best.squaredNorm() > 0.0 ? Vec3(best.normalized()) : Vec3::Zero();
 }
 
+/// How clearly on the node's own side of its first cut element c's other part must lie to be another
+/// incision: 0.1 of c's shortest edge [-]. A first cut through or near the node's layer puts the
+/// parts of the elements that continue it on that plane; they continue the incision.
+constexpr double kOtherIncisionMargin = 0.1;
+
 /// Whether cut element c uses node j's phantom for its part on the other side from j. The phantom
 /// is the copy of j across the cut that fixed H_j (its plane: EnrichedDofs::sign_point,
 /// sign_normal), so it carries the material across that plane. Element c's other part lies there
@@ -61,11 +66,6 @@ Vec3 points_normal(const std::array<Vec3, 4>& p, int n, int dim) {
 /// does not open at j. Sharing the phantom would tie c's other part to the first wound's far lip
 /// (the elastic energy of a multi-blade trajectory jumped 25-fold at such a split,
 /// docs/BENCHMARKS.md).
-/// How clearly on the node's own side of its first cut element c's other part must lie to be another
-/// incision: 0.1 of c's shortest edge [-]. A first cut through or near the node's layer puts the
-/// parts of the elements that continue it on that plane; they continue the incision.
-constexpr double kOtherIncisionMargin = 0.1;
-
 bool same_incision(const World& w, int c, int j) {
     const EnrichedDofs& en = w.enriched;
     const Vec3& normal = en.sign_normal[j];

@@ -31,7 +31,7 @@ struct DisjointSets {
 /// stiffness).
 bool carries_volume(double weight) { return weight > kMinSideFraction; }
 
-std::vector<long long> topology_of(const World& w) {
+std::array<long long, 6> topology_of(const World& w) {
     return {w.cuts.count(), w.enriched.count(), w.snap.elements_split, w.snap.copies, w.elements.count(),
             w.nodes.count()};
 }
@@ -62,9 +62,9 @@ int counted_before(const World& w, const std::vector<int>& old_of_element, int e
 
 bool count_pieces(World& w) {
     Pieces& p = w.pieces;
-    std::vector<long long> topology = topology_of(w);
+    const std::array<long long, 6> topology = topology_of(w);
     if (topology == p.topology) return false;
-    p.topology = std::move(topology);
+    p.topology = topology;
 
     const Elements& el = w.elements;
     const int npe = el.nodes_per_element();
@@ -78,14 +78,12 @@ bool count_pieces(World& w) {
     std::vector<int> old_of_element = std::move(p.of_element);
     p.of_element.assign(el.count(), -1);
     p.volume.clear(), p.anchored.clear(), p.body.clear(), p.sliver.clear();
-    std::vector<int> first_element;
     for (int e = 0; e < el.count(); ++e) {
         if (!carries_volume(el.weight[e])) continue;
         int& id = piece_of_root[sets.find(el.nodes[e][0])];
         if (id < 0) {
             id = static_cast<int>(p.volume.size());
             p.volume.push_back(0.0), p.anchored.push_back(0), p.body.push_back(el.body[e]);
-            first_element.push_back(e);
         }
         p.of_element[e] = id;
         p.volume[id] += el.rest_volume[e] * el.weight[e];
