@@ -51,6 +51,9 @@ struct LinearSystem {
     /// entry's element, the block (row: the entry's node, column: node b) its term goes to.
     std::vector<std::array<int, 4>> mesh_slot, virtual_slot;
     uint64_t topology = 0;              ///< hash of the element node ids the pattern was built for
+    /// Kept between pattern rebuilds (systems/solver/linear_assembly.cpp): each row's candidate
+    /// columns in one flat buffer, and where each row's stretch of it starts.
+    std::vector<int> pattern_scratch, pattern_bound;
 
     // Values: 9 per block, row-major, [N/m s^2 ... ]: A's units are those of M (kg) when applied to dv.
     std::vector<double> value;

@@ -35,36 +35,68 @@ void filter_held_axes(const World& w, LinearSystem& A) {
 
 }  // namespace
 
+namespace {
+
+/// Resizes v to n, growing its storage by half again when it must grow: a split adds a few blocks,
+/// and storage grown to the exact size would be copied to fresh pages at every split (first touches
+/// cost this kind of virtual machine 4-10 ms a split on the default skin, docs/BENCHMARKS.md).
+template <class T>
+void resize_with_room(std::vector<T>& v, size_t n) {
+    if (n > v.capacity()) v.reserve(n + n / 2);
+    v.resize(n);
+}
+
+}  // namespace
+
 bool ensure_linear_pattern(World& w) {
     LinearSystem& A = w.linear;
     const uint64_t topology = topology_hash(w);
     if (topology == A.topology && A.rows() == w.nodes.count()) return false;
     const int n = w.nodes.count(), npe = w.elements.nodes_per_element();
-    std::vector<std::vector<int>> columns(n);
+    // Each row's candidate columns (the nodes of its incident elements and itself) go to their own
+    // stretch of one flat buffer, kept between rebuilds: no allocation per row, and the rows are
+    // sorted in parallel without contending for the allocator.
+    std::vector<int>& bound = A.pattern_bound;
+    std::vector<int>& flat = A.pattern_scratch;
+    resize_with_room(bound, static_cast<size_t>(n) + 1);
+    bound[0] = 0;
+    for (int i = 0; i < n; ++i) {
+        int incident = w.virtual_incidence.offset[i + 1] - w.virtual_incidence.offset[i];
+        if (i < w.mesh_nodes) incident += w.incidence.offset[i + 1] - w.incidence.offset[i];
+        bound[i + 1] = bound[i] + npe * incident + 1;
+    }
+    resize_with_room(flat, static_cast<size_t>(bound[n]));
+    resize_with_room(A.row_offset, static_cast<size_t>(n) + 1);
     parallel_for(n, [&](int i) {
-        std::vector<int>& cols = columns[i];
+        int* first = flat.data() + bound[i];
+        int* last = first;
         for_incident(w, i, [&](bool, int, int entry) {
-            for (int b = 0; b < npe; ++b) cols.push_back(w.elements.nodes[entry >> 2][b]);
+            for (int b = 0; b < npe; ++b) *last++ = w.elements.nodes[entry >> 2][b];
         });
-        cols.push_back(i);
-        std::sort(cols.begin(), cols.end());
-        cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
-    }, 1024);
-    A.row_offset.assign(n + 1, 0);
-    for (int i = 0; i < n; ++i) A.row_offset[i + 1] = A.row_offset[i] + static_cast<int>(columns[i].size());
-    A.column.resize(A.row_offset[n]);
-    A.diagonal.resize(n);
-    for (int i = 0; i < n; ++i) std::copy(columns[i].begin(), columns[i].end(), A.column.begin() + A.row_offset[i]);
-    A.mesh_slot.assign(w.incidence.entry.size(), {-1, -1, -1, -1});
-    A.virtual_slot.assign(w.virtual_incidence.entry.size(), {-1, -1, -1, -1});
+        *last++ = i;
+        std::sort(first, last);
+        A.row_offset[i + 1] = static_cast<int>(std::unique(first, last) - first);
+    }, 256);
+    A.row_offset[0] = 0;
+    for (int i = 0; i < n; ++i) A.row_offset[i + 1] += A.row_offset[i];
+    resize_with_room(A.column, static_cast<size_t>(A.row_offset[n]));
+    resize_with_room(A.diagonal, static_cast<size_t>(n));
+    parallel_for(n, [&](int i) {
+        std::copy(flat.begin() + bound[i], flat.begin() + bound[i] + (A.row_offset[i + 1] - A.row_offset[i]),
+                  A.column.begin() + A.row_offset[i]);
+    }, 256);
+    resize_with_room(A.mesh_slot, w.incidence.entry.size());
+    resize_with_room(A.virtual_slot, w.virtual_incidence.entry.size());
     parallel_for(n, [&](int i) {
         A.diagonal[i] = find_block(A, i, i);
         for_incident(w, i, [&](bool virt, int k, int entry) {
             auto& slot = virt ? A.virtual_slot[k] : A.mesh_slot[k];
+            slot = {-1, -1, -1, -1};
             for (int b = 0; b < npe; ++b) slot[b] = find_block(A, i, w.elements.nodes[entry >> 2][b]);
         });
     }, 1024);
-    A.value.assign(9 * A.column.size(), 0.0);
+    resize_with_room(A.value, 9 * A.column.size());
+    std::fill(A.value.begin(), A.value.end(), 0.0);
     A.topology = topology;
     return true;
 }
