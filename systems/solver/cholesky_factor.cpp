@@ -1,6 +1,14 @@
 #include "systems/solver/cholesky_factor.h"
 
+#include "systems/solver/cholmod_pages.h"
+
 namespace xcut {
+
+namespace {
+/// CHOLMOD allocates through the kept pages from the start of the process (before any factor
+/// exists: a block must be freed by the functions that allocated it).
+[[maybe_unused]] const bool kPagesKept = (keep_cholmod_pages(), true);
+}  // namespace
 
 std::mutex& cholmod_blas_lock() {
     static std::mutex lock;

@@ -1,0 +1,32 @@
+#pragma once
+// CHOLMOD's memory, kept for the next factor. A factor renewed off the step
+// (systems/solver/factor_background.h) allocates its L and CHOLMOD's work arrays anew each time, and
+// the first touch of fresh pages costs a virtual machine of this project's kind as much again as
+// the factorization itself: 18-20 ms against 8 ms for the same numeric factorization of the default
+// skin when the pages come back from an earlier factor (docs/BENCHMARKS.md, cutstep). SuiteSparse
+// lets a program give its own allocation functions (SuiteSparse_config, SuiteSparse 5); these keep
+// the blocks of 256 KiB and more that CHOLMOD frees (a retired factor's, a factorization's work
+// arrays), up to 64 MiB in all, and hand them back for a request that fits, so their pages are
+// touched once per process, not once per factor. Smaller blocks, and blocks past the cap, go to
+// the C library as before.
+#include <cstddef>
+
+namespace xcut {
+
+/// Routes SuiteSparse's allocations through the kept blocks; once per process, before CHOLMOD's
+/// first allocation (systems/solver/cholesky_factor.cpp calls it before every factorization).
+void keep_cholmod_pages();
+
+/// Bytes of freed blocks held for reuse now.
+size_t cholmod_kept_bytes();
+
+/// Gives every held block back to the C library (a program done with its factors; tests).
+void release_kept_pages();
+
+/// The same functions SuiteSparse is given, for tests: malloc, calloc, realloc and free.
+void* kept_malloc(size_t bytes);
+void* kept_calloc(size_t count, size_t size);
+void* kept_realloc(void* p, size_t bytes);
+void kept_free(void* p);
+
+}  // namespace xcut
