@@ -56,9 +56,14 @@ int run_scene(const RunOptions& o, RunSummary& summary) {
     sim->world.verbose = true;
     const World& w = sim->world;
     const char* wait = std::getenv("OMP_WAIT_POLICY");
-    fmt::print("scene {} ({}): {} nodes, {} {}, {} threads (OpenMP wait {}), dt {} s ({}), {} steps\n", scene.name,
-               o.scene.scene, w.nodes.count(), w.elements.count(), w.elements.dim == 3 ? "tetrahedra" : "triangles",
-               thread_count(), wait ? wait : "active", w.solver.dt, w.solver.realtime ? "real-time" : "fixed", steps);
+    const char* tunables = std::getenv("GLIBC_TUNABLES");  // tools/xcut.cpp: ensure_startup_environment
+    const bool huge = tunables && std::string(tunables).find("glibc.malloc.hugetlb=0") == std::string::npos &&
+                      std::string(tunables).find("glibc.malloc.hugetlb=") != std::string::npos;
+    fmt::print("scene {} ({}): {} nodes, {} {}, {} threads (OpenMP wait {}; malloc huge pages {}), dt {} s ({}), {} "
+               "steps\n",
+               scene.name, o.scene.scene, w.nodes.count(), w.elements.count(),
+               w.elements.dim == 3 ? "tetrahedra" : "triangles", thread_count(), wait ? wait : "active",
+               huge ? "on" : "off", w.solver.dt, w.solver.realtime ? "real-time" : "fixed", steps);
     warn_all(w.mesh_notes, summary.warnings);
     warn_all(plausibility_warnings(scene, w, steps), summary.warnings);
     fmt::print("{}", sim->scheduler.describe(w));

@@ -82,6 +82,29 @@ TEST(Cli, OpenMpThreadsWaitPassively) {
     fs::remove_all(dir);
 }
 
+// Malloc asks for transparent huge pages where the kernel gives them on request (xcut sets
+// glibc.malloc.hugetlb=1 and restarts once), and a setting of the user's own is kept.
+TEST(Cli, MallocAsksForHugePagesWhereTheKernelGivesThemOnRequest) {
+    std::string mode;
+    std::getline(std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled"), mode);
+    const bool on_request = mode.find("[madvise]") != std::string::npos;
+    const fs::path dir = temp_dir("cli_huge");
+    std::ofstream(dir / "tiny.json") << kTiny;
+    const fs::path out = dir / "stdout.txt";
+    const std::string run = std::string(XCUT_BINARY) + " run " + (dir / "tiny.json").string() + " -q --steps 1 -o " +
+                            (dir / "out").string() + " > " + out.string() + " 2>&1";
+    const auto said = [&] {
+        std::stringstream text;
+        text << std::ifstream(out).rdbuf();
+        return text.str();
+    };
+    ASSERT_EQ(std::system(("env -u GLIBC_TUNABLES " + run).c_str()), 0);
+    EXPECT_NE(said().find(on_request ? "malloc huge pages on" : "malloc huge pages off"), std::string::npos) << said();
+    ASSERT_EQ(std::system(("GLIBC_TUNABLES=glibc.malloc.hugetlb=0 " + run).c_str()), 0);
+    EXPECT_NE(said().find("malloc huge pages off"), std::string::npos) << said();
+    fs::remove_all(dir);
+}
+
 TEST(Cli, HelpExitsWithZero) {
     std::string err;
     EXPECT_EQ(run_xcut("run --help", err), 0);
