@@ -12,7 +12,7 @@ Command add_view_command(CLI::App& app) {
         SceneOptions scene;
         int width = 1280, height = 800;
         bool paused = false, panels = false, run_on = false;
-        std::string record, input, screenshot, reference, bench_csv;
+        std::string record, input, screenshot, reference, bench_csv, timing_csv;
         double bench = 0.0, fps = 60.0;
     };
     auto o = std::make_shared<Options>();
@@ -33,6 +33,9 @@ Command add_view_command(CLI::App& app) {
     CLI::Option* fps = cmd->add_option("--fps", o->fps, "Frame cap (default 60, 30 on software OpenGL; 0: none)")
                            ->check(CLI::NonNegativeNumber);
     cmd->add_option("--bench-csv", o->bench_csv, "Append the benchmark's row to FILE");
+    cmd->add_option("--timing-csv", o->timing_csv,
+                    "Keep every frame's and physics step's time; at the end print how evenly they came and append "
+                    "the row to FILE");
     return {cmd, [o, fps]() -> int {
 #ifdef XCUT_HAS_VIEWER
                 viewer::ViewerOptions v;
@@ -41,7 +44,7 @@ Command add_view_command(CLI::App& app) {
                 v.run_on = o->run_on;
                 v.record = o->record, v.input = o->input, v.screenshot = o->screenshot, v.reference = o->reference;
                 v.panels = o->panels, v.fps = o->fps, v.fps_given = fps->count() > 0;
-                v.bench_seconds = o->bench, v.bench_csv = o->bench_csv;
+                v.bench_seconds = o->bench, v.bench_csv = o->bench_csv, v.timing_csv = o->timing_csv;
                 if (o->screenshot.empty() && !o->reference.empty())
                     throw InputError("xcut view", "--reference", "needs --screenshot");
                 return viewer::run_viewer(v);

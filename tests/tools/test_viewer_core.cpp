@@ -14,6 +14,7 @@
 #include "tools/viewer/orbit_camera.h"
 #include "tools/viewer/physics_thread.h"
 #include "tools/viewer/scripted_input.h"
+#include "tools/viewer/viewer_timing.h"
 
 namespace xcut::viewer {
 namespace {
@@ -81,6 +82,64 @@ TEST(ViewerPhysics, StepsWhenAllowedAndSnapshotsEachStep) {
     EXPECT_GT(buffer.front().cg_iterations, 0);
     physics.stop();
     EXPECT_FALSE(physics.failed());
+}
+
+// The timing log keeps each step as it is published, with the elements it split.
+TEST(ViewerPhysics, KeepsEveryStepsTimingWhenAsked) {
+    const Scene scene = coarse_skin();
+    auto sim = make_simulation(scene, false);
+    SnapshotBuffer buffer;
+    PhysicsThread physics(*sim, buffer);
+    physics.set_lockstep(true);
+    physics.keep_timings(true);
+    physics.start();
+    physics.allow_steps(4);
+    for (int i = 0; i < 2000 && !(physics.idle() && physics.steps_done() == 4); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    physics.stop();
+    const std::vector<StepTiming> t = physics.timings();
+    ASSERT_EQ(t.size(), 4u);
+    for (size_t k = 1; k < t.size(); ++k) EXPECT_GE(t[k].wall_end, t[k - 1].wall_end);
+    for (const StepTiming& s : t) {
+        EXPECT_GT(s.step_ms, 0.0);
+        EXPECT_EQ(s.split, 0);
+    }
+}
+
+// Frames every 33 ms with one of 100 ms, a pause of a second left out; steps every 10 ms, the one
+// that split ending 25 ms after the one before.
+TEST(ViewerTiming, IntervalsAgainstTheirMedians) {
+    TimingLog log;
+    double t = 0.0;
+    for (int k = 0; k < 20; ++k) log.frame_start.push_back(t), t += k == 10 ? 0.1 : 0.033;
+    log.frame_start.push_back(t + 1.0);  // the window sat paused: not an interval
+    t = 0.0;
+    for (int k = 0; k < 30; ++k) {
+        t += k == 15 ? 0.025 : 0.010;
+        log.steps.push_back({t, k == 15 ? 7.0 : 3.0, k == 15 ? 4 : 0});
+    }
+    const TimingFigures f = timing_figures(log, 0.0, 10.0);
+    EXPECT_EQ(f.frames.count, 19);
+    EXPECT_NEAR(f.frames.p50, 33.0, 1e-9);
+    EXPECT_NEAR(f.frames.max, 100.0, 1e-9);
+    EXPECT_EQ(f.frames.over_twice, 1);
+    EXPECT_EQ(f.updates.count, 29);
+    EXPECT_NEAR(f.updates.p50, 10.0, 1e-9);
+    EXPECT_NEAR(f.updates.max, 25.0, 1e-9);
+    EXPECT_EQ(f.updates.over_twice, 1);
+    EXPECT_EQ(f.split_steps, 1);
+    EXPECT_NEAR(f.split_update_max, 25.0, 1e-9);
+    EXPECT_NEAR(f.split_step_max, 7.0, 1e-12);
+    EXPECT_NEAR(f.step_p50, 3.0, 1e-12);
+    // The cut: the split step's end (0.175 s), 0.052 s either side; only what ends inside counts.
+    double from = 0.0, to = 0.0;
+    ASSERT_TRUE(cut_window(log, 0.052, from, to));
+    EXPECT_NEAR(from, log.steps[15].wall_end - 0.052, 1e-12);
+    EXPECT_NEAR(to, log.steps[15].wall_end + 0.052, 1e-12);
+    const TimingFigures cut = timing_figures(log, from, to);
+    EXPECT_EQ(cut.updates.count, 9);  // the steps ending at 0.13-0.225 s
+    EXPECT_EQ(cut.split_steps, 1);
+    EXPECT_FALSE(cut_window(TimingLog{}, 0.05, from, to));
 }
 
 // A run that blows up stops the physics with the watchdog's message; the window stays up to say so.

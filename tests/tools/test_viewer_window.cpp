@@ -151,6 +151,25 @@ TEST(ViewerWindow, StopsAtTheScenesDuration) {
     fs::remove_all(dir);
 }
 
+// --timing-csv: every frame's and step's time kept; the summary printed and its row appended.
+TEST(ViewerWindow, TimingLogSaysHowEvenlyFramesAndStepsCame) {
+    const fs::path dir = testing::temp_dir("viewer_timing");
+    const fs::path csv = dir / "timing.csv";
+    std::string out;
+    ASSERT_EQ(testing::run_command(view("--set duration=0.12 --set 'tools=[]' --screenshot " + (dir / "end.png").string() +
+                                        " --timing-csv " + csv.string()), out), 0) << out;
+    EXPECT_NE(out.find("timing (session, "), std::string::npos) << out;  // nothing split: no cut part
+    EXPECT_NE(out.find("11 physics updates"), std::string::npos) << out;  // 12 steps
+    std::ifstream in(csv);
+    std::string header, row, extra;
+    ASSERT_TRUE(std::getline(in, header) && std::getline(in, row)) << out;
+    EXPECT_FALSE(std::getline(in, extra));
+    EXPECT_EQ(header.rfind("scene,threads,part,seconds,frames,", 0), 0u) << header;
+    EXPECT_EQ(std::count(row.begin(), row.end(), ','), std::count(header.begin(), header.end(), ',')) << row;
+    EXPECT_EQ(row.rfind("skin_slab,2,session,", 0), 0u) << row;
+    fs::remove_all(dir);
+}
+
 TEST(ViewerWindow, NoDisplayIsAClearError) {
     std::string out;
     EXPECT_EQ(testing::run_command("env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(XCUT_BINARY) + " view " + XCUT_SOURCE_DIR +

@@ -78,9 +78,15 @@ bool PhysicsThread::decide_step() {
     return playing_ && !(step_limit_ >= 0 && steps_done_ >= step_limit_);
 }
 
+std::vector<StepTiming> PhysicsThread::timings() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return timings_;
+}
+
 void PhysicsThread::step_once() {
     SolverSettings& s = sim_.world.solver;
     if (dt_request_ > 0.0 && !s.realtime) s.dt = dt_request_.exchange(0.0);
+    const int cuts = sim_.world.cuts.count();
     step_simulation(sim_);
     const double t1 = wall_seconds();
     ++steps_done_;
@@ -96,6 +102,10 @@ void PhysicsThread::step_once() {
     const double wall = history_.back().first - history_.front().first;
     snap.realtime_factor = wall > 0.0 ? (history_.back().second - history_.front().second) / wall : 0.0;
     buffer_.publish();
+    if (keep_timings_) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        timings_.push_back({wall_seconds(), sim_.world.metrics.current.step_ms, sim_.world.cuts.count() - cuts});
+    }
 }
 
 void PhysicsThread::run() {

@@ -9,11 +9,19 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "engine/simulation.h"
 #include "tools/viewer/snapshot.h"
 
 namespace xcut::viewer {
+
+/// One step as the timing log keeps it (`xcut view --timing-csv`, tools/viewer/viewer_timing.h).
+struct StepTiming {
+    double wall_end = 0.0;  ///< when the step was published [s] (wall_seconds)
+    double step_ms = 0.0;   ///< the step's own wall time [ms]
+    int split = 0;          ///< elements it split
+};
 
 class PhysicsThread {
 public:
@@ -41,6 +49,9 @@ public:
     bool idle() const;                ///< paused, at its limit, or failed
     bool failed() const { return failed_; }
     std::string error() const;        ///< why the physics stopped (an InputError, a NumericalError)
+    /// Keeps every step's timing from now on (before start()).
+    void keep_timings(bool on) { keep_timings_ = on; }
+    std::vector<StepTiming> timings() const;
 
 private:
     void run();
@@ -50,13 +61,15 @@ private:
     Simulation& sim_;
     SnapshotBuffer& buffer_;
     std::thread thread_;
-    std::atomic<bool> quit_{false}, playing_{true}, paced_{true}, lockstep_{false}, failed_{false}, stepping_{false};
+    std::atomic<bool> quit_{false}, playing_{true}, paced_{true}, lockstep_{false}, failed_{false}, stepping_{false},
+        keep_timings_{false};
     std::atomic<int> step_requests_{0}, allowed_{0}, step_limit_{-1}, steps_done_{0};
     std::atomic<double> dt_request_{0.0};
-    mutable std::mutex mutex_;        ///< guards options_ and error_
+    mutable std::mutex mutex_;        ///< guards options_, error_ and timings_
     std::condition_variable wake_;
     SnapshotOptions options_;
     std::string error_;
+    std::vector<StepTiming> timings_;
     std::deque<std::pair<double, double>> history_;  ///< (wall, simulated) time of recent steps [s]
 };
 

@@ -24,6 +24,7 @@
 #include "tools/viewer/panels.h"
 #include "tools/viewer/scripted_input.h"
 #include "tools/viewer/viewer_session.h"
+#include "tools/viewer/viewer_timing.h"
 
 namespace xcut::viewer {
 
@@ -224,6 +225,7 @@ int run_viewer(const ViewerOptions& o) {
     physics.set_step_limit(o.steps >= 0 ? o.steps : o.run_on || o.bench_seconds > 0.0 ? -1 : session.scene.steps);
     physics.play(!o.paused);
     physics.set_paced(o.bench_seconds <= 0.0 && !scripted);
+    physics.keep_timings(!o.timing_csv.empty());
     physics.start();
     // The physics (and its OpenMP team, made from its thread) keeps the normal priority; this thread,
     // and the renderer's threads it makes with the context, yield to it when the cores are short.
@@ -249,6 +251,7 @@ int run_viewer(const ViewerOptions& o) {
     OrbitCamera camera = session.initial_camera(o.width, o.height);
     Input input(session, panel, camera);
     BenchBook bench(o.bench_seconds, physics);
+    TimingLog timing;
     size_t next_event = 0;
     int allowed = 0;
     auto last = Clock::now();
@@ -257,6 +260,7 @@ int run_viewer(const ViewerOptions& o) {
         int w, h;
         glfwGetFramebufferSize(window.handle, &w, &h);
         const auto now = Clock::now();
+        if (!o.timing_csv.empty()) timing.frame_start.push_back(wall_seconds());
         const double seconds = std::chrono::duration<double>(now - last).count();
         last = now;
         bool fresh = false;
@@ -308,6 +312,10 @@ int run_viewer(const ViewerOptions& o) {
     }
     physics.stop();
     if (o.bench_seconds > 0.0) session.report_bench(bench.figures);
+    if (!o.timing_csv.empty()) {
+        timing.steps = physics.timings();
+        report_timing(timing, session.scene.name, o.threads, o.timing_csv);
+    }
     return session.finish();
 }
 

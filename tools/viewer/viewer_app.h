@@ -25,6 +25,7 @@ struct ViewerOptions {
     bool fps_given = false;              ///< the user set the cap: keep it as given
     double bench_seconds = 0.0;          ///< > 0: measure step rate with and without the window
     std::string bench_csv;               ///< where the benchmark writes its row
+    std::string timing_csv;              ///< frame and physics update intervals: their row goes here
 };
 
 /// Runs the viewer; the process's exit code (0, or 3 when the physics failed).
