@@ -233,16 +233,28 @@ void build_amg(const LinearSystem& Ablock, const std::vector<Eigen::Vector3d>& p
         const std::vector<int> agg = aggregate(strong_neighbours(A, g, theta), count);
         NearNull coarse_B;
         Grouping coarse;
-        const CsrMatrix Pt = tentative(B, g, agg, count, coarse_B, coarse);
-        if (count == 0 || Pt.cols() > kStallRatio * A.rows()) break;
-        const double omega = 4.0 / 3.0 / L.lambda_max;
-        CsrMatrix smoothing = A * Pt;  // becomes omega D^-1 A P_tent
-        for (int i = 0; i < smoothing.outerSize(); ++i)
-            for (CsrMatrix::InnerIterator it(smoothing, i); it; ++it) it.valueRef() *= omega * L.inverse_diagonal[i];
-        const CsrMatrix P = Pt - smoothing;
-        const CsrMatrix R = P.transpose();
-        CsrMatrix coarse_A = R * (A * P);
-        L.P = to_runs(P), L.R = to_runs(R);
+        // Each double-precision matrix is freed as soon as the next one no longer needs it (the
+        // level keeps single-precision runs): the setup's peak memory is the product's operands,
+        // not every intermediate at once (at 53k tets it stood 62 MB above the run's resident size).
+        CsrMatrix P;
+        {
+            const CsrMatrix Pt = tentative(B, g, agg, count, coarse_B, coarse);
+            if (count == 0 || Pt.cols() > kStallRatio * A.rows()) break;
+            const double omega = 4.0 / 3.0 / L.lambda_max;
+            CsrMatrix smoothing = A * Pt;  // becomes omega D^-1 A P_tent
+            for (int i = 0; i < smoothing.outerSize(); ++i)
+                for (CsrMatrix::InnerIterator it(smoothing, i); it; ++it) it.valueRef() *= omega * L.inverse_diagonal[i];
+            P = Pt - smoothing;
+        }
+        CsrMatrix AP = A * P;
+        A = CsrMatrix();
+        L.P = to_runs(P);
+        CsrMatrix R = P.transpose();
+        P = CsrMatrix();
+        CsrMatrix coarse_A = R * AP;  // R (A P): the Galerkin product
+        AP = CsrMatrix();
+        L.R = to_runs(R);
+        R = CsrMatrix();
         h.levels.emplace_back();
         h.levels.back().A = to_runs(coarse_A);
         A = std::move(coarse_A);
