@@ -76,6 +76,37 @@ TEST(Amg, RunStorageMultipliesLikeTheMatrix) {
     for (int i = 0; i < rows; ++i) EXPECT_NEAR(y[i], expected[i], 1e-14 * (1.0 + std::abs(expected[i]))) << "row " << i;
 }
 
+// The setup's own sparse product against Eigen's: the same pattern and the same bits (random
+// matrices with empty rows, explicit zeros and entries that cancel), for the operand shapes of a
+// Galerkin product (A P and R (A P)).
+TEST(Amg, SparseProductIsEigensBitForBit) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const auto random_matrix = [&](int rows, int cols, double density) {
+        std::vector<Eigen::Triplet<double>> t;
+        for (int i = 0; i < rows; ++i) {
+            if (i % 7 == 3) continue;  // an empty row
+            for (int j = 0; j < cols; ++j)
+                if (std::abs(u(rng)) < density) t.emplace_back(i, j, j % 11 == 5 ? 0.0 : u(rng));
+        }
+        CsrMatrix M(rows, cols);
+        M.setFromTriplets(t.begin(), t.end());
+        return M;
+    };
+    for (int trial = 0; trial < 5; ++trial) {
+        const CsrMatrix A = random_matrix(90, 90, 0.08), P = random_matrix(90, 17, 0.2);
+        const CsrMatrix AP = sparse_product(A, P), R = P.transpose();
+        const CsrMatrix expected_AP = A * P, RAP = sparse_product(R, AP), expected_RAP = R * expected_AP;
+        for (const auto& [got, want] : {std::pair{&AP, &expected_AP}, std::pair{&RAP, &expected_RAP}}) {
+            ASSERT_EQ(got->nonZeros(), want->nonZeros());
+            ASSERT_TRUE(std::equal(got->outerIndexPtr(), got->outerIndexPtr() + got->rows() + 1, want->outerIndexPtr()));
+            ASSERT_TRUE(std::equal(got->innerIndexPtr(), got->innerIndexPtr() + got->nonZeros(), want->innerIndexPtr()));
+            for (Eigen::Index k = 0; k < got->nonZeros(); ++k)
+                ASSERT_EQ(got->valuePtr()[k], want->valuePtr()[k]) << "entry " << k << " of trial " << trial;
+        }
+    }
+}
+
 TEST(Amg, CycleIsSymmetricPositiveDefiniteAndThreadIndependent) {
     World w = block_with_matrix();
     const Eigen::VectorXd mask = free_mask(w);

@@ -63,6 +63,10 @@ struct RunMatrix {
 /// M stored by runs (M's explicit entries, zeros included).
 RunMatrix to_runs(const CsrMatrix& M);
 
+/// C = A B (systems/kernels/solver/amg_setup.cpp): the same pattern and bits as Eigen's
+/// conservative sparse product, built in C's own storage.
+CsrMatrix sparse_product(const CsrMatrix& A, const CsrMatrix& B);
+
 /// y = M v on the calling thread, with the cycle's row kernel (single-precision values, double sums).
 void run_product(const RunMatrix& M, const Eigen::VectorXd& v, Eigen::VectorXd& y);
 

@@ -26,46 +26,6 @@ struct Grouping {
     int nodes() const { return static_cast<int>(start.size()) - 1; }
 };
 
-/// C = A B, row by row with a dense accumulator (Gustavson, ACM TOMS 4(3), 1978), in two passes (the
-/// pattern, then the values straight into C's storage). Each entry sums its terms in the order
-/// Eigen's conservative product does (A's row order, the first term assigned, the others added),
-/// so the values are the same bits; Eigen's product of row-major operands builds its result in
-/// another storage and converts it, two copies of C at once, and its conversions were a third of
-/// the setup's time at 53k tets.
-CsrMatrix multiply(const CsrMatrix& A, const CsrMatrix& B) {
-    const int rows = static_cast<int>(A.rows()), cols = static_cast<int>(B.cols());
-    std::vector<int> seen(cols, -1);
-    CsrMatrix C(rows, cols);
-    Eigen::Index count = 0;
-    for (int i = 0; i < rows; ++i) {
-        for (CsrMatrix::InnerIterator a(A, i); a; ++a)
-            for (CsrMatrix::InnerIterator b(B, a.col()); b; ++b)
-                if (seen[b.col()] != i) seen[b.col()] = i, ++count;
-        C.outerIndexPtr()[i + 1] = static_cast<int>(count);
-    }
-    C.resizeNonZeros(count);
-    std::vector<double> sum(cols);
-    std::fill(seen.begin(), seen.end(), -1);
-    for (int i = 0; i < rows; ++i) {
-        int* row_cols = C.innerIndexPtr() + C.outerIndexPtr()[i];
-        int n = 0;
-        for (CsrMatrix::InnerIterator a(A, i); a; ++a)
-            for (CsrMatrix::InnerIterator b(B, a.col()); b; ++b) {
-                const int j = static_cast<int>(b.col());
-                if (seen[j] != i) {
-                    seen[j] = i, row_cols[n++] = j;
-                    sum[j] = b.value() * a.value();
-                } else {
-                    sum[j] += b.value() * a.value();
-                }
-            }
-        std::sort(row_cols, row_cols + n);
-        double* row_values = C.valuePtr() + C.outerIndexPtr()[i];
-        for (int k = 0; k < n; ++k) row_values[k] = sum[row_cols[k]];
-    }
-    return C;
-}
-
 /// The strong neighbours of each node: |A_ij|_F^2 >= theta^2 |A_ii|_F |A_jj|_F (blocks summed over
 /// the nodes' DOFs); a node with no coupling at all (a held node) has none.
 std::vector<std::vector<int>> strong_neighbours(const CsrMatrix& A, const Grouping& g, double theta) {
@@ -233,6 +193,46 @@ void size_vectors(AmgLevel& L, int n) { L.x.setZero(n), L.b.setZero(n), L.r.setZ
 
 }  // namespace
 
+/// C = A B, row by row with a dense accumulator (Gustavson, ACM TOMS 4(3), 1978), in two passes (the
+/// pattern, then the values straight into C's storage). Each entry sums its terms in the order
+/// Eigen's conservative product does (A's row order, the first term assigned, the others added),
+/// so the values are the same bits; Eigen's product of row-major operands builds its result in
+/// another storage and converts it, two copies of C at once, and its conversions were a third of
+/// the setup's time at 53k tets.
+CsrMatrix sparse_product(const CsrMatrix& A, const CsrMatrix& B) {
+    const int rows = static_cast<int>(A.rows()), cols = static_cast<int>(B.cols());
+    std::vector<int> seen(cols, -1);
+    CsrMatrix C(rows, cols);
+    Eigen::Index count = 0;
+    for (int i = 0; i < rows; ++i) {
+        for (CsrMatrix::InnerIterator a(A, i); a; ++a)
+            for (CsrMatrix::InnerIterator b(B, a.col()); b; ++b)
+                if (seen[b.col()] != i) seen[b.col()] = i, ++count;
+        C.outerIndexPtr()[i + 1] = static_cast<int>(count);
+    }
+    C.resizeNonZeros(count);
+    std::vector<double> sum(cols);
+    std::fill(seen.begin(), seen.end(), -1);
+    for (int i = 0; i < rows; ++i) {
+        int* row_cols = C.innerIndexPtr() + C.outerIndexPtr()[i];
+        int n = 0;
+        for (CsrMatrix::InnerIterator a(A, i); a; ++a)
+            for (CsrMatrix::InnerIterator b(B, a.col()); b; ++b) {
+                const int j = static_cast<int>(b.col());
+                if (seen[j] != i) {
+                    seen[j] = i, row_cols[n++] = j;
+                    sum[j] = b.value() * a.value();
+                } else {
+                    sum[j] += b.value() * a.value();
+                }
+            }
+        std::sort(row_cols, row_cols + n);
+        double* row_values = C.valuePtr() + C.outerIndexPtr()[i];
+        for (int k = 0; k < n; ++k) row_values[k] = sum[row_cols[k]];
+    }
+    return C;
+}
+
 RunMatrix to_runs(const CsrMatrix& M) {
     RunMatrix out;
     out.row_count = static_cast<int>(M.rows()), out.column_count = static_cast<int>(M.cols());
@@ -281,17 +281,17 @@ void build_amg(const LinearSystem& Ablock, const std::vector<Eigen::Vector3d>& p
             const CsrMatrix Pt = tentative(B, g, agg, count, coarse_B, coarse);
             if (count == 0 || Pt.cols() > kStallRatio * A.rows()) break;
             const double omega = 4.0 / 3.0 / L.lambda_max;
-            CsrMatrix smoothing = multiply(A, Pt);  // becomes omega D^-1 A P_tent
+            CsrMatrix smoothing = sparse_product(A, Pt);  // becomes omega D^-1 A P_tent
             for (int i = 0; i < smoothing.outerSize(); ++i)
                 for (CsrMatrix::InnerIterator it(smoothing, i); it; ++it) it.valueRef() *= omega * L.inverse_diagonal[i];
             P = Pt - smoothing;
         }
-        CsrMatrix AP = multiply(A, P);
+        CsrMatrix AP = sparse_product(A, P);
         A = CsrMatrix();
         L.P = to_runs(P);
         CsrMatrix R = P.transpose();
         P = CsrMatrix();
-        CsrMatrix coarse_A = multiply(R, AP);  // R (A P): the Galerkin product
+        CsrMatrix coarse_A = sparse_product(R, AP);  // R (A P): the Galerkin product
         AP = CsrMatrix();
         L.R = to_runs(R);
         R = CsrMatrix();
