@@ -8,6 +8,7 @@
 
 #include <random>
 
+#include "engine/parallel.h"
 #include "systems/kernels/solver/amg.h"
 #include "systems/solver/linear_assembly.h"
 #include "systems/solver/linear_solver.h"
@@ -93,8 +94,11 @@ TEST(Amg, SparseProductIsEigensBitForBit) {
         M.setFromTriplets(t.begin(), t.end());
         return M;
     };
-    for (int trial = 0; trial < 5; ++trial) {
-        const CsrMatrix A = random_matrix(90, 90, 0.08), P = random_matrix(90, 17, 0.2);
+    for (int trial = 0; trial < 6; ++trial) {
+        // The last trial large enough to be shared among two threads (1,024 rows a share at least).
+        const int n = trial < 5 ? 90 : 3000;
+        set_thread_count(trial < 5 ? 1 : 2);
+        const CsrMatrix A = random_matrix(n, n, trial < 5 ? 0.08 : 0.004), P = random_matrix(n, n / 5, trial < 5 ? 0.2 : 0.01);
         const CsrMatrix AP = sparse_product(A, P), R = P.transpose();
         const CsrMatrix expected_AP = A * P, RAP = sparse_product(R, AP), expected_RAP = R * expected_AP;
         for (const auto& [got, want] : {std::pair{&AP, &expected_AP}, std::pair{&RAP, &expected_RAP}}) {
@@ -105,6 +109,7 @@ TEST(Amg, SparseProductIsEigensBitForBit) {
                 ASSERT_EQ(got->valuePtr()[k], want->valuePtr()[k]) << "entry " << k << " of trial " << trial;
         }
     }
+    set_thread_count(2);
 }
 
 TEST(Amg, CycleIsSymmetricPositiveDefiniteAndThreadIndependent) {
