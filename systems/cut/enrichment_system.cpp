@@ -38,20 +38,6 @@ void prepare_enrichment(World& w) {
 
 namespace {
 
-/// Unit normal of a planar cut through an element from its n edge points, rest configuration (the
-/// largest cross product of two chords from the first point; 2D: the first chord turned by 90
-/// degrees); zero for fewer than two points.
-Vec3 points_normal(const std::array<Vec3, 4>& p, int n, int dim) {
-    Vec3 best = Vec3::Zero();
-    if (dim == 2 && n >= 2) best = Vec3(p[0].y() - p[1].y(), p[1].x() - p[0].x(), 0.0);
-    for (int a = 1; dim == 3 && a < n; ++a)
-        for (int b = a + 1; b < n; ++b) {
-            const Vec3 v = (p[a] - p[0]).cross(p[b] - p[0]);
-            if (v.squaredNorm() > best.squaredNorm()) best = v;
-        }
-    return best.squaredNorm() > 0.0 ? Vec3(best.normalized()) : Vec3::Zero();
-}
-
 /// How clearly on the node's own side of its first cut element c's other part must lie to be another
 /// incision: 0.1 of c's shortest edge [-]. A first cut through or near the node's layer puts the
 /// parts of the elements that continue it on that plane; they continue the incision.
@@ -118,7 +104,7 @@ bool record_cut(World& w, const CutEvent& ev) {
         point_edge[np++] = static_cast<int8_t>(k);
     }
     // This cut's plane, its normal toward H = +1: kept by the nodes it gives a side.
-    Vec3 normal = points_normal(points, np, dim);
+    Vec3 normal = chord_normal(points.data(), np, dim);
     double toward = 0.0;
     for (int a = 0; a < npe; ++a) toward += H[a] * (X[a] - points[0]).dot(normal);
     if (toward < 0.0) normal = -normal;

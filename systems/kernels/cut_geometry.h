@@ -22,6 +22,20 @@ inline Vec3 edge_point(const std::array<Vec3, 4>& X, int dim, int k, double t) {
     return X[e[0]] + t * (X[e[1]] - X[e[0]]);
 }
 
+/// Unit normal of a planar cut through an element from its n points (rest configuration): the
+/// largest cross product of two chords from the first point; 2D (the xy plane): the first chord
+/// turned by 90 degrees. Zero for fewer than two points, or points that span no plane.
+inline Vec3 chord_normal(const Vec3* p, int n, int dim) {
+    Vec3 best = Vec3::Zero();
+    if (dim == 2 && n >= 2) best = Vec3(p[0].y() - p[1].y(), p[1].x() - p[0].x(), 0.0);
+    for (int a = 1; dim == 3 && a < n; ++a)
+        for (int b = a + 1; b < n; ++b) {
+            const Vec3 v = (p[a] - p[0]).cross(p[b] - p[0]);
+            if (v.squaredNorm() > best.squaredNorm()) best = v;
+        }
+    return best.squaredNorm() > 0.0 ? Vec3(best.normalized()) : Vec3::Zero();
+}
+
 /// Volume of the part of a tetrahedron on the side of sign `s`, given node signs H and the crossing
 /// parameter of every crossed edge (an edge is crossed iff its end signs differ).
 /// One node alone on its side: the corner tetrahedron (node, three edge points).

@@ -14,7 +14,7 @@
 namespace xcut {
 
 /// Routes SuiteSparse's allocations through the kept blocks; once per process, before CHOLMOD's
-/// first allocation (systems/solver/cholesky_factor.cpp calls it before every factorization).
+/// first allocation (systems/solver/cholesky_factor.cpp calls it during static initialization).
 void keep_cholmod_pages();
 
 /// Bytes of freed blocks held for reuse now.

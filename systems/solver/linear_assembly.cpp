@@ -33,10 +33,6 @@ void filter_held_axes(const World& w, LinearSystem& A) {
     });
 }
 
-}  // namespace
-
-namespace {
-
 /// Resizes v to n, growing its storage by half again when it must grow: a split adds a few blocks,
 /// and storage grown to the exact size would be copied to fresh pages at every split (first touches
 /// cost this kind of virtual machine 4-10 ms a split on the default skin, docs/BENCHMARKS.md).

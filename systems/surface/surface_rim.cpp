@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "systems/kernels/cut_geometry.h"
 #include "systems/surface/surface_cut_parts.h"
 
 namespace xcut {
@@ -63,19 +64,8 @@ void fit_cut_plane(const World& w, int e, CutPlaneInfo& cp) {
     const int npe = el.nodes_per_element();
     const auto& p = cp.points;
     cp.origin = Vec3::Zero();
-    cp.normal = Vec3::Zero();
     for (const Vec3& x : p) cp.origin += x / static_cast<double>(p.size());
-    if (el.dim == 2) {
-        const Vec3 d = p[1] - p[0];
-        cp.normal = Vec3(-d.y(), d.x(), 0.0);
-    } else {
-        for (size_t i = 1; i < p.size(); ++i)
-            for (size_t j = i + 1; j < p.size(); ++j) {
-                const Vec3 m = (p[i] - p[0]).cross(p[j] - p[0]);
-                if (m.squaredNorm() > cp.normal.squaredNorm()) cp.normal = m;
-            }
-    }
-    cp.normal.normalize();
+    cp.normal = chord_normal(p.data(), static_cast<int>(p.size()), el.dim);
     int far = 0;
     for (int a = 0; a < npe; ++a) {
         cp.phi[a] = cp.normal.dot(w.nodes.rest[el.nodes[e][a]] - cp.origin);
