@@ -47,6 +47,8 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
             h.all(c.element, c.fraction_above, c.points, c.point_edge, c.virtual_element, c.crossed, c.opened,
                   c.crossed_log, c.cut_of_element);
             h.all(w.virtual_elements.parent, w.virtual_elements.side, w.virtual_elements.element);
+            const CrackTips& t = w.tips;
+            h.all(t.point, t.direction, t.node, t.tip, t.element, t.first, t.moment_first, t.function, t.gradient, t.moment);
             const EnrichedDofs& en = w.enriched;
             return h.all(en.sign, en.enriched, en.front_fixed, en.phantom, en.node_of_phantom, en.sign_point, en.sign_normal);
         }

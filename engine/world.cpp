@@ -48,7 +48,7 @@ uint32_t World::present() const {
     if (gravity.squaredNorm() > 0.0) mask |= kGravity;
     if (!output.directory.empty()) mask |= kOutput;
     if (!cut_plan.cuts.empty()) mask |= kCutPlan | kCutEvents | kPieces;
-    if (cuts.count() > 0) mask |= kXfem;
+    if (cuts.count() > 0 || tips.count() > 0) mask |= kXfem;
     if (tools.count() > 0) mask |= kTools;
     for (uint8_t blade : tools.has_blade)
         if (blade) mask |= kCutEvents | kCutState | kPieces;

@@ -8,6 +8,7 @@
 
 #include "components/constraints.h"
 #include "components/contacts.h"
+#include "components/crack_tips.h"
 #include "components/cut_elements.h"
 #include "components/cut_plan.h"
 #include "components/cut_state.h"
@@ -133,6 +134,7 @@ struct World {
     CutElements cuts;
     VirtualElements virtual_elements;
     EnrichedDofs enriched;
+    CrackTips tips;          ///< crack tips enriched with branch functions (2D)
     Pieces pieces;           ///< the connected pieces of tissue (systems/cut/pieces_system.h)
     SnapMesh snap;           ///< the snapping-and-subdivision cutter, when the scene chooses it
     SurfaceMesh visual;

@@ -1,6 +1,7 @@
 #include "systems/pipeline.h"
 
 #include "systems/collision_system.h"
+#include "systems/cut/crack_tip_system.h"
 #include "systems/cut/cut_system.h"
 #include "systems/cut/cutting_force.h"
 #include "systems/cut/enrichment_system.h"
@@ -43,7 +44,9 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
                    }});
 }
 
-StepOperator xcut_step_terms() { return StepOperator{{elastic_step_term(), contact_step_term()}}; }
+StepOperator xcut_step_terms() {
+    return StepOperator{{elastic_step_term(), contact_step_term(), crack_tip_step_term()}};
+}
 
 std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output, const std::string& replay_directory) {
     return build_simulation(scene, xcut_pipeline, with_output, replay_directory);

@@ -55,4 +55,16 @@ bool StepOperator::any_held(const World& world) const {
     return any;
 }
 
+bool StepOperator::add_beside_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, double scale,
+                                      const Eigen::VectorXd& mask) const {
+    bool any = false;
+    Eigen::VectorXd own;
+    in_order(terms, world, [](const StepTerm& t) { return t.beside_assembly(); }, [&](StepTerm& t, bool) {
+        t.product(world, p.cwiseProduct(mask), own, true);
+        out += scale * own.cwiseProduct(mask);
+        any = true;
+    });
+    return any;
+}
+
 }  // namespace xcut

@@ -51,6 +51,10 @@ public:
     virtual void prepare_rows(const World&, double /*stiff_scale*/) {}
     virtual void add_row(const World&, int /*row*/, LinearSystem&) const {}
     virtual void add_scattered(const World&, double /*stiff_scale*/, LinearSystem&) const {}
+    /// A term whose stiffness is of low rank but couples many nodes (the crack tips' condensed
+    /// amplitudes) stays out of the assembled A: the assembled methods add its product beside A's
+    /// (CG's operator is then the whole A, its preconditioner A's without the term).
+    virtual bool beside_assembly() const { return false; }
 };
 
 /// The terms of a step, in order.
@@ -73,6 +77,9 @@ struct StepOperator {
     void add_held_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) const;
     /// Whether an active held term contributes now.
     bool any_held(const World& world) const;
+    /// out += scale mask (K_t (mask p)) over the active terms kept beside the assembly; whether any is.
+    bool add_beside_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, double scale,
+                            const Eigen::VectorXd& mask) const;
 };
 
 /// The scales of a backward Euler step of length h [s]: A = mass M + stiffness K, with Rayleigh

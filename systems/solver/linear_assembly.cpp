@@ -108,7 +108,7 @@ void assemble_step_matrix(World& w, const StepOperator& op, double mass_scale, d
         block_at(A, A.diagonal[i]).diagonal().array() += mass_scale * w.nodes.mass[i];
     }, 512);
     for (const auto& t : op.terms)
-        if (!t->by_rows() && t->active(w)) t->add_scattered(w, stiff_scale, A);
+        if (!t->by_rows() && !t->beside_assembly() && t->active(w)) t->add_scattered(w, stiff_scale, A);
     filter_held_axes(w, A);
 }
 

@@ -142,9 +142,10 @@ CgResult jacobi_cg(World& w, const StepOperator& op, double mass_scale, double s
 /// (systems/kernels/solver/team_cg.h) with the product by rows.
 class AssembledSolve {
 public:
-    AssembledSolve(World& w, const Eigen::VectorXd& b, const Eigen::VectorXd& mask, const CgLimits& limits,
-                   Eigen::VectorXd& x, LinearSolve& out)
-        : w_(w), A_(w.linear), b_(b), mask_(mask), limits_(limits), x_(x), x0_(x), out_(out) {}
+    AssembledSolve(World& w, const StepOperator& op, double stiff_scale, const Eigen::VectorXd& b,
+                   const Eigen::VectorXd& mask, const CgLimits& limits, Eigen::VectorXd& x, LinearSolve& out)
+        : w_(w), A_(w.linear), op_(op), stiff_scale_(stiff_scale), b_(b), mask_(mask), limits_(limits), x_(x), x0_(x),
+          out_(out) {}
 
     bool accept(const CgResult& cg) { return accepted(cg, limits_, out_); }
 
@@ -152,9 +153,15 @@ public:
     template <class Rows, class Whole>
     CgResult cg(Preconditioning mode, Rows&& rows, Whole&& whole) {
         const LinearSystem& A = A_;
+        const bool beside = std::any_of(op_.terms.begin(), op_.terms.end(),
+                                        [&](const auto& t) { return t->beside_assembly() && t->active(w_); });
         const auto product = [&](const Eigen::VectorXd& v, Eigen::VectorXd& q) {
 #pragma omp for schedule(static)
             for (int i = 0; i < A.rows(); ++i) linear_multiply_rows(A, i, i + 1, v, q);
+            if (beside) {  // after the rows' barrier; one thread, the others wait at the single's
+#pragma omp single
+                op_.add_beside_product(w_, v, q, stiff_scale_, mask_);
+            }
         };
         return team_cg(A.rows(), product, mode, rows, whole, b_, mask_, limits_.tolerance, limits_.max_iterations,
                        x_);
@@ -332,6 +339,8 @@ private:
 
     World& w_;
     LinearSystem& A_;
+    const StepOperator& op_;
+    double stiff_scale_;
     const Eigen::VectorXd& b_;
     const Eigen::VectorXd& mask_;
     const CgLimits limits_;
@@ -347,7 +356,16 @@ namespace {
 /// AV = A V, column by column, with this step's A: the assembled matrix, or matrix-free for jacobi.
 void step_product(World& w, const StepOperator& op, double mass_scale, double stiff_scale, const Eigen::MatrixXd& V,
                   Eigen::MatrixXd& AV) {
-    if (w.linear.method != "jacobi") return linear_multiply_columns(w.linear, V, AV);
+    if (w.linear.method != "jacobi") {
+        linear_multiply_columns(w.linear, V, AV);
+        const Eigen::VectorXd mask = free_mask(w);
+        for (Eigen::Index j = 0; j < V.cols(); ++j) {
+            Eigen::VectorXd column = AV.col(j);
+            if (!op.add_beside_product(w, V.col(j), column, stiff_scale, mask)) return;
+            AV.col(j) = column;
+        }
+        return;
+    }
     AV.resize(V.rows(), V.cols());
     Eigen::VectorXd v, out;
     for (Eigen::Index j = 0; j < V.cols(); ++j) {
@@ -376,7 +394,7 @@ LinearSolve solve(World& w, const StepOperator& op, double mass_scale, double st
     if (matrix_free) {
         accepted(jacobi_cg(w, op, mass_scale, stiff_scale, b, mask, limits, x), limits, out);
     } else {
-        AssembledSolve solve(w, b, mask, limits, x, out);
+        AssembledSolve solve(w, op, stiff_scale, b, mask, limits, x, out);
         if (A.method == "block_jacobi") solve.accept(solve.block_jacobi());
         else if (A.method == "amg") solve.amg(stiff_scale / mass_scale);
         else solve.cholesky();

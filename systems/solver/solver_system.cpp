@@ -70,6 +70,7 @@ LinearSolve euler_substep(World& world, const StepOperator& op, double h, const 
     Eigen::VectorXd b, kv;
     if (filled.assembled && (v.array() * (1.0 - mask.array()) == 0.0).all()) {
         linear_multiply(world.linear, v, kv);
+        op.add_beside_product(world, v, kv, stiff_scale, mask);
         b = h * world.forces.force + m3.cwiseProduct(v) - kv;
     } else {
         op.stiffness_product(world, v, kv);

@@ -13,6 +13,7 @@
 #include <fmt/os.h>
 #include <stdexcept>
 
+#include "systems/cut/crack_tip_system.h"
 #include "tools/studies/accuracy_problems.h"
 #include "tools/studies/calculix_reference.h"
 #include "tools/studies/crack_reference.h"
@@ -27,6 +28,8 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 const char* kCutters[2] = {"xfem", "snap"};
+/// Problem 6 also runs XFEM with the tip enriched (systems/cut/crack_tip_system.h).
+const char* kPlateCutters[3] = {"xfem", "xfem_tip", "snap"};
 
 /// CPU time of the whole process, every thread's [s] (CLOCK_PROCESS_CPUTIME_ID).
 double process_cpu_seconds() {
@@ -98,6 +101,9 @@ AccuracyRow block_run(int n, const char* cutter, const std::vector<Vec3>& refere
     return row;
 }
 
+/// The tip's enrichment on problem 6: the nodes within four cells of the tip (docs/xfem.md).
+TipZone tip_zone(int n, const EdgeCrackSpec& spec) { return TipZone{4.0 * spec.width / n}; }
+
 /// Problem 6 on the plate `spec` meshes, cut from its left edge to x = `stop` (the mesh's tip if
 /// negative) by `cutter`: xfem (split once crossed), progressive (xfem; also the element the cut
 /// ends in, as a tip element) or snap.
@@ -107,7 +113,9 @@ AccuracyRow plate_run(int n, const char* cutter, double reference, const EdgeCra
     EdgeCrackSpec cut = spec;
     if (stop >= 0.0) cut.crack = stop;
     const RunTimer t;
-    const int split = cut_with_polygon(w, edge_crack_segment(cut), std::string(cutter) == "progressive");
+    const std::vector<Vec3> segment = edge_crack_segment(cut);
+    const int split = cut_with_polygon(w, segment, std::string(cutter) == "progressive");
+    if (std::string(cutter) == "xfem_tip") enrich_crack_tip(w, segment.back(), segment.back() - segment.front(), tip_zone(n, spec));
     const Eigen::VectorXd load = edge_crack_load(w, spec);
     const StaticResult r = solve_equilibrium(w, load);
     AccuracyRow row = row_of(6, cutter, n, spec.width / n, w, split, t, r);
@@ -154,7 +162,7 @@ void plate_sweep(const AccuracyBenchOptions& o, const std::string& cache, std::v
                                        "Tada-Paris-Irwin {:+.2f} % from it):", ratio, n, ref.values[0],
                                        100 * ref.error_estimate, 100 * (edge_crack_reference_cmod(spec) / ref.values[0] - 1));
         double smallest = 1e300;
-        for (const char* c : kCutters) {
+        for (const char* c : kPlateCutters) {
             const AccuracyRow r = plate_run(n, c, ref.values[0], spec);
             smallest = std::min(smallest, r.error);
             line += fmt::format(" {} {:+.2f} % ({})", c, 100 * (r.value / r.reference - 1), r.error <= 0.01 ? "within 1 %" : "OUTSIDE 1 %");
@@ -184,7 +192,7 @@ void stop_sweep(const AccuracyBenchOptions& o, const std::string& cache, std::ve
             notes.push_back({6, fmt::format("problem 6 blade stops: not run: {}", ref.why)});
             return;
         }
-        for (const char* c : {"xfem", "progressive", "snap"}) {
+        for (const char* c : {"xfem", "progressive", "xfem_tip", "snap"}) {
             const AccuracyRow r = plate_run(n, c, ref.values[0], grid, stop.crack);
             if (ref.error_estimate > 0.1 * r.error) {  // the suite's rule, as refuse_weak_reference
                 notes.push_back({6, fmt::format("problem 6 blade stops: NOT scored: the reference at x = {:.6g} m has an "
@@ -304,7 +312,7 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o, std::
     std::vector<ReferenceNote> notes;
     const std::string cache = o.cache_dir.empty() ? default_cache_dir() : o.cache_dir;
     const int total = (wants(o, 3) ? o.cantilever_levels.size() : 0) + (wants(o, 5) ? 2 * o.block_levels.size() + 1 : 0) +
-                      (wants(o, 6) ? 2 * o.plate_levels.size() : 0);
+                      (wants(o, 6) ? 3 * o.plate_levels.size() : 0);
     ProgressBar bar("accuracy", o.progress ? total : 0);
     int done = 0;
     if (wants(o, 3)) {
@@ -335,7 +343,7 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o, std::
         const ExternalReference ref = external_reference(6, o.plate_reference_levels, cache, notes);
         const double value = ref.available ? ref.values[0] : edge_crack_reference_cmod(EdgeCrackSpec{});
         for (int n : o.plate_levels)
-            for (const char* c : kCutters) rows.push_back(plate_run(n, c, value)), bar.update(++done);
+            for (const char* c : kPlateCutters) rows.push_back(plate_run(n, c, value)), bar.update(++done);
         if (ref.available) refuse_weak_reference(rows, 6, ref.error_estimate, notes);
         plate_sweep(o, cache, notes);
         if (o.stops > 0) stop_sweep(o, cache, notes);
@@ -358,18 +366,18 @@ void write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>&
     for (const std::string& line : summary) csv.print("# {}\n", line);
 }
 
-std::vector<FrontComparison> compare_fronts(const std::vector<AccuracyRow>& rows, int problem) {
+std::vector<FrontComparison> compare_fronts(const std::vector<AccuracyRow>& rows, int problem, const std::string& cutter) {
     std::map<std::string, std::vector<const AccuracyRow*>> front;
     for (const AccuracyRow& r : rows)
-        if (r.problem == problem && (r.cutter == "xfem" || r.cutter == "snap")) front[r.cutter].push_back(&r);
+        if (r.problem == problem && (r.cutter == cutter || r.cutter == "snap")) front[r.cutter].push_back(&r);
     for (auto& [cutter, runs] : front)
         std::sort(runs.begin(), runs.end(), [](auto* a, auto* b) { return a->cpu_s < b->cpu_s; });
     std::vector<FrontComparison> out;
     for (const AccuracyRow& x : rows) {
-        if (x.problem != problem || (x.cutter != "xfem" && x.cutter != "snap")) continue;
+        if (x.problem != problem || (x.cutter != cutter && x.cutter != "snap")) continue;
         FrontComparison c;
         c.run = &x;
-        const auto& other = front[x.cutter == "xfem" ? "snap" : "xfem"];
+        const auto& other = front[x.cutter == cutter ? std::string("snap") : cutter];
         for (size_t k = 1; k < other.size(); ++k) {
             const AccuracyRow &a = *other[k - 1], &b = *other[k];
             if (x.cpu_s < a.cpu_s || x.cpu_s > b.cpu_s || !(b.cpu_s > a.cpu_s)) continue;
@@ -417,6 +425,31 @@ void front_lines(const std::vector<AccuracyRow>& rows, int problem, std::vector<
                                                      "under 10 %): NOT met: {}", fmt::join(short_of, ", ")));
 }
 
+/// Problem 6's tip-enriched XFEM: each of its runs against snapping's front at equal CPU time, and
+/// the targets: error <= 0.5 x snapping's at equal CPU time at every level, within 1 % at 40 cells.
+void tip_lines(const std::vector<AccuracyRow>& rows, std::vector<std::string>& out) {
+    std::vector<std::string> short_of;
+    for (const FrontComparison& c : compare_fronts(rows, 6, "xfem_tip")) {
+        const AccuracyRow& r = *c.run;
+        if (r.cutter != "xfem_tip") continue;
+        if (c.ratio == 0.0) {
+            out.push_back(fmt::format("problem 6 xfem_tip level {} ({:.3g} s CPU, error {:.3g} %): outside snapping's "
+                                      "CPU-time range", r.resolution, r.cpu_s, 100 * r.error));
+            continue;
+        }
+        if (c.ratio > 0.5) short_of.push_back(fmt::format("level {} at {:.2f} x", r.resolution, c.ratio));
+        out.push_back(fmt::format("problem 6 xfem_tip level {} ({:.3g} s CPU, error {:.3g} %): snap at equal CPU time "
+                                  "{:.3g} % -> {:.2f} x", r.resolution, r.cpu_s, 100 * r.error, 100 * c.other_error, c.ratio));
+    }
+    out.push_back(short_of.empty() ? "problem 6 target (tip-enriched XFEM's error <= 0.5 x snapping's at equal CPU time): met"
+                                   : fmt::format("problem 6 target (tip-enriched XFEM's error <= 0.5 x snapping's at equal "
+                                                 "CPU time): NOT met: {}", fmt::join(short_of, ", ")));
+    for (const AccuracyRow& r : rows)
+        if (r.problem == 6 && r.cutter == "xfem_tip" && r.resolution == 40)
+            out.push_back(fmt::format("problem 6 target (tip-enriched XFEM within 1 % at 40 cells): {:+.3f} % -> {}",
+                                      100 * (r.value / r.reference - 1), r.error <= 0.01 ? "met" : "NOT met"));
+}
+
 }  // namespace
 
 std::vector<std::string> accuracy_summary(const std::vector<AccuracyRow>& rows, const std::vector<ReferenceNote>& notes) {
@@ -441,8 +474,9 @@ std::vector<std::string> accuracy_summary(const std::vector<AccuracyRow>& rows, 
     }
     for (int problem : {5, 6})
         if (finest(problem, "xfem") && finest(problem, "snap")) front_lines(rows, problem, out);
+    if (finest(6, "xfem_tip") && finest(6, "snap")) tip_lines(rows, out);
     const double handbook = edge_crack_reference_cmod(EdgeCrackSpec{});
-    for (const char* c : kCutters)
+    for (const char* c : kPlateCutters)
         if (const AccuracyRow* f = finest(6, c))
             out.push_back(fmt::format("problem 6 ({}): finest CMOD {:.4e} m against the reference {:.4e} m: {:+.2f} % "
                                       "(target 1 %) -> {}; Tada-Paris-Irwin {:.4e} m is {:+.2f} % from the reference", c,
@@ -456,10 +490,10 @@ int accuracy_bench_command(const AccuracyBenchOptions& o) {
     const auto rows = run_accuracy_bench(o, &notes);
     fmt::print("accuracy benchmark: static solves (Newton 1e-6, CG 1e-10), {} threads; run and CPU time = cut + solve\n",
                thread_count());
-    fmt::print("{:>3} {:>6} {:>5} {:>9} {:>8} {:>6} {:>9} {:>9} {:>7} {:>8} {:>12} {:>12} {:>9}\n", "pb", "cutter",
+    fmt::print("{:>3} {:>8} {:>5} {:>9} {:>8} {:>6} {:>9} {:>9} {:>7} {:>8} {:>12} {:>12} {:>9}\n", "pb", "cutter",
                "level", "h [mm]", "DOFs", "split", "run [s]", "CPU [s]", "Newton", "CG", "value [m]", "ref [m]", "error");
     for (const AccuracyRow& r : rows)
-        fmt::print("{:>3} {:>6} {:>5} {:>9.3f} {:>8} {:>6} {:>9.4f} {:>9.4f} {:>7} {:>8} {:>12.5e} {:>12.5e} {:>8.3f}%\n",
+        fmt::print("{:>3} {:>8} {:>5} {:>9.3f} {:>8} {:>6} {:>9.4f} {:>9.4f} {:>7} {:>8} {:>12.5e} {:>12.5e} {:>8.3f}%\n",
                    r.problem, r.cutter, r.resolution, r.element_size * 1e3, r.dofs, r.split, r.run_s, r.cpu_s, r.newton,
                    r.cg, r.value, r.reference, 100.0 * r.error);
     const std::vector<std::string> summary = accuracy_summary(rows, notes);

@@ -85,9 +85,10 @@ struct FrontComparison {
     double other_error = 0.0;  ///< the other cutter's error at this CPU time, interpolated log-log; 0: outside its range
     double ratio = 0.0;        ///< run's error / other_error (below 1: this run is the more accurate); 0: outside
 };
-/// Every XFEM and snapping run of `problem`, each against the other cutter's front (its runs
-/// sorted by CPU time, interpolated log-log between the two that bracket this run's).
-std::vector<FrontComparison> compare_fronts(const std::vector<AccuracyRow>& rows, int problem);
+/// Every `cutter` (an XFEM variant) and snapping run of `problem`, each against the other cutter's
+/// front (its runs sorted by CPU time, interpolated log-log between the two that bracket this run's).
+std::vector<FrontComparison> compare_fronts(const std::vector<AccuracyRow>& rows, int problem,
+                                            const std::string& cutter = "xfem");
 /// The verdicts, one line each: problem 3's finest and Richardson-extrapolated deflection; for
 /// problems 5 and 6, every run against the other cutter at equal CPU time, and the levels where
 /// each cutter wins; problem 6's finest CMOD against the 5 % tolerance. No averaged verdict.

@@ -1,0 +1,291 @@
+#include "systems/cut/crack_tip_system.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <stdexcept>
+
+#include "engine/error.h"
+#include "systems/kernels/branch_enrichment.h"
+#include "systems/kernels/corotational_kernel.h"
+
+namespace xcut {
+namespace {
+
+constexpr int kRuleOrder = 8;  ///< Gauss points per direction of a fan triangle's Duffy rule
+/// Pivots of the Jacobi-scaled H (unit diagonal) below this share of the largest are the
+/// functions' exact dependencies, at rounding (1e-16 measured; the smallest kept one on the
+/// accuracy suite's zones is 1e-4).
+constexpr double kDroppedPivot = 1e-10;
+
+Vec2 xy(const Vec3& v) { return v.head<2>(); }
+
+/// Force element fe's Lamé parameters under plane stress [Pa] (2D only, as the ForceSystem's).
+LameParameters plane_lame(const World& w, int fe) {
+    const Material& m = w.materials.list[w.elements.material[fe]];
+    return {m.lambda_plane_stress(), m.mu()};
+}
+
+std::array<Vec2, 3> rest_triangle(const World& w, int e) {
+    const auto& n = w.elements.nodes[e];
+    return {xy(w.nodes.rest[n[0]]), xy(w.nodes.rest[n[1]]), xy(w.nodes.rest[n[2]])};
+}
+
+double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// Whether rest point T lies in the closure of triangle X (to 1e-9 of its barycentric coordinates).
+bool holds(const std::array<Vec2, 3>& X, const Vec2& T) {
+    Eigen::Matrix2d D;
+    D << X[1] - X[0], X[2] - X[0];
+    const Vec2 l = D.partialPivLu().solve(T - X[0]);
+    return std::min({1.0 - l.x() - l.y(), l.x(), l.y()}) >= -1e-9;
+}
+
+Vec2 normal_of(const TipFrame& f) { return Vec2(-f.direction.y(), f.direction.x()); }
+
+/// The lip of a node on the crack's line behind the tip (+1: the normal's side), from its
+/// Heaviside sign; 0 elsewhere (atan2 decides).
+int node_lip(const World& w, const TipFrame& f, int node) {
+    const Vec2 rel = xy(w.nodes.rest[node]) - f.point;
+    if (rel.dot(f.direction) >= 0.0 || std::abs(rel.dot(normal_of(f))) > 1e-12 * rel.norm()) return 0;
+    const int H = node < static_cast<int>(w.enriched.sign.size()) ? w.enriched.sign[node] : 0;
+    if (H == 0) return 1;
+    return xy(w.enriched.sign_normal[node]).dot(normal_of(f)) >= 0.0 ? H : -H;
+}
+
+struct ZonePart {
+    int element;               ///< force element
+    std::vector<Vec2> polygon; ///< its part of the mesh element (rest)
+    int lip;                   ///< the crack's side it lies on (0: uncut)
+};
+
+/// The force elements of mesh element e: e itself, or the two sides of its cut.
+std::vector<ZonePart> parts_of(const World& w, int e, const TipFrame& f) {
+    const std::array<Vec2, 3> X = rest_triangle(w, e);
+    const std::vector<int>& cut_of = w.cuts.cut_of_element;
+    if (e >= static_cast<int>(cut_of.size()) || cut_of[e] < 0) return {{e, {X[0], X[1], X[2]}, 0}};
+    const int c = cut_of[e];
+    const Vec2 a = xy(w.cuts.points[c][0]), b = xy(w.cuts.points[c][1]);
+    int orient = 1;  // the side of a -> b (+1: left) where H = +1, from a node the cut did not pass through
+    for (int k = 0; k < 3; ++k) {
+        const int node = w.elements.nodes[e][k], H = w.enriched.sign[node];
+        const double level = cross2(b - a, X[k] - a);
+        if (H != 0 && std::abs(level) > 1e-9 * (b - a).squaredNorm()) {
+            orient = (level > 0.0) == (H > 0) ? 1 : -1;
+            break;
+        }
+    }
+    std::vector<ZonePart> parts;
+    for (int s = 0; s < 2; ++s) {
+        const int ve = w.cuts.virtual_element[c][s];
+        ZonePart p{w.virtual_elements.element[ve], clip_triangle(X, a, b, orient * w.virtual_elements.side[ve]), 0};
+        if (p.polygon.empty()) continue;
+        Vec2 centre = Vec2::Zero();
+        for (const Vec2& q : p.polygon) centre += q / static_cast<double>(p.polygon.size());
+        p.lip = (centre - f.point).dot(normal_of(f)) >= 0.0 ? 1 : -1;
+        parts.push_back(std::move(p));
+    }
+    return parts;
+}
+
+/// Appends zone element `part` of mesh element e with its enriched corners `slots`.
+void add_zone_part(World& w, int e, const ZonePart& part, const std::vector<int>& slots, const std::vector<int>& pair_of,
+                   const TipFrame& f) {
+    CrackTips& ct = w.tips;
+    std::array<int, 3> lip{};
+    for (int k = 0; k < 3; ++k) lip[k] = node_lip(w, f, w.elements.nodes[e][k]);
+    const BranchIntegrals bi = branch_integrals(rest_triangle(w, e), slots, lip, f, part.lip,
+                                                tip_polygon_rule(part.polygon, f, kRuleOrder));
+    const double t = w.materials.list[w.elements.material[e]].thickness;
+    ct.element.push_back(part.element);
+    ct.moment_first.push_back(static_cast<int>(ct.moment.size()));
+    for (size_t s = 0; s < slots.size(); ++s)
+        for (int l = 0; l < 4; ++l) {
+            ct.function.push_back(4 * pair_of[w.elements.nodes[e][slots[s]]] + l);
+            ct.gradient.emplace_back(t * bi.G[4 * s + l].x(), t * bi.G[4 * s + l].y(), 0.0);
+        }
+    for (const Eigen::Matrix2d& M : bi.M) {
+        Mat3 m = Mat3::Zero();
+        m.topLeftCorner<2, 2>() = t * M;
+        ct.moment.push_back(m);
+    }
+    ct.first.push_back(static_cast<int>(ct.function.size()));
+}
+
+/// The condensation of the amplitudes at the current rotations, and the maps it is made of.
+class Condensation {
+public:
+    /// H = Σ_z R K R^T over the zone, factored.
+    void factor(const World& w) {
+        const CrackTips& ct = w.tips;
+        Eigen::MatrixXd H = Eigen::MatrixXd::Zero(2 * ct.functions(), 2 * ct.functions());
+        for (int z = 0; z < ct.zone(); ++z) {
+            const int fe = ct.element[z], n = ct.first[z + 1] - ct.first[z];
+            const Eigen::Matrix2d R = w.elements.rotation[fe].topLeftCorner<2, 2>();
+            const LameParameters lame = plane_lame(w, fe);
+            for (int a = 0; a < n; ++a)
+                for (int b = 0; b < n; ++b) {
+                    const Eigen::Matrix2d M = ct.moment[ct.moment_first[z] + a * n + b].topLeftCorner<2, 2>();
+                    const Eigen::Matrix2d K = lame.lambda * M + lame.mu * M.transpose() +
+                                              lame.mu * M.trace() * Eigen::Matrix2d::Identity();
+                    H.block<2, 2>(2 * ct.function[ct.first[z] + a], 2 * ct.function[ct.first[z] + b]) += R * K * R.transpose();
+                }
+        }
+        // Jacobi scaling first: far from the tip a shifted function is nearly linear over its
+        // element, so its diagonal is orders of magnitude below the tip's (Béchet et al. 2005).
+        scale_ = H.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+        ldlt_.compute(scale_.asDiagonal() * H * scale_.asDiagonal());
+        // Pivots at rounding are the functions' own dependencies, not a defect: z̄ √r e^{3iθ/2} =
+        // z √r e^{-iθ/2} makes four combinations of them, with amplitudes linear in the nodes'
+        // positions, vanish identically where every node of every element is enriched (a zone that
+        // is the whole body). Their field is zero, g has no part along them, so they are dropped
+        // (a generalized inverse). A clearly negative pivot is a defect and stops the run.
+        const Eigen::VectorXd d = ldlt_.vectorD();
+        const double largest = d.cwiseAbs().maxCoeff();
+        if (!(d.minCoeff() > -kDroppedPivot * largest))
+            throw NumericalError(fmt::format(
+                "crack-tip enrichment: the branch functions' stiffness (H, {} amplitudes) is not positive semi-definite "
+                "(smallest pivot {:.3g} of the largest)", H.rows(), d.minCoeff() / largest));
+        inverse_pivot_ = d.unaryExpr([&](double p) { return p > kDroppedPivot * largest ? 1.0 / p : 0.0; });
+        dropped_ = static_cast<int>((inverse_pivot_.array() == 0.0).count());
+    }
+    /// g = Σ_z R σ(R^T F - shift I) G_a, F from the nodal vectors v (positions, or a direction with shift 0).
+    Eigen::VectorXd coupling(const World& w, const Vec3* v, double shift) const {
+        const CrackTips& ct = w.tips;
+        Eigen::VectorXd g = Eigen::VectorXd::Zero(2 * ct.functions());
+        for (int z = 0; z < ct.zone(); ++z) {
+            const int fe = ct.element[z];
+            const Eigen::Matrix2d R = w.elements.rotation[fe].topLeftCorner<2, 2>();
+            const Eigen::Matrix2d dm_inv = w.elements.dm_inv[fe].topLeftCorner<2, 2>();
+            std::array<Vec3, 4> x{};
+            for (int k = 0; k < 3; ++k) x[k] = v[w.elements.nodes[fe][k]];
+            const Eigen::Matrix2d H = R.transpose() * edge_matrix<2>(x) * dm_inv - shift * Eigen::Matrix2d::Identity();
+            const Eigen::Matrix2d RS = R * linear_stress<2>(H, plane_lame(w, fe));
+            for (int a = ct.first[z]; a < ct.first[z + 1]; ++a) g.segment<2>(2 * ct.function[a]) += RS * ct.gradient[a].head<2>();
+        }
+        return g;
+    }
+    /// out += scale G_x^T y: per zone element, scale R σ(Σ_a R^T y_a G_a^T) g_k on its nodes.
+    void scatter(const World& w, const Eigen::VectorXd& y, double scale, Eigen::VectorXd& out) const {
+        const CrackTips& ct = w.tips;
+        for (int z = 0; z < ct.zone(); ++z) {
+            const int fe = ct.element[z];
+            const Eigen::Matrix2d R = w.elements.rotation[fe].topLeftCorner<2, 2>();
+            Eigen::Matrix2d B = Eigen::Matrix2d::Zero();
+            for (int a = ct.first[z]; a < ct.first[z + 1]; ++a)
+                B += (R.transpose() * y.segment<2>(2 * ct.function[a])) * ct.gradient[a].head<2>().transpose();
+            std::array<Vec3, 4> f;
+            scatter_stress<2>(R, linear_stress<2>(B, plane_lame(w, fe)),
+                              w.elements.dm_inv[fe].topLeftCorner<2, 2>(), scale, f);
+            for (int k = 0; k < 3; ++k) out.segment<3>(3 * w.elements.nodes[fe][k]) += f[k];
+        }
+    }
+    /// H^+ g through the scaled factor P^T L D L^T P, dropped pivots as 0.
+    template <class V>
+    Eigen::MatrixXd solve(const V& g) const {
+        Eigen::MatrixXd y = ldlt_.transpositionsP() * (scale_.asDiagonal() * g);
+        ldlt_.matrixL().solveInPlace(y);
+        y = inverse_pivot_.asDiagonal() * y;
+        ldlt_.matrixU().solveInPlace(y);
+        return scale_.asDiagonal() * (ldlt_.transpositionsP().transpose() * y);
+    }
+    int dropped() const { return dropped_; }
+
+private:
+    Eigen::LDLT<Eigen::MatrixXd> ldlt_;
+    Eigen::VectorXd scale_;          ///< H's Jacobi scaling, 1 / sqrt(H_ii)
+    Eigen::VectorXd inverse_pivot_;  ///< 1 / D of the scaled factor, 0 where dropped
+    int dropped_ = 0;
+};
+
+class CrackTipTerm final : public StepTerm {
+public:
+    const char* name() const override { return "crack tips"; }
+    bool active(const World& w) const override { return w.tips.count() > 0; }
+    void linearize(World& w) override {
+        if (active(w)) c_.factor(w), factored_ = {w.step, w.tips.zone()};
+    }
+    /// f = -G_x^T b, b = -H^-1 g: the force of the condensed energy ½ g·b (added to the elastic energy).
+    void force(World& w, bool first) override {
+        if (first) throw std::logic_error("the crack-tip term adds to the elastic term's force: it comes after it");
+        ensure_factor(w);
+        const Eigen::VectorXd g = c_.coupling(w, w.nodes.position.data(), 1.0), b = -c_.solve(g);
+        w.forces.elastic_energy += 0.5 * g.dot(b);
+        c_.scatter(w, b, -1.0, w.forces.force);
+    }
+    /// out (+)= -G_x^T H^-1 G_x p.
+    void product(World& w, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
+        if (first) out.setZero(3 * w.nodes.count());
+        ensure_factor(w);
+        const Eigen::VectorXd y = c_.solve(c_.coupling(w, reinterpret_cast<const Vec3*>(p.data()), 0.0));
+        c_.scatter(w, y, -1.0, out);
+    }
+    void product_in_team(World& w, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
+#pragma omp single
+        product(w, p, out, first);  // a few dozen amplitudes: one thread, the others wait at the barrier
+    }
+    /// Its stiffness has the rank of the amplitudes and couples the whole zone: the assembled
+    /// methods apply it beside A rather than fill A's pattern with dense blocks.
+    bool beside_assembly() const override { return true; }
+
+private:
+    /// A step whose rotations came from the ForceSystem (no linearize through the terms) factors
+    /// H at its first use.
+    void ensure_factor(World& w) {
+        if (factored_ != std::array<int, 2>{w.step, w.tips.zone()}) linearize(w);
+    }
+    Condensation c_;
+    std::array<int, 2> factored_{-1, -1};  ///< step and zone size of the factor
+};
+
+}  // namespace
+
+void enrich_crack_tip(World& w, const Vec3& point, const Vec3& direction, const TipZone& zone) {
+    if (w.elements.dim != 2) throw std::invalid_argument("crack-tip enrichment: 2D meshes only (a 3D front is not enriched yet)");
+    if (w.snap.enabled) throw std::invalid_argument("crack-tip enrichment is XFEM's: not with the snapping cutter");
+    if (!(xy(direction).norm() > 0.0)) throw std::invalid_argument("crack-tip enrichment: the crack's direction is zero");
+    if (!(zone.radius >= 0.0)) throw std::invalid_argument("crack-tip enrichment: the zone's radius must be >= 0 m");
+    const TipFrame f{xy(point), xy(direction).normalized()};
+    std::vector<int> nodes;
+    for (int e = 0; e < w.mesh_elements; ++e)
+        if (holds(rest_triangle(w, e), f.point))
+            for (int k = 0; k < 3; ++k) nodes.push_back(w.elements.nodes[e][k]);
+    if (nodes.empty())
+        throw std::invalid_argument(fmt::format("crack-tip enrichment: the tip ({:.6g}, {:.6g}) m lies outside the mesh",
+                                                point.x(), point.y()));
+    for (int i = 0; i < w.mesh_nodes; ++i)
+        if ((xy(w.nodes.rest[i]) - f.point).norm() <= zone.radius) nodes.push_back(i);
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+
+    CrackTips& ct = w.tips;
+    const int tip = ct.count();
+    ct.point.emplace_back(f.point.x(), f.point.y(), 0.0);
+    ct.direction.emplace_back(f.direction.x(), f.direction.y(), 0.0);
+    std::vector<int> pair_of(w.mesh_nodes, -1);
+    for (int i : nodes) {
+        pair_of[i] = static_cast<int>(ct.node.size());
+        ct.node.push_back(i);
+        ct.tip.push_back(tip);
+    }
+    if (ct.first.empty()) ct.first.push_back(0);
+    for (int e = 0; e < w.mesh_elements; ++e) {
+        std::vector<int> slots;
+        for (int k = 0; k < 3; ++k)
+            if (pair_of[w.elements.nodes[e][k]] >= 0) slots.push_back(k);
+        if (slots.empty()) continue;
+        for (const ZonePart& part : parts_of(w, e, f)) add_zone_part(w, e, part, slots, pair_of, f);
+    }
+}
+
+Eigen::VectorXd crack_tip_amplitudes(World& w) {
+    Condensation c;
+    c.factor(w);
+    return -c.solve(c.coupling(w, w.nodes.position.data(), 1.0));
+}
+
+std::shared_ptr<StepTerm> crack_tip_step_term() { return std::make_shared<CrackTipTerm>(); }
+
+}  // namespace xcut

@@ -1,0 +1,45 @@
+#pragma once
+// Crack-tip enrichment (2D): the branch functions of systems/kernels/branch_enrichment.h on the
+// nodes around a crack's tip, as a term of the implicit step (systems/step_term.h).
+//
+// The field of a zone element (one of the elements its enriched nodes belong to, or one side of such
+// an element that is cut) is its corotational linear field plus Σ_a N_k ψ_l b_a, with b_a the
+// function's amplitude in the world frame. In the element's frame (R from the polar decomposition of
+// its linear part, as for every element: the tip's √r field is small-strain in that frame) the
+// strain energy is the linear element's plus
+//   (R^T b_a) · σ(R^T F - I) G_a  +  ½ (R^T b_a) · K_ab (R^T b_b),
+//   K_ab = λ M_ab + μ M_ab^T + μ tr(M_ab) I,
+// with G and M the integrals over the element's part (components/crack_tips.h). The amplitudes
+// carry no mass: they are condensed out at each linearization (b = -H^-1 g, H = Σ R K R^T, g = Σ R σ G),
+// which leaves on the nodes the Schur complement K_uu - G_x^T H^-1 G_x (symmetric positive definite
+// where the whole enriched stiffness is) and the force -∂/∂x of ½ g·b. Massless enrichment of a
+// quasi-static near-tip field: its own eigenfrequencies are the mesh's highest, which backward Euler
+// damps anyway.
+#include <memory>
+
+#include "engine/world.h"
+#include "systems/step_term.h"
+
+namespace xcut {
+
+/// How far a tip's enrichment reaches: the nodes of the elements that hold the tip, and the mesh
+/// nodes within `radius` of it, each with its own amplitudes (Moës, Dolbow & Belytschko 1999; a
+/// fixed radius: Béchet, Minnebo, Moës & Burgardt, IJNME 64, 2005). docs/xfem.md weighs the radius.
+struct TipZone {
+    double radius = 0.0;  ///< [m] 0: the tip's elements only (topological)
+};
+
+/// Enriches the crack tip at rest point `point`, the crack behind it along -`direction` (rest
+/// configuration; 2D meshes), over `zone`. The zone's integrals are taken at once (8 x 8 Duffy
+/// points per fan triangle). Throws std::invalid_argument for a 3D mesh, the snapping cutter, a
+/// tip outside the mesh, a zero direction or a negative radius.
+void enrich_crack_tip(World& world, const Vec3& point, const Vec3& direction, const TipZone& zone = {});
+
+/// The amplitudes b of every function (2 per function, world frame [sqrt(m)]) at the current
+/// positions and rotations, as the step's term condenses them: for output and tests.
+Eigen::VectorXd crack_tip_amplitudes(World& world);
+
+/// The term: active when the world has tips; the assembled methods apply it beside A.
+std::shared_ptr<StepTerm> crack_tip_step_term();
+
+}  // namespace xcut

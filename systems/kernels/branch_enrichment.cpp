@@ -1,0 +1,178 @@
+#include "systems/kernels/branch_enrichment.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace xcut {
+
+BranchValues branch_functions(const TipFrame& tip, const Vec2& X, int side) {
+    const Vec2 d = tip.direction, n(-d.y(), d.x());
+    const Vec2 rel = X - tip.point;
+    const double x1 = rel.dot(d), x2 = rel.dot(n), r = std::hypot(x1, x2);
+    BranchValues out;
+    if (r == 0.0) return out;
+    double theta = std::atan2(x2, x1);
+    if (side != 0 && x1 < 0.0) theta = side * std::abs(theta);  // behind the tip: the lip it lies on
+    const double sr = std::sqrt(r), s2 = std::sin(0.5 * theta), c2 = std::cos(0.5 * theta);
+    const double s = std::sin(theta), c = std::cos(theta);
+    out.f = {sr * s2, sr * c2, sr * s2 * s, sr * c2 * s};
+    // dF/dr and dF/dθ, then the local Cartesian gradient (along d, along n) by the polar chain rule.
+    const std::array<double, 4> dr = {0.5 * s2 / sr, 0.5 * c2 / sr, 0.5 * s2 * s / sr, 0.5 * c2 * s / sr};
+    const std::array<double, 4> dt = {0.5 * sr * c2, -0.5 * sr * s2, sr * (0.5 * c2 * s + s2 * c),
+                                      sr * (-0.5 * s2 * s + c2 * c)};
+    for (int l = 0; l < 4; ++l) {
+        const double g1 = c * dr[l] - s / r * dt[l], g2 = s * dr[l] + c / r * dt[l];
+        out.grad[l] = g1 * d + g2 * n;
+    }
+    return out;
+}
+
+void gauss_legendre_unit(int n, std::vector<double>& x, std::vector<double>& w) {
+    x.assign(n, 0.0);
+    w.assign(n, 0.0);
+    for (int i = 0; i < n; ++i) {
+        double z = std::cos(std::numbers::pi * (i + 0.75) / (n + 0.5)), dp = 1.0;
+        for (int iteration = 0; iteration < 100; ++iteration) {
+            double p0 = 1.0, p1 = 0.0;
+            for (int k = 1; k <= n; ++k) {  // P_k by the three-term recurrence
+                const double p2 = p1;
+                p1 = p0;
+                p0 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p2) / k;
+            }
+            dp = n * (z * p0 - p1) / (z * z - 1.0);
+            const double step = p0 / dp;
+            z -= step;
+            if (std::abs(step) < 1e-16) break;
+        }
+        x[i] = 0.5 * (1.0 - z);
+        w[i] = 1.0 / ((1.0 - z * z) * dp * dp);  // 2 / ((1 - z^2) P_n'^2), halved for [0, 1]
+    }
+}
+
+namespace {
+
+double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// Distance from p to the segment [a, b].
+double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
+    const Vec2 ab = b - a;
+    const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
+    return (a + t * ab - p).norm();
+}
+
+/// Adds the Duffy-collapsed rule of triangle (A, B, C), collapsed onto A. A triangle that spans more
+/// than 45 degrees at A is halved first: the rule is exact in r, and the angular integrand is
+/// then smooth enough for the Gauss rule to reach rounding.
+void add_duffy(const Vec2& A, const Vec2& B, const Vec2& C, const std::vector<double>& gx,
+               const std::vector<double>& gw, double min_area, std::vector<QuadraturePoint>& out) {
+    const double det = std::abs(cross2(B - A, C - B));
+    if (det <= min_area) return;
+    if (std::atan2(det, (B - A).dot(C - A)) > 0.25 * std::numbers::pi + 1e-12) {
+        const Vec2 mid = 0.5 * (B + C);
+        add_duffy(A, B, mid, gx, gw, min_area, out);
+        add_duffy(A, mid, C, gx, gw, min_area, out);
+        return;
+    }
+    for (size_t i = 0; i < gx.size(); ++i)
+        for (size_t j = 0; j < gx.size(); ++j) {
+            const double u = gx[i], v = gx[j];
+            out.push_back({A + u * (B - A) + u * v * (C - B), gw[i] * gw[j] * u * det});
+        }
+}
+
+}  // namespace
+
+std::vector<QuadraturePoint> tip_polygon_rule(const std::vector<Vec2>& polygon, const TipFrame& tip, int order) {
+    std::vector<QuadraturePoint> out;
+    const int n = static_cast<int>(polygon.size());
+    if (n < 3) return out;
+    double h = 0.0;
+    for (const Vec2& p : polygon) h = std::max(h, (p - polygon[0]).norm());
+    const double eps = 1e-10 * h;
+    std::vector<Vec2> loop = polygon;
+    Vec2 apex = polygon[0];
+    const Vec2& T = tip.point;
+    bool placed = false;
+    for (const Vec2& p : polygon)
+        if ((p - T).norm() <= eps) apex = p, placed = true;
+    for (int i = 0; i < n && !placed; ++i)
+        if (segment_distance(T, polygon[i], polygon[(i + 1) % n]) <= eps) {
+            loop.insert(loop.begin() + i + 1, T);
+            apex = T, placed = true;
+        }
+    if (!placed) {
+        int positive = 0, negative = 0;
+        for (int i = 0; i < n; ++i) {
+            const double c = cross2(polygon[(i + 1) % n] - polygon[i], T - polygon[i]);
+            positive += c > 0.0, negative += c < 0.0;
+        }
+        if (positive == 0 || negative == 0) {  // inside: the crack behind it leaves through one edge
+            apex = T;
+            for (int i = 0; i < n; ++i) {
+                const Vec2 a = polygon[i], ab = polygon[(i + 1) % n] - a;
+                const double den = cross2(-tip.direction, ab);
+                if (std::abs(den) < 1e-300) continue;
+                const double s = cross2(a - T, ab) / den, t = cross2(a - T, -tip.direction) / den;
+                if (s <= 0.0 || t < 0.0 || t > 1.0) continue;
+                const Vec2 E = a + t * ab;
+                if ((E - a).norm() > eps && (E - (a + ab)).norm() > eps) loop.insert(loop.begin() + i + 1, E);
+                break;
+            }
+        }
+    }
+    std::vector<double> gx, gw;
+    gauss_legendre_unit(order, gx, gw);
+    const int m = static_cast<int>(loop.size());
+    for (int i = 0; i < m; ++i) add_duffy(apex, loop[i], loop[(i + 1) % m], gx, gw, 1e-14 * h * h, out);
+    return out;
+}
+
+std::vector<Vec2> clip_triangle(const std::array<Vec2, 3>& X, const Vec2& a, const Vec2& b, int side) {
+    std::vector<Vec2> out;
+    const auto level = [&](const Vec2& p) { return side * cross2(b - a, p - a); };
+    for (int i = 0; i < 3; ++i) {
+        const Vec2 &p = X[i], &q = X[(i + 1) % 3];
+        const double lp = level(p), lq = level(q);
+        if (lp >= 0.0) out.push_back(p);
+        if ((lp > 0.0 && lq < 0.0) || (lp < 0.0 && lq > 0.0)) out.push_back(p + lp / (lp - lq) * (q - p));
+    }
+    return out.size() >= 3 ? out : std::vector<Vec2>{};
+}
+
+BranchIntegrals branch_integrals(const std::array<Vec2, 3>& X, const std::vector<int>& slots,
+                                 const std::array<int, 3>& node_side, const TipFrame& tip, int side,
+                                 const std::vector<QuadraturePoint>& rule) {
+    Eigen::Matrix2d D;
+    D << X[1] - X[0], X[2] - X[0];
+    const Eigen::Matrix2d Dinv = D.inverse();
+    const std::array<Vec2, 3> gradN = {Vec2(-Dinv.row(0).transpose() - Dinv.row(1).transpose()),
+                                       Vec2(Dinv.row(0).transpose()), Vec2(Dinv.row(1).transpose())};
+    const int m = 4 * static_cast<int>(slots.size());
+    std::vector<std::array<double, 4>> shift(slots.size());
+    for (size_t s = 0; s < slots.size(); ++s) shift[s] = branch_functions(tip, X[slots[s]], node_side[slots[s]]).f;
+    BranchIntegrals out;
+    out.G.assign(m, Vec2::Zero());
+    out.M.assign(static_cast<size_t>(m) * m, Eigen::Matrix2d::Zero());
+    std::vector<Vec2> grad(m);
+    for (const QuadraturePoint& q : rule) {
+        const Vec2 lambda = Dinv * (q.X - X[0]);
+        const std::array<double, 3> N = {1.0 - lambda.x() - lambda.y(), lambda.x(), lambda.y()};
+        const BranchValues F = branch_functions(tip, q.X, side);
+        for (size_t s = 0; s < slots.size(); ++s)
+            for (int l = 0; l < 4; ++l) {
+                const int k = slots[s];
+                grad[4 * s + l] = gradN[k] * (F.f[l] - shift[s][l]) + N[k] * F.grad[l];
+            }
+        for (int a = 0; a < m; ++a) {
+            out.G[a] += q.weight * grad[a];
+            for (int b = a; b < m; ++b) out.M[static_cast<size_t>(a) * m + b] += q.weight * grad[a] * grad[b].transpose();
+        }
+    }
+    for (int a = 0; a < m; ++a)
+        for (int b = 0; b < a; ++b) out.M[static_cast<size_t>(a) * m + b] = out.M[static_cast<size_t>(b) * m + a].transpose();
+    return out;
+}
+
+}  // namespace xcut

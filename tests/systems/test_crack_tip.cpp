@@ -1,0 +1,182 @@
+// Crack-tip (branch) enrichment: its kernels against closed forms, and the enriched plate against
+// the exact near-tip field of linear elastic fracture (Williams 1957), which its functions span.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <array>
+#include <numbers>
+#include <random>
+
+#include "systems/cut/crack_tip_system.h"
+#include "systems/kernels/branch_enrichment.h"
+#include "tests/test_helpers.h"
+
+namespace xcut {
+namespace {
+
+using testing::cut_now;
+using testing::grid;
+using testing::world_from_mesh;
+
+TEST(BranchEnrichment, GaussLegendreIsExactToDegreeTwoNMinusOne) {
+    for (int n : {1, 4, 8}) {
+        std::vector<double> x, w;
+        gauss_legendre_unit(n, x, w);
+        for (int degree = 0; degree < 2 * n; ++degree) {
+            double sum = 0.0;
+            for (int i = 0; i < n; ++i) sum += w[i] * std::pow(x[i], degree);
+            EXPECT_NEAR(sum, 1.0 / (degree + 1), 1e-14) << n << " points, degree " << degree;
+        }
+    }
+}
+
+TEST(BranchEnrichment, TheTipsRuleIntegratesOneOverRToRounding) {
+    // ∫ 1/r over the triangle (0,0), (1,0), (1,1), tip at its corner: ∫_0^{π/4} sec θ dθ = asinh(1).
+    const TipFrame tip{Vec2(0, 0), Vec2(1, 0)};
+    double sum = 0.0;
+    for (const QuadraturePoint& q : tip_polygon_rule({Vec2(0, 0), Vec2(1, 0), Vec2(1, 1)}, tip, 8)) sum += q.weight / q.X.norm();
+    EXPECT_NEAR(sum, std::asinh(1.0), 1e-11);
+    // A tip inside a square: ∫ 1/r over [-1, 1]^2 = 8 asinh(1); the crack's exit is a fan vertex.
+    sum = 0.0;
+    double area = 0.0;
+    for (const QuadraturePoint& q : tip_polygon_rule({Vec2(-1, -1), Vec2(1, -1), Vec2(1, 1), Vec2(-1, 1)}, tip, 8))
+        sum += q.weight / q.X.norm(), area += q.weight;
+    EXPECT_NEAR(sum, 8.0 * std::asinh(1.0), 1e-10);
+    EXPECT_NEAR(area, 4.0, 1e-13);
+}
+
+TEST(BranchEnrichment, GradientsAreTheFunctionsDerivatives) {
+    const TipFrame tip{Vec2(0.3, -0.2), Vec2(std::cos(0.4), std::sin(0.4))};
+    const double h = 1e-7;
+    for (const Vec2& X : {Vec2(0.5, 0.1), Vec2(-0.4, 0.05), Vec2(-0.1, -0.6), Vec2(1.0, -1.0)}) {
+        const BranchValues v = branch_functions(tip, X, 0);
+        for (int l = 0; l < 4; ++l)
+            for (int k = 0; k < 2; ++k) {
+                const Vec2 e = h * Vec2::Unit(k);
+                const double fd = (branch_functions(tip, X + e, 0).f[l] - branch_functions(tip, X - e, 0).f[l]) / (2 * h);
+                EXPECT_NEAR(v.grad[l][k], fd, 1e-6 * (1.0 + std::abs(fd))) << "function " << l << " axis " << k;
+            }
+    }
+    // Behind the tip, the lips differ in F_1 only by its jump 2 sqrt(r); the side picks the lip.
+    const Vec2 behind = tip.point - 0.25 * tip.direction;
+    EXPECT_NEAR(branch_functions(tip, behind, 1).f[0] - branch_functions(tip, behind, -1).f[0], 2.0 * 0.5, 1e-12);
+}
+
+constexpr double kWidth = 0.02, kK = 0.01;  // plate [m]; stress intensity [Pa sqrt(m)]
+
+/// Mode I's near-tip displacement (Williams 1957; Anderson, Fracture Mechanics, Table 2.2), plane
+/// stress, tip at `tip`, crack along -x [m].
+Vec3 mode_one(const Vec3& X, const Vec3& tip, const Material& m) {
+    const Vec3 d = X - tip;
+    const double r = std::hypot(d.x(), d.y()), theta = std::atan2(d.y(), d.x());
+    const double mu = m.young / (2 * (1 + m.poisson)), kappa = (3 - m.poisson) / (1 + m.poisson);
+    const double a = kK / (2 * mu) * std::sqrt(r / (2 * std::numbers::pi)), s = std::sin(theta / 2), c = std::cos(theta / 2);
+    return Vec3(a * c * (kappa - 1 + 2 * s * s), a * s * (kappa + 1 - 2 * c * c), 0.0);
+}
+
+struct TipPlate {
+    double worst = 0.0;  ///< max nodal |u - u_exact| / max |u_exact| over the free nodes
+    int functions = 0;
+    int free = 0;        ///< mesh nodes measured
+};
+
+/// A square plate on n x (n + 1) cells cut from its left edge to `tip_x`, its boundary nodes held
+/// at the exact mode-I field, solved to equilibrium with the tip enriched within `radius` (< 0: not
+/// enriched). The enriched functions of a boundary node do not vanish along the boundary, so only
+/// interior nodes are enriched: the exact field is then not in the space (the zone's edge blends),
+/// and the error measures how much of it the enrichment captures.
+TipPlate solve_tip_plate(int n, double tip_x, double radius) {
+    Material m;
+    m.young = 1e4, m.poisson = 0.3, m.thickness = 1e-3;
+    World w = world_from_mesh(generate_plate(grid({kWidth, kWidth, 0}, {n, n + 1, 1})), m);
+    const Vec3 tip(tip_x, 0.5 * kWidth, 0.0);
+    cut_now(w, {Vec3(-kWidth, tip.y(), 0), tip});
+    if (radius >= 0.0) enrich_crack_tip(w, tip, Vec3(1, 0, 0), TipZone{radius});
+    double scale = 0.0;
+    for (int i = 0; i < w.mesh_nodes; ++i) {
+        const Vec3& X = w.nodes.rest[i];
+        scale = std::max(scale, mode_one(X, tip, m).norm());
+        if (std::min({X.x(), X.y(), kWidth - X.x(), kWidth - X.y()}) > 1e-12) continue;
+        w.nodes.position[i] = w.nodes.rest[i] + mode_one(X, tip, m);
+        w.nodes.fixed[i] |= 3;
+    }
+    const StaticResult r = static_solve(w, xcut_step_terms(), 1e-10, 10, 1e-13, 5000);
+    EXPECT_TRUE(r.converged);
+    TipPlate out;
+    out.functions = w.tips.functions();
+    for (int i = 0; i < w.mesh_nodes; ++i) {
+        if (w.nodes.fixed[i] & 3) continue;  // a plate's nodes all hold z
+        ++out.free;
+        const Vec3 u = w.nodes.position[i] - w.nodes.rest[i];
+        out.worst = std::max(out.worst, (u - mode_one(w.nodes.rest[i], tip, m)).norm() / scale);
+    }
+    return out;
+}
+
+TEST(CrackTip, TheEnrichedPlateConvergesToTheExactNearTipField) {
+    // The tip on an element edge (half-way across) and inside an element; 10 and 20 cells. Without
+    // the tip the nodal error hardly falls with h (the √r field is not linear near the tip); with
+    // it, it halves. Measured: plain 7.7 -> 6.3 % and 18.5 -> 17.0 %, r = 0.35 W 1.5 -> 0.76 % and
+    // 1.7 -> 0.65 %.
+    for (double tip_x : {0.5 * kWidth, 0.537 * kWidth}) {
+        std::array<TipPlate, 2> plain, zone;
+        for (int k = 0; k < 2; ++k) {
+            const int n = 10 * (k + 1);
+            plain[k] = solve_tip_plate(n, tip_x, -1.0), zone[k] = solve_tip_plate(n, tip_x, 0.35 * kWidth);
+            const TipPlate local = solve_tip_plate(n, tip_x, 0.0);
+            EXPECT_EQ(plain[k].free, (n - 1) * n);
+            EXPECT_GT(plain[k].worst, 5e-2) << n;
+            EXPECT_LT(local.worst, 0.5 * plain[k].worst) << n;
+            EXPECT_LT(zone[k].worst, 0.25 * plain[k].worst) << n;
+        }
+        EXPECT_GT(plain[1].worst, 0.8 * plain[0].worst) << tip_x;
+        EXPECT_LT(zone[1].worst, 0.6 * zone[0].worst) << tip_x;
+    }
+}
+
+TEST(CrackTip, ForceAndStiffnessAreConsistent) {
+    // The condensed term's product is -df/dx: a central difference of the forces along a random
+    // direction, at a deformed state with the tip inside an element.
+    Material m;
+    m.young = 1e4, m.poisson = 0.3, m.thickness = 1e-3;
+    World w = world_from_mesh(generate_plate(grid({kWidth, kWidth, 0}, {6, 7, 1}, 0.15)), m);
+    const Vec3 tip(0.55 * kWidth, 0.5 * kWidth, 0.0);
+    cut_now(w, {Vec3(-kWidth, tip.y(), 0), tip});
+    enrich_crack_tip(w, tip, Vec3(1, 0, 0), TipZone{0.3 * kWidth});
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-1e-4, 1e-4);
+    for (Vec3& x : w.nodes.position) x += Vec3(u(rng), u(rng), 0.0);
+    const StepOperator op = xcut_step_terms();
+    op.relinearize(w);
+    Eigen::VectorXd p(3 * w.nodes.count());
+    for (int i = 0; i < w.nodes.count(); ++i) p.segment<3>(3 * i) = Vec3(u(rng), u(rng), 0.0) * 1e4;
+    Eigen::VectorXd Kp;
+    op.stiffness_product(w, p, Kp);
+    // Rotations frozen at the linearization: forces from positions moved by +-eps p.
+    Eigen::Map<Eigen::VectorXd> x(w.nodes.position[0].data(), p.size());
+    const Eigen::VectorXd x0 = x;
+    const double eps = 1e-9;
+    x = x0 + eps * p;
+    op.forces(w);
+    const Eigen::VectorXd fp = w.forces.force;
+    x = x0 - eps * p;
+    op.forces(w);
+    const Eigen::VectorXd fd = -(fp - w.forces.force) / (2 * eps);
+    EXPECT_LT((fd - Kp).norm(), 1e-6 * Kp.norm());
+    // And the tip changes the operator: the same product without it differs.
+    StepOperator plain{{op.terms[0]}};
+    Eigen::VectorXd K0p;
+    plain.stiffness_product(w, p, K0p);
+    EXPECT_GT((K0p - Kp).norm(), 1e-3 * Kp.norm());
+}
+
+TEST(CrackTip, ARefusedTipSaysWhy) {
+    World w = world_from_mesh(generate_plate(grid({kWidth, kWidth, 0}, {4, 5, 1})));
+    EXPECT_THROW(enrich_crack_tip(w, Vec3(2 * kWidth, 0, 0), Vec3(1, 0, 0)), std::invalid_argument);
+    EXPECT_THROW(enrich_crack_tip(w, Vec3(0.5 * kWidth, 0.5 * kWidth, 0), Vec3::Zero()), std::invalid_argument);
+    World box = world_from_mesh(generate_box(grid({kWidth, kWidth, kWidth}, {2, 2, 2})));
+    EXPECT_THROW(enrich_crack_tip(box, Vec3::Constant(0.5 * kWidth), Vec3(1, 0, 0)), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace xcut
