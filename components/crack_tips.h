@@ -27,6 +27,14 @@ struct CrackTips {
     std::vector<Vec3> gradient;    ///< G_a = t ∫ ∇φ_a over the element's part [m^2.5]; z = 0
     std::vector<Mat3> moment;      ///< M_ab = t ∫ ∇φ_a ∇φ_b^T, row-major by (a, b) [m^2]; z row, column 0
 
+    // ---- blades that carry tips (scene cutter.tip; systems/cut/crack_tip_system.h, follow_blades)
+    double follow_radius = -1.0;     ///< [m] each blade's tip enriched within this radius; < 0: off
+    std::vector<Vec3> blade_point;   ///< per tool: its blade's last rest point in uncut tissue [m]
+    std::vector<uint8_t> blade_seen; ///< per tool: blade_point holds one
+    int cuts_seen = 0;               ///< cut elements when the zones were last built
+    int phantoms_seen = 0;           ///< phantoms then: later ones take the tips' field (transfer)
+    int version = 0;                 ///< counts the zones built (a factor knows which it was made for)
+
     int count() const { return static_cast<int>(point.size()); }
     int functions() const { return 4 * static_cast<int>(node.size()); }
     int zone() const { return static_cast<int>(element.size()); }

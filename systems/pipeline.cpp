@@ -29,6 +29,7 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
     scheduler.add(cut_system(bvh));
     scheduler.add(scripted_cut_system());
     scheduler.add(world.snap.enabled ? snap_cut_system(world) : enrichment_system());
+    if (world.tips.follow_radius >= 0.0) scheduler.add(crack_tip_system());
     scheduler.add(pieces_system());
     scheduler.add(cutting_force_system(bvh));
     scheduler.add(force_system());

@@ -55,6 +55,14 @@ bool StepOperator::any_held(const World& world) const {
     return any;
 }
 
+void StepOperator::add_start_forces(World& world) const {
+    for (const auto& t : terms)
+        if (!t->from_system() && t->active(world)) {
+            t->linearize(world);
+            t->force(world, false);
+        }
+}
+
 bool StepOperator::add_beside_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, double scale,
                                       const Eigen::VectorXd& mask) const {
     bool any = false;

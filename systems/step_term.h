@@ -55,6 +55,10 @@ public:
     /// amplitudes) stays out of the assembled A: the assembled methods add its product beside A's
     /// (CG's operator is then the whole A, its preconditioner A's without the term).
     virtual bool beside_assembly() const { return false; }
+    /// Whether a scheduled system computes its force at the step's start (the elastic term's: the
+    /// ForceSystem; the contacts': the CollisionSystem). A term without one (the crack tips) has it
+    /// added by the SolverSystem as the step begins (StepOperator::add_start_forces).
+    virtual bool from_system() const { return true; }
 };
 
 /// The terms of a step, in order.
@@ -77,6 +81,9 @@ struct StepOperator {
     void add_held_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) const;
     /// Whether an active held term contributes now.
     bool any_held(const World& world) const;
+    /// Linearizes and adds the force of every active term that no scheduled system computes
+    /// (from_system false), at the step's start.
+    void add_start_forces(World& world) const;
     /// out += scale mask (K_t (mask p)) over the active terms kept beside the assembly; whether any is.
     bool add_beside_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, double scale,
                             const Eigen::VectorXd& mask) const;

@@ -152,7 +152,7 @@ DeviceSpec read_device(const JsonFields& tool, const std::string& file) {
 
 void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) {
     const JsonFields cutter = top.object("cutter");
-    cutter.allow_only({"threshold", "neighbourhood_depth", "type", "snap_threshold", "front"});
+    cutter.allow_only({"threshold", "neighbourhood_depth", "type", "snap_threshold", "front", "tip"});
     scene.cut_threshold = cutter.number("threshold", 0.0, 0.0);
     scene.cut_min_depth = cutter.integer("neighbourhood_depth", 1, 0, 50);
     scene.cutter = cutter.choice("type", "xfem", {"xfem", "snap"});
@@ -160,6 +160,15 @@ void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) 
     scene.cut_front = cutter.choice("front", "semi", {"semi", "progressive"});
     if (scene.cut_front == "progressive" && scene.cutter == "snap")
         cutter.fail("front", "\"progressive\" needs \"type\": \"xfem\": snapping splits an element only once it is fully crossed");
+    if (cutter.has("tip")) {
+        const JsonFields tip = cutter.object("tip");
+        tip.allow_only({"radius"});
+        scene.tip_radius = tip.number("radius", 0.0, 0.0);
+        if (scene.cutter == "snap") cutter.fail("tip", "crack-tip enrichment is XFEM's: it needs \"type\": \"xfem\"");
+        if (scene.cut_front == "progressive")
+            cutter.fail("tip", "a tip enriches the element the blade is in, which the \"progressive\" front splits: use "
+                               "\"front\": \"semi\"");
+    }
     if (!(scene.snap_threshold > 0.0 && scene.snap_threshold < 0.5))
         cutter.fail("snap_threshold", fmt::format("{} is out of range (0, 0.5): a fraction of the crossed edge's length",
                                                   scene.snap_threshold));
@@ -512,6 +521,9 @@ World build_world(const Scene& scene) {
     world.cut_state.min_depth = scene.cut_min_depth;
     world.cut_state.progressive = scene.cut_front == "progressive";
     world.snap.enabled = scene.cutter == "snap";
+    if (scene.tip_radius >= 0.0 && mesh.dim != 2)
+        throw InputError(scene.file, "cutter.tip", "crack-tip enrichment is 2D only: the mesh is 3D (a 3D front is not enriched yet)");
+    world.tips.follow_radius = scene.tip_radius;
     world.snap.threshold = scene.snap_threshold;
     world.snap.visual_subdivisions = scene.visual_subdivisions;
     world.snap.collision_subdivisions = scene.collision_subdivisions;

@@ -84,6 +84,7 @@ struct Scene {
     double cut_threshold = 0.0;      ///< "cutter.threshold" [m]; 0: mean edge length
     int cut_min_depth = 1;           ///< "cutter.neighbourhood_depth"
     std::string cutter = "xfem";     ///< "cutter.type": "xfem" (enrichment) or "snap" (snapping and subdivision)
+    double tip_radius = -1.0;        ///< "cutter.tip.radius" [m]: blades carry branch-enriched tips (2D); < 0: off
     std::string cut_front = "semi";  ///< "cutter.front": "semi" (paper §3.3) or "progressive" (docs/xfem.md)
     double snap_threshold = 0.1;     ///< "cutter.snap_threshold": fraction of the crossed edge (components/snap_mesh.h)
     int visual_subdivisions = -1;    ///< "visual.subdivisions"; -1: no visual surface

@@ -205,7 +205,7 @@ public:
     const char* name() const override { return "crack tips"; }
     bool active(const World& w) const override { return w.tips.count() > 0; }
     void linearize(World& w) override {
-        if (active(w)) c_.factor(w), factored_ = {w.step, w.tips.zone()};
+        if (active(w)) c_.factor(w), factored_ = {w.step, w.tips.version};
     }
     /// f = -G_x^T b, b = -H^-1 g: the force of the condensed energy ½ g·b (added to the elastic energy).
     void force(World& w, bool first) override {
@@ -229,15 +229,17 @@ public:
     /// Its stiffness has the rank of the amplitudes and couples the whole zone: the assembled
     /// methods apply it beside A rather than fill A's pattern with dense blocks.
     bool beside_assembly() const override { return true; }
+    /// No system of its own: the SolverSystem adds its force at the step's start.
+    bool from_system() const override { return false; }
 
 private:
     /// A step whose rotations came from the ForceSystem (no linearize through the terms) factors
     /// H at its first use.
     void ensure_factor(World& w) {
-        if (factored_ != std::array<int, 2>{w.step, w.tips.zone()}) linearize(w);
+        if (factored_ != std::array<int, 2>{w.step, w.tips.version}) linearize(w);
     }
     Condensation c_;
-    std::array<int, 2> factored_{-1, -1};  ///< step and zone size of the factor
+    std::array<int, 2> factored_{-1, -1};  ///< step and zone version of the factor
 };
 
 }  // namespace
@@ -262,6 +264,7 @@ void enrich_crack_tip(World& w, const Vec3& point, const Vec3& direction, const 
 
     CrackTips& ct = w.tips;
     const int tip = ct.count();
+    ++ct.version;
     ct.point.emplace_back(f.point.x(), f.point.y(), 0.0);
     ct.direction.emplace_back(f.direction.x(), f.direction.y(), 0.0);
     std::vector<int> pair_of(w.mesh_nodes, -1);
@@ -287,5 +290,96 @@ Eigen::VectorXd crack_tip_amplitudes(World& w) {
 }
 
 std::shared_ptr<StepTerm> crack_tip_step_term() { return std::make_shared<CrackTipTerm>(); }
+
+namespace {
+
+/// Tool t's blade point (the blade's tip, world frame) in current coordinates, mapped to rest
+/// through the uncut mesh element holding it; false if none does.
+bool blade_rest_point(const World& w, int t, Vec3& rest) {
+    const ToolBodies& tb = w.tools;
+    const Vec2 p = xy(tb.position[t] + tb.orientation[t] * tb.blade_tip[t]);
+    const std::vector<int>& cut_of = w.cuts.cut_of_element;
+    for (int e = 0; e < w.mesh_elements; ++e) {
+        if (w.elements.weight[e] <= 0.0 || (e < static_cast<int>(cut_of.size()) && cut_of[e] >= 0)) continue;
+        const auto& n = w.elements.nodes[e];
+        Eigen::Matrix2d D;
+        D << xy(w.nodes.position[n[1]] - w.nodes.position[n[0]]), xy(w.nodes.position[n[2]] - w.nodes.position[n[0]]);
+        const Vec2 l = D.partialPivLu().solve(p - xy(w.nodes.position[n[0]]));
+        if (std::min({1.0 - l.x() - l.y(), l.x(), l.y()}) < -1e-12) continue;
+        rest = (1.0 - l.x() - l.y()) * w.nodes.rest[n[0]] + l.x() * w.nodes.rest[n[1]] + l.y() * w.nodes.rest[n[2]];
+        return true;
+    }
+    return false;
+}
+
+/// Moves each phantom made since the zones were built to the old tips' field on its lip.
+void transfer_to_phantoms(World& w) {
+    const CrackTips& ct = w.tips;
+    if (ct.count() == 0 || w.enriched.count() <= ct.phantoms_seen) return;
+    const Eigen::VectorXd b = crack_tip_amplitudes(w);
+    for (int p = ct.phantoms_seen; p < w.enriched.count(); ++p) {
+        const int node = w.enriched.node_of_phantom[p];
+        Vec3 shift = Vec3::Zero();
+        for (int pair = 0; pair < static_cast<int>(ct.node.size()); ++pair) {
+            if (ct.node[pair] != node) continue;
+            const int tip = ct.tip[pair];
+            const TipFrame f{xy(ct.point[tip]), xy(ct.direction[tip])};
+            const BranchValues F = branch_functions(f, xy(w.nodes.rest[node]), node_lip(w, f, node));
+            for (int l = 0; l < 4; ++l) shift.head<2>() -= 2.0 * F.f[l] * b.segment<2>(2 * (4 * pair + l));
+        }
+        w.nodes.position[w.mesh_nodes + p] = w.nodes.position[node] + shift;
+    }
+}
+
+}  // namespace
+
+bool follow_blades(World& w) {
+    CrackTips& ct = w.tips;
+    const ToolBodies& tb = w.tools;
+    ct.blade_point.resize(tb.count(), Vec3::Zero());
+    ct.blade_seen.resize(tb.count(), 0);
+    std::vector<std::array<Vec3, 2>> wanted;  // point, direction (rest)
+    for (int t = 0; t < tb.count(); ++t) {
+        Vec3 T;
+        if (!tb.has_blade[t] || !blade_rest_point(w, t, T)) {
+            ct.blade_seen[t] = 0;
+            continue;
+        }
+        // The crack runs behind the tip along the blade's travel through the rest configuration; a
+        // blade standing still keeps its tip's direction; one just entering takes its velocity's.
+        Vec3 dir = Vec3::Zero();
+        if (ct.blade_seen[t] && (T - ct.blade_point[t]).norm() > 1e-12) {
+            dir = T - ct.blade_point[t];
+        } else {
+            for (int k = 0; k < ct.count(); ++k)
+                if ((ct.point[k] - T).norm() <= 1e-12) dir = ct.direction[k];
+            if (dir.norm() == 0.0) dir = tb.velocity[t];
+        }
+        dir.z() = 0.0;
+        ct.blade_point[t] = T, ct.blade_seen[t] = 1;
+        if (dir.norm() > 1e-12) wanted.push_back({T, dir.normalized()});  // else from its next move
+    }
+    bool same = static_cast<int>(wanted.size()) == ct.count() && w.cuts.count() == ct.cuts_seen;
+    for (int k = 0; same && k < ct.count(); ++k)
+        same = (wanted[k][0] - ct.point[k]).norm() <= 1e-12 && (wanted[k][1] - ct.direction[k]).norm() <= 1e-9;
+    if (same) return false;
+    transfer_to_phantoms(w);
+    CrackTips fresh;
+    fresh.version = ct.version;
+    fresh.follow_radius = ct.follow_radius;
+    fresh.blade_point = ct.blade_point;
+    fresh.blade_seen = ct.blade_seen;
+    ct = std::move(fresh);
+    for (const auto& [T, dir] : wanted) enrich_crack_tip(w, T, dir, TipZone{ct.follow_radius});
+    ct.cuts_seen = w.cuts.count();
+    ct.phantoms_seen = w.enriched.count();
+    return true;
+}
+
+SystemDesc crack_tip_system() {
+    SystemDesc s{"CrackTipSystem", kNodes | kElements | kTools | kCutEvents, kNodes | kXfem,
+                 [](World& w) { follow_blades(w); }, "crack tips at the blades (2D)"};
+    return s.also_reads(kXfem);
+}
 
 }  // namespace xcut

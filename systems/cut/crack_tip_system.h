@@ -17,6 +17,7 @@
 // damps anyway.
 #include <memory>
 
+#include "engine/scheduler.h"
 #include "engine/world.h"
 #include "systems/step_term.h"
 
@@ -34,6 +35,17 @@ struct TipZone {
 /// points per fan triangle). Throws std::invalid_argument for a 3D mesh, the snapping cutter, a
 /// tip outside the mesh, a zero direction or a negative radius.
 void enrich_crack_tip(World& world, const Vec3& point, const Vec3& direction, const TipZone& zone = {});
+
+/// Blades carry tips (2D, scene cutter.tip, CrackTips::follow_radius >= 0): a bladed tool whose
+/// blade point lies in an uncut mesh element (the one the semi-progressive front has not split yet)
+/// gets a tip at that point, the crack behind it along the blade's travel. When a tip moved or the
+/// topology changed, the zones are built again; before that, each phantom the cuts made since the
+/// last build takes the position the old tips' field gives its lip at its node, x_j - 2 Σ_l F_l b_jl
+/// (the other lip's branch functions are the own lip's negated), so the opening the tip carried in
+/// an element survives its split (state transfer). Returns whether it built the zones again.
+bool follow_blades(World& world);
+/// The CrackTipSystem: follow_blades each step, after the EnrichmentSystem.
+SystemDesc crack_tip_system();
 
 /// The amplitudes b of every function (2 per function, world frame [sqrt(m)]) at the current
 /// positions and rotations, as the step's term condenses them: for output and tests.

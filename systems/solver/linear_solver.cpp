@@ -123,8 +123,12 @@ CgResult jacobi_cg(World& w, const StepOperator& op, double mass_scale, double s
                    const Eigen::VectorXd& mask, const CgLimits& limits, Eigen::VectorXd& x) {
     const int nodes = w.nodes.count();
     Eigen::VectorXd inverse(3 * nodes);
-    for (int i = 0; i < 3 * nodes; ++i)
-        inverse[i] = 1.0 / (mass_scale * w.nodes.mass[i / 3] + stiff_scale * w.forces.stiffness_diagonal[i]);
+    // An axis with no stiffness and no mass in A (a static solve's 2D z axis, held) gets 1: its
+    // residual is masked to 0, and 0 x infinity would be NaN.
+    for (int i = 0; i < 3 * nodes; ++i) {
+        const double d = mass_scale * w.nodes.mass[i / 3] + stiff_scale * w.forces.stiffness_diagonal[i];
+        inverse[i] = d > 0.0 ? 1.0 / d : 1.0;
+    }
     op.prepare_product(w);
     const auto product = [&](const Eigen::VectorXd& p, Eigen::VectorXd& q) {
         op.stiffness_product_in_team(w, p, q);

@@ -182,6 +182,7 @@ void implicit_euler_step(World& world, const StepOperator& op) {
     Eigen::VectorXd m3(n3);
     for (int i = 0; i < nodes.count(); ++i) m3.segment<3>(3 * i).setConstant(nodes.mass[i]);
     const Eigen::VectorXd mask = free_mask(world);
+    op.add_start_forces(world);  // the terms no system computes (crack tips) join the step's force
     const double start_energy = world.forces.elastic_energy;
 
     // A solve above its tolerance is not accepted: solve_linear renews a stale factor first; then

@@ -170,6 +170,56 @@ TEST(CrackTip, ForceAndStiffnessAreConsistent) {
     EXPECT_GT((K0p - Kp).norm(), 1e-3 * Kp.norm());
 }
 
+/// A 10 x 11-cell plate cut to its middle, the tip enriched within two cells, its top and bottom
+/// edges held 1e-6 W apart (mode I), with `method` as the linear solver.
+World pulled_tip_plate(const std::string& method) {
+    Material m;
+    m.young = 1e4, m.poisson = 0.3, m.thickness = 1e-3, m.density = 1000.0;
+    World w = world_from_mesh(generate_plate(grid({kWidth, kWidth, 0}, {10, 11, 1})), m);
+    const Vec3 tip(0.5 * kWidth, 0.5 * kWidth, 0.0);
+    cut_now(w, {Vec3(-kWidth, tip.y(), 0), tip});
+    enrich_crack_tip(w, tip, Vec3(1, 0, 0), TipZone{0.2 * kWidth});
+    for (int i = 0; i < w.mesh_nodes; ++i) {
+        const double y = w.nodes.rest[i].y();
+        if (y > 1e-12 && y < kWidth - 1e-12) continue;
+        w.nodes.fixed[i] |= 3;
+        w.nodes.position[i].y() += (y > 0.0 ? 0.5 : -0.5) * 1e-6 * kWidth;
+    }
+    w.solver.linear = method;
+    w.solver.cg_tolerance = 1e-12;
+    w.solver.cg_max_iterations = 5000;
+    return w;
+}
+
+TEST(CrackTip, DynamicStepsSettleOnTheStaticSolution) {
+    // The SolverSystem adds the tips' force at a step's start (no system computes it): heavily
+    // damped implicit Euler steps reach static_solve's equilibrium, with the matrix-free and the
+    // assembled methods (whose CG adds the tips' product beside A).
+    World reference = pulled_tip_plate("jacobi");
+    const StaticResult r = static_solve(reference, xcut_step_terms(), 1e-10, 30, 1e-13, 5000);
+    ASSERT_TRUE(r.converged);
+    double scale = 0.0;
+    for (int i = 0; i < reference.mesh_nodes; ++i) scale = std::max(scale, (reference.nodes.position[i] - reference.nodes.rest[i]).norm());
+    for (const char* method : {"jacobi", "cholesky"}) {
+        World w = pulled_tip_plate(method);
+        w.solver.dt = 0.01;
+        w.solver.damping_mass = 200.0;  // [1/s]: overdamped, settles within the run
+        for (int k = 0; k < 400; ++k) testing::step_world(w);
+        double worst = 0.0;
+        for (int i = 0; i < w.mesh_nodes; ++i)
+            worst = std::max(worst, (w.nodes.position[i] - reference.nodes.position[i]).norm());
+        EXPECT_LT(worst, 1e-6 * scale) << method;
+        // The tip matters: the static solution without it differs by far more.
+        World plain = pulled_tip_plate("jacobi");
+        plain.tips = CrackTips{};
+        ASSERT_TRUE(static_solve(plain, xcut_step_terms(), 1e-12, 20, 1e-13, 5000).converged);
+        double apart = 0.0;
+        for (int i = 0; i < w.mesh_nodes; ++i)
+            apart = std::max(apart, (plain.nodes.position[i] - reference.nodes.position[i]).norm());
+        EXPECT_GT(apart, 1e-2 * scale);
+    }
+}
+
 TEST(CrackTip, ARefusedTipSaysWhy) {
     World w = world_from_mesh(generate_plate(grid({kWidth, kWidth, 0}, {4, 5, 1})));
     EXPECT_THROW(enrich_crack_tip(w, Vec3(2 * kWidth, 0, 0), Vec3(1, 0, 0)), std::invalid_argument);

@@ -110,6 +110,20 @@ std::vector<BadScene> bad_scenes() {
          "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
          "\"cutter\": { \"type\": \"snap\", \"front\": \"progressive\" } }",
          "cutter.front", "needs \"type\": \"xfem\""},
+        {"crack tip with snapping",
+         "!{ \"mesh\": { \"generator\": \"plate\", \"size\": [0.01, 0.01, 0], \"cells\": [2, 2, 1] }, \"gravity\": [0, 0, 0], "
+         "\"cutter\": { \"type\": \"snap\", \"tip\": { \"radius\": 0.001 } } }",
+         "cutter.tip", "needs \"type\": \"xfem\""},
+        {"crack tip on the progressive front",
+         "!{ \"mesh\": { \"generator\": \"plate\", \"size\": [0.01, 0.01, 0], \"cells\": [2, 2, 1] }, \"gravity\": [0, 0, 0], "
+         "\"cutter\": { \"front\": \"progressive\", \"tip\": {} } }",
+         "cutter.tip", "use \"front\": \"semi\""},
+        {"crack tip in 3D", "cutter.tip={\"radius\": 0.001}", "cutter.tip", "2D only"},
+        {"negative tip radius",
+         "!{ \"mesh\": { \"generator\": \"plate\", \"size\": [0.01, 0.01, 0], \"cells\": [2, 2, 1] }, \"gravity\": [0, 0, 0], "
+         "\"cutter\": { \"tip\": { \"radius\": -1 } } }",
+         "cutter.tip.radius", "out of range"},
+        {"unknown tip field", "cutter.tip={\"size\": 1}", "cutter.tip.size", "unknown field"},
         {"key given twice", "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
                             "\"solver\": { \"dt\": 0.01, \"dt\": 0.02 } }",
          "solver.dt", "given twice"},
