@@ -202,9 +202,9 @@ TEST(CrackTip, DynamicStepsSettleOnTheStaticSolution) {
     for (int i = 0; i < reference.mesh_nodes; ++i) scale = std::max(scale, (reference.nodes.position[i] - reference.nodes.rest[i]).norm());
     for (const char* method : {"jacobi", "cholesky"}) {
         World w = pulled_tip_plate(method);
-        w.solver.dt = 0.01;
+        w.solver.dt = 0.1;
         w.solver.damping_mass = 200.0;  // [1/s]: overdamped, settles within the run
-        for (int k = 0; k < 400; ++k) testing::step_world(w);
+        for (int k = 0; k < 40; ++k) testing::step_world(w);
         double worst = 0.0;
         for (int i = 0; i < w.mesh_nodes; ++i)
             worst = std::max(worst, (w.nodes.position[i] - reference.nodes.position[i]).norm());
