@@ -63,6 +63,12 @@ void StepOperator::add_start_forces(World& world) const {
         }
 }
 
+bool StepOperator::any_beside(const World& world) const {
+    bool any = false;
+    in_order(terms, world, [](const StepTerm& t) { return t.beside_assembly(); }, [&](StepTerm&, bool) { any = true; });
+    return any;
+}
+
 bool StepOperator::add_beside_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, double scale,
                                       const Eigen::VectorXd& mask) const {
     bool any = false;

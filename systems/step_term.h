@@ -84,6 +84,8 @@ struct StepOperator {
     /// Linearizes and adds the force of every active term that no scheduled system computes
     /// (from_system false), at the step's start.
     void add_start_forces(World& world) const;
+    /// Whether an active term is kept beside the assembly now.
+    bool any_beside(const World& world) const;
     /// out += scale mask (K_t (mask p)) over the active terms kept beside the assembly; whether any is.
     bool add_beside_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, double scale,
                             const Eigen::VectorXd& mask) const;

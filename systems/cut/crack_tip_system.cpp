@@ -33,8 +33,6 @@ std::array<Vec2, 3> rest_triangle(const World& w, int e) {
     return {xy(w.nodes.rest[n[0]]), xy(w.nodes.rest[n[1]]), xy(w.nodes.rest[n[2]])};
 }
 
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 /// Whether rest point T lies in the closure of triangle X (to 1e-9 of its barycentric coordinates).
 bool holds(const std::array<Vec2, 3>& X, const Vec2& T) {
     Eigen::Matrix2d D;

@@ -53,8 +53,6 @@ void gauss_legendre_unit(int n, std::vector<double>& x, std::vector<double>& w) 
 
 namespace {
 
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 /// Distance from p to the segment [a, b].
 double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
     const Vec2 ab = b - a;

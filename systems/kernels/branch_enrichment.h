@@ -23,6 +23,9 @@ namespace xcut {
 
 using Vec2 = Eigen::Vector2d;
 
+/// The z component of a x b (twice the signed area of the triangle 0, a, b).
+inline double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
 /// A crack tip: where it is, and the crack's direction there (unit, pointing ahead of the tip). Side
 /// +1 of the crack is to the left of the direction (the normal is the direction turned by +90°).
 struct TipFrame {

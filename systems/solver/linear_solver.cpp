@@ -157,8 +157,7 @@ public:
     template <class Rows, class Whole>
     CgResult cg(Preconditioning mode, Rows&& rows, Whole&& whole) {
         const LinearSystem& A = A_;
-        const bool beside = std::any_of(op_.terms.begin(), op_.terms.end(),
-                                        [&](const auto& t) { return t->beside_assembly() && t->active(w_); });
+        const bool beside = op_.any_beside(w_);
         const auto product = [&](const Eigen::VectorXd& v, Eigen::VectorXd& q) {
 #pragma omp for schedule(static)
             for (int i = 0; i < A.rows(); ++i) linear_multiply_rows(A, i, i + 1, v, q);
@@ -362,10 +361,11 @@ void step_product(World& w, const StepOperator& op, double mass_scale, double st
                   Eigen::MatrixXd& AV) {
     if (w.linear.method != "jacobi") {
         linear_multiply_columns(w.linear, V, AV);
+        if (!op.any_beside(w)) return;  // the common case: no mask, no copies in the step's guess
         const Eigen::VectorXd mask = free_mask(w);
         for (Eigen::Index j = 0; j < V.cols(); ++j) {
             Eigen::VectorXd column = AV.col(j);
-            if (!op.add_beside_product(w, V.col(j), column, stiff_scale, mask)) return;
+            op.add_beside_product(w, V.col(j), column, stiff_scale, mask);
             AV.col(j) = column;
         }
         return;
