@@ -50,6 +50,8 @@ struct LinearSystem {
     /// Per incidence entry (mesh incidence, then the virtual one): for each local node b of the
     /// entry's element, the block (row: the entry's node, column: node b) its term goes to.
     std::vector<std::array<int, 4>> mesh_slot, virtual_slot;
+    /// The same per entry of the quadratic elements' incidence, for their 10 nodes.
+    std::vector<std::array<int, 10>> quadratic_slot;
     uint64_t topology = 0;              ///< hash of the element node ids the pattern was built for
     /// Kept between pattern rebuilds (systems/solver/linear_assembly.cpp): each row's candidate
     /// columns in one flat buffer, and where each row's stretch of it starts.

@@ -18,6 +18,9 @@ struct Material {
     /// Friction of the wound's lips on the blade [N/m] per metre of edge in the tissue, against the
     /// blade's motion in any direction (a stab too). 0: none.
     double blade_friction = 0.0;
+    /// "element": "quadratic": its tetrahedra are 10-node quadratic ones (components/quadratic_elements.h),
+    /// which neither lock in bending nor, as much, as nu nears 0.5; false: the linear element.
+    bool quadratic = false;
 
     double mu() const { return young / (2.0 * (1.0 + poisson)); }
     double lambda() const { return young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson)); }

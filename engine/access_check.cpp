@@ -21,11 +21,11 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
             const Elements& e = w.elements;
             return h.all(e.nodes, e.rest_volume, e.dm_inv, e.rotation, e.material, e.region, e.body, e.weight,
                          w.incidence.offset, w.incidence.entry, w.virtual_incidence.offset, w.virtual_incidence.entry,
-                         w.mesh_elements);
+                         w.mesh_elements, w.quadratic.nodes, w.quadratic.incidence.offset, w.quadratic.incidence.entry);
         }
         case kForces: {
             const ForceState& f = w.forces;
-            h.all(f.element_buffer, f.elastic_energy);
+            h.all(f.element_buffer, f.quadratic_buffer, f.elastic_energy);
             h.bytes(f.force.data(), sizeof(double) * f.force.size());
             h.bytes(f.stiffness_diagonal.data(), sizeof(double) * f.stiffness_diagonal.size());
             return h.bytes(f.last_dv.data(), sizeof(double) * f.last_dv.size());

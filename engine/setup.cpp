@@ -2,6 +2,8 @@
 
 #include <Eigen/LU>
 
+#include "engine/quadratic_setup.h"
+
 namespace xcut {
 
 void build_bodies(World& world, const MeshData& mesh, const std::vector<uint16_t>& material_of_cell) {
@@ -27,6 +29,7 @@ void build_bodies(World& world, const MeshData& mesh, const std::vector<uint16_t
     for (int e = 0; e < m; ++e) compute_rest_shape(world, e);
     world.mesh_nodes = n;
     world.mesh_elements = m;
+    build_quadratic_elements(world);
     lump_masses(world);
     build_incidence(world);
     apply_constraints(world);
@@ -65,8 +68,11 @@ void compute_rest_shape(World& world, int e) {
 
 double element_mass_share(const World& world, int e) {
     const Elements& el = world.elements;
-    return world.materials.list[el.material[e]].density * el.rest_volume[e] * el.weight[e] /
-           el.nodes_per_element();
+    const Material& m = world.materials.list[el.material[e]];
+    // A quadratic element's corners take the HRZ share (systems/kernels/quadratic_tet.h), its
+    // mid-edge nodes the rest (quadratic_edge_mass).
+    const double mass = m.density * el.rest_volume[e] * el.weight[e];
+    return m.quadratic ? mass / 36.0 : mass / el.nodes_per_element();
 }
 
 void relump_nodes(World& world, const std::vector<int>& nodes) {
@@ -77,7 +83,7 @@ void relump_nodes(World& world, const std::vector<int>& nodes) {
         if (i < world.mesh_nodes)
             for (int p = mesh.offset[i]; p < mesh.offset[i + 1]; ++p) m += element_mass_share(world, mesh.entry[p] >> 2);
         for (int p = virt.offset[i]; p < virt.offset[i + 1]; ++p) m += element_mass_share(world, virt.entry[p] >> 2);
-        world.nodes.mass[i] = m;
+        world.nodes.mass[i] = m + quadratic_edge_mass(world, i);
     }
 }
 
@@ -90,6 +96,8 @@ void lump_masses(World& world) {
         const double share = element_mass_share(world, e);
         for (int a = 0; a < npe; ++a) nodes.mass[el.nodes[e][a]] += share;
     }
+    for (int i = world.quadratic.first_edge_node; i < world.mesh_nodes && world.quadratic.count() > 0; ++i)
+        nodes.mass[i] = quadratic_edge_mass(world, i);
 }
 
 void apply_constraints(World& world) {
@@ -113,6 +121,7 @@ void apply_constraints(World& world) {
                 if ((set.axes >> k) & 1) nodes.position[i][k] = nodes.rest[i][k] + set.displacement[k];
         }
     for (int i : world.constraints.nodes) nodes.fixed[i] = 7;
+    constrain_edge_nodes(world);
     // A node no element touches would have zero mass: hold it so the system stays SPD.
     for (int i = 0; i < nodes.count(); ++i)
         if (nodes.mass[i] <= 0.0) nodes.fixed[i] = 7;

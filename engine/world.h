@@ -18,6 +18,7 @@
 #include "components/metrics.h"
 #include "components/nodes.h"
 #include "components/pieces.h"
+#include "components/quadratic_elements.h"
 #include "components/snap_mesh.h"
 #include "components/surface_mesh.h"
 #include "components/tools.h"
@@ -91,6 +92,7 @@ struct ForceState {
     Eigen::VectorXd force;                          ///< 3 per DOF node [N]: elastic + gravity
     Eigen::VectorXd stiffness_diagonal;             ///< diag(K) [N/m]
     std::vector<std::array<Vec3, 4>> element_buffer;  ///< per-element nodal terms before gathering
+    std::vector<std::array<Vec3, 10>> quadratic_buffer;  ///< the same per quadratic element
     Eigen::VectorXd last_dv;                        ///< previous step's velocity change: CG's first guess
     double elastic_energy = 0.0;                    ///< [J]
 };
@@ -109,6 +111,7 @@ struct World {
     Elements elements;
     Incidence incidence;          ///< mesh node -> mesh element (fixed topology)
     Incidence virtual_incidence;  ///< DOF node -> virtual element; rebuilt from the virtual elements only
+    QuadraticElements quadratic;  ///< the 10-node tetrahedra of quadratic materials (none: all linear)
     LinearSystem linear;          ///< the step's assembled system and the solver's kept factor
     /// What reading the mesh repaired or read differently from its file (MeshData::notes), each
     /// "file: note"; the front end prints them as warnings.

@@ -5,14 +5,18 @@
 #include "engine/parallel.h"
 #include "systems/kernels/corotational_kernel.h"
 #include "systems/kernels/polar_decomposition.h"
+#include "systems/kernels/quadratic_elastic.h"
 
 namespace xcut {
 
 LameParameters lame_of(const Material& m, int dim) {
+    if (m.quadratic) return {0.0, 0.0};
     return {dim == 3 ? m.lambda() : m.lambda_plane_stress(), m.mu()};
 }
 
 namespace {
+
+QuadraticView quadratic_view(const World& w) { return {w.quadratic, w.elements, w.materials}; }
 
 std::array<Vec3, 4> gather_vectors(const std::array<int, 4>& ids, int npe, const Vec3* v) {
     std::array<Vec3, 4> out;
@@ -105,6 +109,7 @@ Vec3 gathered(const World& world, int i) {
     if (i < world.mesh_nodes)
         for (int k = mesh.offset[i]; k < mesh.offset[i + 1]; ++k) s += buf[mesh.entry[k] >> 2][mesh.entry[k] & 3];
     for (int k = virt.offset[i]; k < virt.offset[i + 1]; ++k) s += buf[virt.entry[k] >> 2][virt.entry[k] & 3];
+    if (world.quadratic.count() > 0) s += quadratic_gathered(world.quadratic, world.forces.quadratic_buffer, i);
     return s;
 }
 
@@ -125,7 +130,21 @@ double elastic_energy_dim(const World& world) {
         energy[e] = corotational_forces<D>(gather_vectors(el.nodes[e], D + 1, x), dm_inv, R, el.rest_volume[e] * el.weight[e],
                                            lame_of(world.materials.list[el.material[e]], D), unused);
     });
-    return deterministic_sum(el.count(), [&](int e) { return energy[e]; });
+    double quadratic = 0.0;
+    if (world.quadratic.count() > 0) {  // each element's rotation from its corners' F, as above
+        const QuadraticElements& q = world.quadratic;
+        std::vector<double> part(q.count());
+        parallel_for(q.count(), [&](int t) {
+            const int e = q.element[t];
+            const Mat3 R = extract_rotation(Mat3(edge_matrix<3>(gather_vectors(el.nodes[e], 4, x)) * el.dm_inv[e]), el.rotation[e]);
+            Tet10Vectors xs, unused;
+            for (int a = 0; a < 10; ++a) xs[a] = x[q.nodes[t][a]];
+            part[t] = tet10_forces(xs, tet10_gradients(el.dm_inv[e]), R, el.rest_volume[e] * el.weight[e],
+                                   quadratic_lame(world.materials.list[el.material[e]]), unused);
+        });
+        quadratic = deterministic_sum(q.count(), [&](int t) { return part[t]; });
+    }
+    return deterministic_sum(el.count(), [&](int e) { return energy[e]; }) + quadratic;
 }
 
 void ensure_buffers(World& world) {
@@ -134,6 +153,7 @@ void ensure_buffers(World& world) {
     if (fs.force.size() != n3) fs.force.setZero(n3);
     if (fs.stiffness_diagonal.size() != n3) fs.stiffness_diagonal.setZero(n3);
     fs.element_buffer.resize(world.elements.count());
+    fs.quadratic_buffer.resize(world.quadratic.count());
 }
 
 }  // namespace
@@ -160,8 +180,11 @@ void compute_forces(World& world) {
     } else {
         compute_forces_dim<2>(world, energy);
     }
+    const double quadratic = world.quadratic.count() > 0
+                                 ? quadratic_forces(quadratic_view(world), world.nodes.position.data(), fs.quadratic_buffer)
+                                 : 0.0;
     gather_element_terms(world, fs.force);
-    fs.elastic_energy = deterministic_sum(static_cast<int>(energy.size()), [&](int e) { return energy[e]; });
+    fs.elastic_energy = deterministic_sum(static_cast<int>(energy.size()), [&](int e) { return energy[e]; }) + quadratic;
     const Nodes& nodes = world.nodes;
     parallel_for(nodes.count(), [&](int i) { fs.force.segment<3>(3 * i) += nodes.mass[i] * world.gravity; });
 
@@ -175,6 +198,7 @@ void compute_stiffness_diagonal(World& world) {
     } else {
         stiffness_diagonal_dim<2>(world);
     }
+    if (world.quadratic.count() > 0) quadratic_diagonals(quadratic_view(world), world.forces.quadratic_buffer);
     gather_element_terms(world, world.forces.stiffness_diagonal);
 }
 
@@ -189,6 +213,8 @@ void elastic_stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::Ve
     } else {
         stiffness_product_dim<2>(world, p);
     }
+    if (world.quadratic.count() > 0)
+        quadratic_products(quadratic_view(world), reinterpret_cast<const Vec3*>(p.data()), world.forces.quadratic_buffer);
     gather_element_terms(world, out);
 }
 
@@ -247,6 +273,10 @@ public:
             if (world.elements.dim == 3) stiffness_product_element<3>(world, pv, e);
             else stiffness_product_element<2>(world, pv, e);
         }
+        const QuadraticView view = quadratic_view(world);
+        const int quadratic = world.quadratic.count();
+#pragma omp for schedule(static)
+        for (int t = 0; t < quadratic; ++t) quadratic_product_element(view, pv, t, world.forces.quadratic_buffer);
 #pragma omp for schedule(static)
         for (int i = 0; i < nodes; ++i) {
             if (first) out.segment<3>(3 * i) = gathered(world, i);
@@ -257,6 +287,7 @@ public:
     void prepare_rows(const World& world, double stiff_scale) override {
         if (world.elements.dim == 3) element_terms<3>(world, stiff_scale, terms_);
         else element_terms<2>(world, stiff_scale, terms_);
+        if (world.quadratic.count() > 0) quadratic_block_terms(quadratic_view(world), stiff_scale, quadratic_terms_);
     }
     /// Row i's blocks, each element's row summed in incidence order (the matrix-free gather's).
     void add_row(const World& world, int i, LinearSystem& A) const override {
@@ -270,10 +301,12 @@ public:
             for (int b = 0; b < npe; ++b)
                 add_corotational_stiffness_block(lambda_ra, mu_ra, t.r[b], dim, A.value.data() + 9 * slot[b]);
         });
+        if (world.quadratic.count() > 0) add_quadratic_row(world.quadratic, quadratic_terms_, i, A);
     }
 
 private:
     std::vector<ElementTerms> terms_;
+    std::vector<QuadraticBlocks> quadratic_terms_;
 };
 
 }  // namespace

@@ -1,4 +1,4 @@
-// xcut bench --suite perf|cut|mapping|collision|accuracy|solver|mesh_io|cutstep|cutforce: benchmarks that print figures and write
+// xcut bench --suite perf|cut|mapping|collision|accuracy|solver|mesh_io|cutstep|cutforce|locking: benchmarks that print figures and write
 // CSV (never pass/fail); docs/BENCHMARKS.md is generated from their CSVs by tools/report/.
 #include <algorithm>
 #include <map>
@@ -9,6 +9,7 @@
 #include "tools/bench/bench_cut.h"
 #include "tools/bench/bench_cutforce.h"
 #include "tools/bench/bench_cutstep.h"
+#include "tools/bench/bench_locking.h"
 #include "tools/bench/bench_mapping.h"
 #include "tools/bench/bench_mesh_io.h"
 #include "tools/bench/bench_solver.h"
@@ -33,8 +34,9 @@ void add_bench_options(CLI::App& cmd, BenchOptions& o) {
                    "run time, XFEM and snapping (docs/verification.md problems 3, 5, 6); solver: every linear method against "
                    "jacobi, and 1 vs 2 threads under load; mesh_io: reading a 200k-tet mesh in each binary format; cutstep: "
                    "step times through a continuous cut, the steps that split against the median; cutforce: the blade's cutting "
-                   "resistance against its speed and depth")
-        ->check(CLI::IsMember({"perf", "cut", "mapping", "collision", "accuracy", "solver", "mesh_io", "cutstep", "cutforce"}));
+                   "resistance against its speed and depth; locking: the clamped beam at nu 0-0.49, linear against quadratic tetrahedra")
+        ->check(CLI::IsMember({"perf", "cut", "mapping", "collision", "accuracy", "solver", "mesh_io", "cutstep", "cutforce",
+                               "locking"}));
     cmd.add_option("--sizes", o.perf.sizes, "Target tetrahedron counts")->delimiter(',');
     cmd.add_option("--threads", o.perf.threads, "Thread counts (perf)")->delimiter(',');
     cmd.add_option("--steps", o.perf.steps, "Timed steps per run (perf)")->check(CLI::PositiveNumber);
@@ -46,9 +48,10 @@ void add_bench_options(CLI::App& cmd, BenchOptions& o) {
     cmd.add_option("--cases", o.cases, "Only these cases (solver, cutstep; a partial run writes its quick CSV): solver: "
                    "skin_slab, hand_dorsum, block_2k, block_53k, block_200k, thin_membrane; cutstep: skin_2mm, skin_1mm, "
                    "skin_0.7mm, block_20k, block_53k, block_200k")->delimiter(',');
-    cmd.add_flag("--tiny", o.accuracy_tiny, "The small configuration (accuracy, solver, mesh_io, cutstep, cutforce): writes its own CSV");
+    cmd.add_flag("--tiny", o.accuracy_tiny,
+                 "The small configuration (accuracy, solver, mesh_io, cutstep, cutforce, locking): writes its own CSV");
     cmd.add_option("--cache-dir", o.accuracy.cache_dir,
-                   "Where the conforming reference of problem 5 is cached (accuracy; default $XDG_CACHE_HOME/xcut/accuracy, ~/.cache/xcut/accuracy)");
+                   "Where the CalculiX references are cached (accuracy, locking; default $XDG_CACHE_HOME/xcut/accuracy, ~/.cache/xcut/accuracy)");
     cmd.add_flag("--no-plots", o.accuracy_no_plots, "CSV only (accuracy)");
 }
 
@@ -95,6 +98,7 @@ const std::map<std::string, std::vector<const char*>> kSuiteOptions = {
     {"mesh_io", {"--tiny"}},
     {"cutstep", {"--cases", "--tiny"}},
     {"cutforce", {"--tiny"}},
+    {"locking", {"--tiny", "--cache-dir"}},
 };
 /// Options that change what a suite measures: with any of them given, the run is partial and
 /// writes its quick CSV, never the committed record.
@@ -162,6 +166,12 @@ int run_bench(const CLI::App& cmd, const BenchOptions& o) {
         c.tiny = o.accuracy_tiny;
         c.csv = csv_for(cmd, perf.csv, c.csv, partial);
         return cutforce_bench_command(c);
+    }
+    if (o.suite == "locking") {
+        LockingBenchOptions l;
+        l.tiny = o.accuracy_tiny, l.cache_dir = o.accuracy.cache_dir;
+        l.csv = csv_for(cmd, perf.csv, l.csv, partial);
+        return locking_bench_command(l);
     }
     if (o.suite == "cut") {
         CutBenchOptions cut = o.cut;

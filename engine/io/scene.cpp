@@ -474,6 +474,22 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
     return scene;
 }
 
+/// A quadratic material where xcut has no quadratic element yet: a 2D mesh, a cut.
+void refuse_quadratic_where_unsupported(const World& world, const Scene& scene, int dim) {
+    for (const Material& m : world.materials.list) {
+        if (!m.quadratic) continue;
+        const std::string what = fmt::format("material \"{}\" asks for quadratic elements, ", m.name);
+        if (dim != 3)
+            throw InputError(scene.file, "material.element", what + "which are tetrahedra: the mesh is 2D (use \"linear\")");
+        bool blade = !scene.cuts.empty();
+        for (int i = 0; i < scene.tools.count(); ++i) blade = blade || scene.tools.has_blade[i];
+        if (blade)
+            throw InputError(scene.file, "material.element",
+                             what + "which cannot be cut yet: the scene has a blade or a scripted cut (use \"linear\" "
+                                    "for tissue that is cut, docs/scene-format.md)");
+    }
+}
+
 }  // namespace
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
@@ -528,10 +544,17 @@ World build_world(const Scene& scene) {
     world.snap.visual_subdivisions = scene.visual_subdivisions;
     world.snap.collision_subdivisions = scene.collision_subdivisions;
     world.constraints.sets = resolve_fixed_sets(scene, bodies);
-    build_bodies(world, mesh, bodies.material_of_cell);
+    refuse_quadratic_where_unsupported(world, scene, mesh.dim);
+    try {
+        build_bodies(world, mesh, bodies.material_of_cell);
+    } catch (const std::invalid_argument& e) {  // a quadratic material the mesh cannot take
+        throw InputError(scene.file, "material.element", e.what());
+    }
     world.elements.body = std::move(bodies.body_of_cell);
     world.body_names = std::move(bodies.names);
     world.mesh_file_index = std::move(bodies.file_index);
+    if (!world.mesh_file_index.empty())  // the mid-edge nodes of quadratic elements are in no file
+        world.mesh_file_index.resize(world.mesh_nodes, -1);
     // Several bodies are apart in the mesh: a blade leaving one must find the next by position, not
     // by the crossed elements' neighbours (systems/cut/cut_system.h).
     world.cut_state.bvh_every_quad = world.body_names.size() > 1;

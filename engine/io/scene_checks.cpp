@@ -92,12 +92,12 @@ void check_materials(const World& w, std::vector<std::string>& out) {
             out.push_back(fmt::format("density: material \"{}\" has {:.4g} kg/m^3, outside tissue's {:.0f}-{:.0f} kg/m^3 "
                                       "(water is 1000){}",
                                       m.name, m.density, kTissueDensityMin, kTissueDensityMax, silence("density")));
-        if (m.poisson >= kLockingPoisson)
+        if (m.poisson >= kLockingPoisson && !m.quadratic)
             out.push_back(fmt::format(
                 "poisson: material \"{}\" has nu = {:.3g}: linear tetrahedra lock as nu nears 0.5 (volumetric "
-                "locking, from about {:.2f}), so the tissue comes out too stiff, the more so the coarser the mesh; xcut "
-                "has no locking-free element yet: use nu <= {:.2f} or a finer mesh, and read displacements as a lower "
-                "bound{}",
+                "locking, from about {:.2f}), so the tissue comes out too stiff, the more so the coarser the mesh: give "
+                "the material \"element\": \"quadratic\" (tissue that is not cut; docs/elements.md), or use nu <= {:.2f} "
+                "or a finer mesh and read displacements as a lower bound{}",
                 m.name, m.poisson, kLockingPoisson, kLockingPoisson - 0.05, silence("poisson")));
     }
 }

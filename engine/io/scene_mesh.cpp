@@ -113,7 +113,7 @@ std::vector<RegionMaterial> read_region_materials(const JsonFields& top, const M
 }
 
 Material read_material(const JsonFields& mat, const Material& base) {
-    mat.allow_only({"name", "young", "poisson", "density", "thickness", "toughness", "blade_friction"});
+    mat.allow_only({"name", "young", "poisson", "density", "thickness", "toughness", "blade_friction", "element"});
     Material m;
     m.name = mat.string("name", base.name);
     m.young = mat.number("young", base.young, 1e-12);
@@ -122,6 +122,7 @@ Material read_material(const JsonFields& mat, const Material& base) {
     m.thickness = mat.number("thickness", base.thickness, 1e-12);
     m.toughness = mat.number("toughness", base.toughness, 0.0, 1e6);
     m.blade_friction = mat.number("blade_friction", base.blade_friction, 0.0, 1e6);
+    m.quadratic = mat.choice("element", base.quadratic ? "quadratic" : "linear", {"linear", "quadratic"}) == "quadratic";
     return m;
 }
 

@@ -15,6 +15,8 @@ uint64_t topology_hash(const World& w) {
     uint64_t h = 1469598103934665603ull ^ static_cast<uint64_t>(w.nodes.count());
     for (const auto& n : w.elements.nodes)
         for (int id : n) h = (h ^ static_cast<uint64_t>(static_cast<uint32_t>(id))) * 1099511628211ull;
+    for (const auto& n : w.quadratic.nodes)
+        for (int id : n) h = (h ^ static_cast<uint64_t>(static_cast<uint32_t>(id))) * 1099511628211ull;
     return h;
 }
 
@@ -31,6 +33,20 @@ void filter_held_axes(const World& w, LinearSystem& A) {
                     if (((fixed[i] >> r) & 1) || ((fixed[j] >> c) & 1)) blk(r, c) = (i == j && r == c) ? 1.0 : 0.0;
         }
     });
+}
+
+/// Calls f(k, t) for every entry k of node i in the quadratic elements' incidence (t: the element).
+template <class F>
+void for_quadratic(const World& w, int i, F&& f) {
+    const Incidence& inc = w.quadratic.incidence;
+    if (i + 1 >= static_cast<int>(inc.offset.size())) return;
+    for (int k = inc.offset[i]; k < inc.offset[i + 1]; ++k) f(k, inc.entry[k] >> 4);
+}
+
+int quadratic_incident(const World& w, int i) {
+    int n = 0;
+    for_quadratic(w, i, [&](int, int) { ++n; });
+    return n;
 }
 
 /// Resizes v to n, growing its storage by half again when it must grow: a split adds a few blocks,
@@ -59,7 +75,7 @@ bool ensure_linear_pattern(World& w) {
     for (int i = 0; i < n; ++i) {
         int incident = w.virtual_incidence.offset[i + 1] - w.virtual_incidence.offset[i];
         if (i < w.mesh_nodes) incident += w.incidence.offset[i + 1] - w.incidence.offset[i];
-        bound[i + 1] = bound[i] + npe * incident + 1;
+        bound[i + 1] = bound[i] + npe * incident + 10 * quadratic_incident(w, i) + 1;
     }
     resize_with_room(flat, static_cast<size_t>(bound[n]));
     resize_with_room(A.row_offset, static_cast<size_t>(n) + 1);
@@ -69,6 +85,7 @@ bool ensure_linear_pattern(World& w) {
         for_incident(w, i, [&](bool, int, int entry) {
             for (int b = 0; b < npe; ++b) *last++ = w.elements.nodes[entry >> 2][b];
         });
+        for_quadratic(w, i, [&](int, int t) { last = std::copy(w.quadratic.nodes[t].begin(), w.quadratic.nodes[t].end(), last); });
         *last++ = i;
         std::sort(first, last);
         A.row_offset[i + 1] = static_cast<int>(std::unique(first, last) - first);
@@ -83,12 +100,16 @@ bool ensure_linear_pattern(World& w) {
     }, 256);
     resize_with_room(A.mesh_slot, w.incidence.entry.size());
     resize_with_room(A.virtual_slot, w.virtual_incidence.entry.size());
+    resize_with_room(A.quadratic_slot, w.quadratic.incidence.entry.size());
     parallel_for(n, [&](int i) {
         A.diagonal[i] = find_block(A, i, i);
         for_incident(w, i, [&](bool virt, int k, int entry) {
             auto& slot = virt ? A.virtual_slot[k] : A.mesh_slot[k];
             slot = {-1, -1, -1, -1};
             for (int b = 0; b < npe; ++b) slot[b] = find_block(A, i, w.elements.nodes[entry >> 2][b]);
+        });
+        for_quadratic(w, i, [&](int k, int t) {
+            for (int b = 0; b < 10; ++b) A.quadratic_slot[k][b] = find_block(A, i, w.quadratic.nodes[t][b]);
         });
     }, 1024);
     resize_with_room(A.value, 9 * A.column.size());

@@ -22,21 +22,30 @@
 #include "engine/parallel.h"
 
 namespace xcut {
-namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
-const char* kCutters[2] = {"xfem", "snap"};
-/// Problem 6 also runs XFEM with the tip enriched (systems/cut/crack_tip_system.h).
-const char* kPlateCutters[3] = {"xfem", "xfem_tip", "snap"};
-
-/// CPU time of the whole process, every thread's [s] (CLOCK_PROCESS_CPUTIME_ID).
 double process_cpu_seconds() {
     timespec ts{};
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
+
+std::string default_cache_dir() {
+    const char* xdg = std::getenv("XDG_CACHE_HOME");
+    if (xdg && *xdg && fs::path(xdg).is_absolute()) return (fs::path(xdg) / "xcut" / "accuracy").string();
+    const char* home = std::getenv("HOME");
+    if (home && *home) return (fs::path(home) / ".cache" / "xcut" / "accuracy").string();
+    return (fs::current_path() / ".xcut_cache" / "accuracy").string();
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+const char* kCutters[2] = {"xfem", "snap"};
+/// Problem 6 also runs XFEM with the tip enriched (systems/cut/crack_tip_system.h).
+const char* kPlateCutters[3] = {"xfem", "xfem_tip", "snap"};
 
 /// Wall and CPU time from its making: one run's cut and solve.
 struct RunTimer {
@@ -243,16 +252,6 @@ void refuse_weak_reference(std::vector<AccuracyRow>& rows, int problem, double e
     notes.push_back({problem, fmt::format("problem {}: NOT scored: the reference's own error estimate {:.3g} % is more "
                                           "than 1/10 of the smallest error it would score, {:.3g} %; refine the reference",
                                           problem, 100 * estimate, 100 * smallest)});
-}
-
-/// The user's cache directory (XDG Base Directory: $XDG_CACHE_HOME, else ~/.cache), never beside
-/// the binary: an installed xcut may sit in a directory its user cannot write.
-std::string default_cache_dir() {
-    const char* xdg = std::getenv("XDG_CACHE_HOME");
-    if (xdg && *xdg && fs::path(xdg).is_absolute()) return (fs::path(xdg) / "xcut" / "accuracy").string();
-    const char* home = std::getenv("HOME");
-    if (home && *home) return (fs::path(home) / ".cache" / "xcut" / "accuracy").string();
-    return (fs::current_path() / ".xcut_cache" / "accuracy").string();
 }
 
 void check_options(const AccuracyBenchOptions& o) {

@@ -96,4 +96,10 @@ std::vector<std::string> accuracy_summary(const std::vector<AccuracyRow>& rows, 
 /// Prints the table and the targets, writes the CSV (and plots); returns 0.
 int accuracy_bench_command(const AccuracyBenchOptions& options);
 
+/// CPU time of the whole process, every thread's [s] (CLOCK_PROCESS_CPUTIME_ID).
+double process_cpu_seconds();
+/// The user's cache directory for references (XDG Base Directory: $XDG_CACHE_HOME, else ~/.cache),
+/// never beside the binary: an installed xcut may sit in a directory its user cannot write.
+std::string default_cache_dir();
+
 }  // namespace xcut

@@ -67,8 +67,9 @@ double cantilever_reference(const CantileverSpec& s) {
 World cantilever_world(const CantileverSpec& s, int n) {
     Material m;
     m.young = s.young;
-    m.poisson = 0.0;
+    m.poisson = s.poisson;
     m.density = s.density;
+    m.quadratic = s.quadratic;
     World w;
     w.materials.list = {m};
     w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});

@@ -33,6 +33,8 @@ struct CantileverSpec {
     double young = 2e8;                                 ///< E [Pa]: tip deflection ~0.2 % of L
     double density = 1000.0;                            ///< rho [kg/m^3]
     double gravity = 9.81;                              ///< g [m/s^2]
+    double poisson = 0.0;                               ///< nu [-] (the closed form below is for 0)
+    bool quadratic = false;                             ///< 10-node tetrahedra (components/quadratic_elements.h)
 };
 /// Euler-Bernoulli with Timoshenko's shear term (Timoshenko & Gere, Mechanics of Materials):
 ///   delta = q L^4 / (8 E I) + q L^2 / (2 kappa G A),  q = rho g b h,  I = b h^3 / 12,  kappa = 5/6.

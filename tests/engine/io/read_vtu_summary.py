@@ -14,7 +14,8 @@ def summary(path):
     r.SetFileName(path)
     r.Update()
     g = r.GetOutput()
-    out = {"points": g.GetNumberOfPoints(), "cells": g.GetNumberOfCells(), "cell_data": {}, "point_data": {}, "fields": {}}
+    out = {"points": g.GetNumberOfPoints(), "cells": g.GetNumberOfCells(), "cell_data": {}, "point_data": {}, "fields": {},
+           "cell_types": sorted({g.GetCellType(i) for i in range(g.GetNumberOfCells())})}
     for kind, data in (("cell_data", g.GetCellData()), ("point_data", g.GetPointData())):
         for i in range(data.GetNumberOfArrays()):
             a = vtk_to_numpy(data.GetArray(i))

@@ -80,6 +80,27 @@ TEST_P(OutputFiles, VtkReadsTheArraysOfACutMultiRegionScene) {
     fs::remove_all(dir);
 }
 
+// A quadratic material's elements are written as VTK quadratic tetrahedra over the nodes and the
+// mid-edge nodes, with the mean stress of each.
+TEST(QuadraticOutput, ElementsAreWrittenAsQuadraticCells) {
+    const fs::path dir = fs::temp_directory_path() / fmt::format("xcut_output_quadratic_{}", ::getpid());
+    fs::create_directories(dir);
+    Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/cantilever.json", {"material.element=\"quadratic\""});
+    auto sim = make_simulation(scene, false);
+    for (int i = 0; i < 5; ++i) step_simulation(*sim);
+    const World& w = sim->world;
+    ASSERT_EQ(w.quadratic.count(), w.mesh_elements);
+    write_vtu(w, (dir / "volume.vtu").string());
+    const nlohmann::json v = vtk_summary((dir / "volume.vtu").string(), dir);
+    ASSERT_FALSE(v.is_discarded());
+    EXPECT_EQ(v["cells"], w.mesh_elements);
+    EXPECT_EQ(v["points"], w.nodes.count()) << "corners and mid-edge nodes";
+    EXPECT_EQ(v["cell_types"], nlohmann::json::array({24})) << "VTK_QUADRATIC_TETRA";
+    EXPECT_GT(v["cell_data"]["von_mises_Pa"]["max"].get<double>(), 100.0) << "the beam bends under its weight";
+    EXPECT_EQ(v["point_data"]["file_node"]["min"], -1) << "the mid-edge nodes are in no file";
+    fs::remove_all(dir);
+}
+
 /// Sum of the cells' measures (volume; 2D area) at the current positions.
 double measure(const ClippedCells& c, int dim) {
     double sum = 0.0;

@@ -124,6 +124,16 @@ std::vector<BadScene> bad_scenes() {
          "\"cutter\": { \"tip\": { \"radius\": -1 } } }",
          "cutter.tip.radius", "out of range"},
         {"unknown tip field", "cutter.tip={\"size\": 1}", "cutter.tip.size", "unknown field"},
+        {"unknown element", "material.element=\"cubic\"", "material.element", "is not one of \"linear\", \"quadratic\""},
+        {"quadratic element in 2D",
+         "!{ \"mesh\": { \"generator\": \"plate\", \"size\": [0.01, 0.01, 0], \"cells\": [2, 2, 1] }, \"gravity\": [0, 0, 0], "
+         "\"material\": { \"element\": \"quadratic\" } }",
+         "material.element", "the mesh is 2D"},
+        {"quadratic element cut by a blade",
+         "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
+         "\"material\": { \"element\": \"quadratic\" }, "
+         "\"tools\": [{\"blade\":{\"tip\":[0,0,0],\"heel\":[0,0,1]},\"trajectory\":[{\"time\":0,\"position\":[0,0,0]}]}] }",
+         "material.element", "cannot be cut yet"},
         {"key given twice", "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
                             "\"solver\": { \"dt\": 0.01, \"dt\": 0.02 } }",
          "solver.dt", "given twice"},

@@ -1,0 +1,28 @@
+#pragma once
+// Quadratic tetrahedra (10 nodes): the mesh elements of a material with "element": "quadratic"
+// (systems/kernels/quadratic_tet.h). Each keeps its corner element in Elements, which the surfaces,
+// the contacts and the output go on using; the linear element's stiffness is off for it (its Lamé
+// parameters are taken as zero, systems/force_system.h) and the one here stands in. The mid-edge
+// nodes are mesh nodes (index < World::mesh_nodes) that no linear element touches, made once at
+// load (engine/quadratic_setup.h) and shared by the elements around an edge.
+#include <array>
+#include <vector>
+
+#include "components/elements.h"
+
+namespace xcut {
+
+struct QuadraticElements {
+    std::vector<int> element;                  ///< its corner element in Elements
+    std::vector<std::array<int, 10>> nodes;    ///< VTK order: corners, then edges (01 12 02 03 13 23)
+    std::vector<int> of_element;               ///< per mesh element: its index here, -1 if linear
+    /// Node -> quadratic element incidence (CSR; entry: element * 16 + local node 0..9), so each
+    /// node's terms are summed in a fixed order on any thread count.
+    Incidence incidence;
+    std::vector<std::array<int, 2>> edge_of_node;  ///< per mid-edge node (index - first_edge_node): its corners
+    int first_edge_node = 0;                   ///< the mid-edge nodes are [first_edge_node, World::mesh_nodes)
+
+    int count() const { return static_cast<int>(element.size()); }
+};
+
+}  // namespace xcut

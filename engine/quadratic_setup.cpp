@@ -1,0 +1,111 @@
+#include "engine/quadratic_setup.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace xcut {
+namespace {
+
+/// Local corners of the mid-edge nodes, VTK order (as systems/kernels/quadratic_tet.h).
+constexpr int kEdges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};
+constexpr double kEdgeMass = 4.0 / 27.0;
+
+}  // namespace
+
+bool has_quadratic_material(const World& world) {
+    for (const Material& m : world.materials.list)
+        if (m.quadratic) return true;
+    return false;
+}
+
+void build_quadratic_elements(World& world) {
+    QuadraticElements& q = world.quadratic;
+    q = QuadraticElements{};
+    if (!has_quadratic_material(world)) return;
+    Elements& el = world.elements;
+    if (el.dim != 3)
+        throw std::invalid_argument("quadratic elements are tetrahedra: the mesh is 2D (use the linear triangle)");
+    q.of_element.assign(world.mesh_elements, -1);
+    // Every edge of a quadratic element, as (low node, high node), sorted: the mid-edge nodes are
+    // numbered in this order, the same on any machine and thread count.
+    std::vector<std::array<int, 2>> edges;
+    for (int e = 0; e < world.mesh_elements; ++e) {
+        if (!world.materials.list[el.material[e]].quadratic) continue;
+        q.of_element[e] = q.count();
+        q.element.push_back(e);
+        for (const auto& k : kEdges) {
+            const int a = el.nodes[e][k[0]], b = el.nodes[e][k[1]];
+            edges.push_back({std::min(a, b), std::max(a, b)});
+        }
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    // A linear element on a quadratic one's edge would leave that edge's mid node free to bend it
+    // while the linear element holds it straight: the mesh would tear there.
+    for (int e = 0; e < world.mesh_elements; ++e) {
+        if (q.of_element[e] >= 0) continue;
+        for (const auto& k : kEdges) {
+            const int a = el.nodes[e][k[0]], b = el.nodes[e][k[1]];
+            if (std::binary_search(edges.begin(), edges.end(), std::array<int, 2>{std::min(a, b), std::max(a, b)}))
+                throw std::invalid_argument(
+                    "a linear element shares an edge with a quadratic one (materials \"" +
+                    world.materials.list[el.material[e]].name + "\" and a quadratic one touch): give touching "
+                    "materials the same element");
+        }
+    }
+    Nodes& n = world.nodes;
+    q.first_edge_node = n.count();
+    q.edge_of_node = edges;
+    for (const auto& [a, b] : edges) {
+        n.rest.push_back(0.5 * (n.rest[a] + n.rest[b]));
+        n.position.push_back(0.5 * (n.position[a] + n.position[b]));
+        n.velocity.push_back(0.5 * (n.velocity[a] + n.velocity[b]));
+        n.mass.push_back(0.0);
+        n.fixed.push_back(0);
+    }
+    world.mesh_nodes = n.count();
+    q.nodes.resize(q.count());
+    for (int t = 0; t < q.count(); ++t) {
+        const auto& c = el.nodes[q.element[t]];
+        for (int a = 0; a < 4; ++a) q.nodes[t][a] = c[a];
+        for (int k = 0; k < 6; ++k) {
+            const std::array<int, 2> key{std::min(c[kEdges[k][0]], c[kEdges[k][1]]), std::max(c[kEdges[k][0]], c[kEdges[k][1]])};
+            q.nodes[t][4 + k] = q.first_edge_node + static_cast<int>(std::lower_bound(edges.begin(), edges.end(), key) - edges.begin());
+        }
+    }
+    Incidence& inc = q.incidence;
+    inc.offset.assign(world.mesh_nodes + 1, 0);
+    for (const auto& ids : q.nodes)
+        for (int id : ids) ++inc.offset[id + 1];
+    for (int i = 0; i < world.mesh_nodes; ++i) inc.offset[i + 1] += inc.offset[i];
+    inc.entry.resize(inc.offset.back());
+    std::vector<int> fill(inc.offset.begin(), inc.offset.end() - 1);
+    for (int t = 0; t < q.count(); ++t)  // elements in increasing order per node
+        for (int a = 0; a < 10; ++a) inc.entry[fill[q.nodes[t][a]]++] = t * 16 + a;
+}
+
+double quadratic_edge_mass(const World& world, int i) {
+    const QuadraticElements& q = world.quadratic;
+    if (q.count() == 0 || i < q.first_edge_node || i >= world.mesh_nodes) return 0.0;
+    const Elements& el = world.elements;
+    double m = 0.0;
+    for (int p = q.incidence.offset[i]; p < q.incidence.offset[i + 1]; ++p) {
+        const int e = q.element[q.incidence.entry[p] >> 4];
+        m += kEdgeMass * world.materials.list[el.material[e]].density * el.rest_volume[e] * el.weight[e];
+    }
+    return m;
+}
+
+void constrain_edge_nodes(World& world) {
+    const QuadraticElements& q = world.quadratic;
+    Nodes& n = world.nodes;
+    for (size_t k = 0; k < q.edge_of_node.size(); ++k) {
+        const int i = q.first_edge_node + static_cast<int>(k), a = q.edge_of_node[k][0], b = q.edge_of_node[k][1];
+        const uint8_t both = n.fixed[a] & n.fixed[b] & 7;
+        n.fixed[i] |= both;
+        for (int c = 0; c < 3; ++c)
+            if ((both >> c) & 1) n.position[i][c] = 0.5 * (n.position[a][c] + n.position[b][c]);
+    }
+}
+
+}  // namespace xcut

@@ -1,0 +1,48 @@
+#pragma once
+// The quadratic tetrahedra's part of the elastic term, over the component arrays: per element into
+// a buffer (in parallel), then per node in its incidence order (components/quadratic_elements.h),
+// so the sums are the same on any thread count. The element kernels: systems/kernels/quadratic_tet.h.
+#include <Eigen/Core>
+#include <vector>
+
+#include "components/elements.h"
+#include "components/linear_system.h"
+#include "components/material.h"
+#include "components/quadratic_elements.h"
+#include "systems/kernels/quadratic_tet.h"
+
+namespace xcut {
+
+/// What the kernels read, in one place.
+struct QuadraticView {
+    const QuadraticElements& quadratic;
+    const Elements& elements;
+    const Materials& materials;
+};
+
+/// The material's 3D Lamé parameters [Pa].
+LameParameters quadratic_lame(const Material& m);
+
+/// Forces at positions x into buffer (sized here); returns the strain energy [J] (a fixed-order sum).
+double quadratic_forces(const QuadraticView& v, const Vec3* x, std::vector<Tet10Vectors>& buffer);
+/// Element t's K p into buffer[t].
+void quadratic_product_element(const QuadraticView& v, const Vec3* p, int t, std::vector<Tet10Vectors>& buffer);
+/// Every element's K p into buffer (sized here), in parallel.
+void quadratic_products(const QuadraticView& v, const Vec3* p, std::vector<Tet10Vectors>& buffer);
+/// Every element's stiffness diagonal into buffer (sized here).
+void quadratic_diagonals(const QuadraticView& v, std::vector<Tet10Vectors>& buffer);
+/// Node i's sum of its quadratic elements' terms, in incidence order (0 for a node none touches).
+Vec3 quadratic_gathered(const QuadraticElements& q, const std::vector<Tet10Vectors>& buffer, int i);
+
+/// Per element, the rotated gradients at the quadrature points
+/// r[q][j] = R grad N_j(q) [1/m], and scale (V/4) lambda, scale (V/4) mu [N m].
+struct QuadraticBlocks {
+    std::array<std::array<Vec3, 10>, 4> r;
+    double lambda_w = 0.0, mu_w = 0.0;
+};
+/// The blocks' makings for every element at stiff_scale (sized here).
+void quadratic_block_terms(const QuadraticView& v, double stiff_scale, std::vector<QuadraticBlocks>& terms);
+/// Adds node i's block row of the quadratic elements' stiffness to A (slots: LinearSystem::quadratic_slot).
+void add_quadratic_row(const QuadraticElements& q, const std::vector<QuadraticBlocks>& terms, int i, LinearSystem& A);
+
+}  // namespace xcut

@@ -1,0 +1,131 @@
+#pragma once
+// Pure kernels of the corotational quadratic tetrahedron (10 nodes, straight edges; Zienkiewicz,
+// Taylor & Zhu, The Finite Element Method, 7th ed., §6.5 for the shape functions; the corotation of
+// Müller & Gross 2004 with one rotation per element, from the corner tetrahedron's deformation
+// gradient, as the linear element's).
+//
+// Node order is VTK's (cell type 24): corners 0-3, then the mid-edge nodes of the edges
+// (0,1) (1,2) (0,2) (0,3) (1,3) (2,3). With L_i the barycentric coordinates and g_i = grad L_i the
+// linear element's constant shape gradients (rows of Dm^-1, g_0 = -sum):
+//   N_i = L_i (2 L_i - 1),  grad N_i = (4 L_i - 1) g_i              (corners)
+//   N_ab = 4 L_a L_b,       grad N_ab = 4 (L_a g_b + L_b g_a)         (mid-edge nodes)
+// The strain is linear in the element, the stiffness integrand quadratic: the 4-point rule of degree
+// 2 (Keast 1986; points a = (5 + 3 sqrt 5) / 20, b = (5 - sqrt 5) / 20, weights V/4) integrates it
+// exactly. The corotated stress at each point is sigma = lambda tr(eps) I + 2 mu eps with
+// eps = sym(R^T F) - I, F = sum_j x_j grad N_j^T; the forces f_j = -sum_q w_q R sigma_q grad N_j(q).
+//
+// Why one rotation per element, not per point: the rotation's change within a straight-edged element
+// is of the order of the strain's, which the linear law already neglects; per-point rotations would
+// make K depend on four polar decompositions for no gain in the small-strain regime the model is for.
+//
+// Lumped mass: HRZ (Hinton, Rock & Zienkiewicz 1976): the consistent mass's diagonal scaled to the
+// element's mass, rho V / 36 to each corner and 4 rho V / 27 to each mid-edge node. The row-sum
+// lumping would give the corners -rho V / 20. HRZ keeps the mass's total and centre.
+#include <Eigen/Core>
+#include <array>
+
+#include "components/nodes.h"
+#include "systems/kernels/corotational_kernel.h"
+
+namespace xcut {
+
+/// Local corner pairs of the mid-edge nodes 4..9 (VTK order).
+inline constexpr int kTet10Edges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};
+/// HRZ lumped mass share of a corner and of a mid-edge node [-] (of rho V).
+inline constexpr double kTet10CornerMass = 1.0 / 36.0, kTet10EdgeMass = 4.0 / 27.0;
+
+using Tet10Vectors = std::array<Vec3, 10>;
+
+/// The shape gradients of the 10 nodes at each of the 4 quadrature points [1/m]: grad[q][j].
+struct Tet10Gradients {
+    std::array<std::array<Vec3, 10>, 4> grad;
+};
+
+/// Barycentric coordinate L_i of quadrature point q (Keast's degree-2 rule).
+inline double tet10_point_coordinate(int q, int i) {
+    constexpr double a = 0.5854101966249685, b = 0.1381966011250105;
+    return q == i ? a : b;
+}
+
+/// The gradients at the quadrature points from the linear element's Dm^-1.
+inline Tet10Gradients tet10_gradients(const Mat3& dm_inv) {
+    std::array<Vec3, 4> g;
+    for (int j = 0; j < 4; ++j) g[j] = shape_gradient<3>(dm_inv, j);
+    Tet10Gradients out;
+    for (int q = 0; q < 4; ++q) {
+        for (int i = 0; i < 4; ++i) out.grad[q][i] = (4.0 * tet10_point_coordinate(q, i) - 1.0) * g[i];
+        for (int k = 0; k < 6; ++k) {
+            const int a = kTet10Edges[k][0], b = kTet10Edges[k][1];
+            out.grad[q][4 + k] = 4.0 * (tet10_point_coordinate(q, a) * g[b] + tet10_point_coordinate(q, b) * g[a]);
+        }
+    }
+    return out;
+}
+
+/// sum_j v_j grad N_j(q)^T.
+XCUT_INLINE Mat3 tet10_gradient_of(const Tet10Vectors& v, const Tet10Gradients& G, int q) {
+    Mat3 out = Mat3::Zero();
+    for (int j = 0; j < 10; ++j) out.noalias() += v[j] * G.grad[q][j].transpose();
+    return out;
+}
+
+/// out_j (+)= scale sum_q R sigma_q grad N_j(q) / 4 (the rule's weights, V in scale).
+XCUT_INLINE void tet10_scatter(const Mat3& R, const std::array<Mat3, 4>& sigma, const Tet10Gradients& G, double scale,
+                               Tet10Vectors& out) {
+    std::array<Mat3, 4> Q;
+    for (int q = 0; q < 4; ++q) Q[q] = (0.25 * scale) * R * sigma[q];
+    for (int j = 0; j < 10; ++j) {
+        Vec3 s = Vec3::Zero();
+        for (int q = 0; q < 4; ++q) s.noalias() += Q[q] * G.grad[q][j];
+        out[j] = s;
+    }
+}
+
+/// Elastic forces f_j = -sum_q (V/4) R sigma_q grad N_j(q) at positions x [N]; returns the strain
+/// energy [J].
+inline double tet10_forces(const Tet10Vectors& x, const Tet10Gradients& G, const Mat3& R, double volume,
+                           const LameParameters& lame, Tet10Vectors& force) {
+    std::array<Mat3, 4> sigma;
+    double energy = 0.0;
+    for (int q = 0; q < 4; ++q) {
+        const Mat3 H = R.transpose() * tet10_gradient_of(x, G, q) - Mat3::Identity();
+        sigma[q] = linear_stress<3>(H, lame);
+        const Mat3 eps = 0.5 * (H + H.transpose());
+        energy += 0.25 * volume * (lame.mu * eps.squaredNorm() + 0.5 * lame.lambda * eps.trace() * eps.trace());
+    }
+    tet10_scatter(R, sigma, G, -volume, force);
+    return energy;
+}
+
+/// Stiffness action out_j = sum_k K_jk p_k (rotation frozen) [N].
+inline void tet10_stiffness_product(const Tet10Vectors& p, const Tet10Gradients& G, const Mat3& R, double volume,
+                                    const LameParameters& lame, Tet10Vectors& out) {
+    std::array<Mat3, 4> sigma;
+    for (int q = 0; q < 4; ++q) sigma[q] = linear_stress<3>(R.transpose() * tet10_gradient_of(p, G, q), lame);
+    tet10_scatter(R, sigma, G, volume, out);
+}
+
+/// Adds block (j, k) of the element stiffness, scaled, to the row-major 3x3 `block`: per point the
+/// linear element's block (add_corotational_stiffness_block) with the rotated gradients R grad N.
+inline void tet10_add_stiffness_block(const Tet10Gradients& G, const Mat3& R, double volume, const LameParameters& lame,
+                                      int j, int k, double scale, double* block) {
+    const double w = 0.25 * volume * scale;
+    for (int q = 0; q < 4; ++q) {
+        const Vec3 rj = R * G.grad[q][j], rk = R * G.grad[q][k];
+        add_corotational_stiffness_block((w * lame.lambda) * rj, (w * lame.mu) * rj, rk, 3, block);
+    }
+}
+
+/// Diagonal of the element stiffness: node j, axis c: sum_q (V/4) (mu |g|^2 + (lambda + mu) (R g)_c^2).
+inline void tet10_stiffness_diagonal(const Tet10Gradients& G, const Mat3& R, double volume, const LameParameters& lame,
+                                     Tet10Vectors& out) {
+    for (int j = 0; j < 10; ++j) {
+        out[j].setZero();
+        for (int q = 0; q < 4; ++q) {
+            const Vec3 rg = R * G.grad[q][j];
+            out[j] += 0.25 * volume * (lame.mu * rg.squaredNorm() * Vec3::Ones() + (lame.lambda + lame.mu) * rg.cwiseAbs2());
+        }
+    }
+}
+
+}  // namespace xcut

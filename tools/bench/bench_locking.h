@@ -1,0 +1,37 @@
+#pragma once
+// `xcut bench --suite locking`: problem 3 (the clamped beam under its own weight, 20n x n x n cells)
+// at Poisson's ratios 0, 0.3, 0.45 and 0.49, with the linear tetrahedron and the quadratic one
+// (components/quadratic_elements.h), each against CalculiX's C3D20 reference for that ratio
+// (tools/reference/calculix_reference.py, extrapolated). Per run: DOFs, CPU time, CG iterations,
+// the tip deflection's error. The verdicts: per ratio and element, the fewest DOFs with an error
+// within 2 % (target: <= 10k DOFs at every ratio), and the error at equal CPU time. A benchmark:
+// prints figures and writes results/bench_locking.csv (--tiny: results/bench_locking_quick.csv).
+#include <string>
+#include <vector>
+
+namespace xcut {
+
+struct LockingBenchOptions {
+    bool tiny = false;  ///< two ratios, two levels each, the reference on two levels
+    std::string csv = "results/bench_locking.csv";
+    std::string cache_dir;  ///< empty: the user's cache (default_cache_dir)
+};
+
+struct LockingBenchRow {
+    std::string element;   ///< "linear" or "quadratic"
+    double poisson = 0;    ///< nu [-]
+    int n = 0;             ///< cells across the beam
+    int dofs = 0;
+    double cpu_s = 0, wall_s = 0;
+    int newton = 0, cg = 0;
+    double value = 0, reference = 0;  ///< tip deflection [m]
+    double error = 0;      ///< value / reference - 1 [-]
+    std::string reference_source;
+};
+
+std::vector<LockingBenchRow> run_locking_bench(const LockingBenchOptions& options, std::vector<std::string>* notes = nullptr);
+/// One line per ratio and element: the fewest DOFs within 2 %, and the error at the other element's CPU time.
+std::vector<std::string> locking_summary(const std::vector<LockingBenchRow>& rows);
+int locking_bench_command(const LockingBenchOptions& options);
+
+}  // namespace xcut
