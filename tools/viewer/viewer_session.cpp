@@ -24,14 +24,25 @@ HandSizes sizes_of(const MeshData& mesh) {
     return s;
 }
 
+/// Whether every material of the scene can be cut (a quadratic one cannot yet: docs/elements.md).
+bool cuttable(const Scene& scene) {
+    auto linear = [](const Material& m, const std::vector<RegionMaterial>& regions) {
+        return !m.quadratic && std::none_of(regions.begin(), regions.end(), [](const RegionMaterial& r) { return r.material.quadratic; });
+    };
+    bool all = linear(scene.material, scene.region_materials);
+    for (const BodySpec& b : scene.more_bodies) all = all && linear(b.material, b.region_materials);
+    return all;
+}
+
 }  // namespace
 
 ViewerSession::ViewerSession(const ViewerOptions& o) : options(o), overrides(o.overrides) {
     const Scene base = load_scene(o.scene, overrides);
     const MeshData mesh = load_scene_mesh(base);
+    const bool cut = cuttable(base);
     if (mesh.dim == 3) {  // the hand scalpel; the probe where there is a collision surface to touch
         sizes = sizes_of(mesh);
-        for (const std::string& t : hand_tool_overrides(sizes, base.collision_subdivisions >= 0)) overrides.push_back(t);
+        for (const std::string& t : hand_tool_overrides(sizes, cut, base.collision_subdivisions >= 0)) overrides.push_back(t);
     }
     scene = load_scene(o.scene, overrides);
     std::vector<LiveDevice*> made;  // the hand tools' devices, made by build_simulation through this factory
@@ -60,7 +71,10 @@ ViewerSession::ViewerSession(const ViewerOptions& o) : options(o), overrides(o.o
     physics = std::make_unique<PhysicsThread>(*sim, buffer);
     fmt::print("view {} ({}): {} nodes, {} elements, {} tools ({}), {} threads\n", scene.name, o.scene,
                sim->world.nodes.count(), sim->world.elements.count(), sim->world.tools.count(),
-               scalpel ? "hand scalpel on the left button" : "2D: no hand scalpel", o.threads);
+               scalpel ? "hand scalpel on the left button"
+               : cut   ? "2D: no hand scalpel"
+                       : "no hand scalpel: quadratic elements are not cut yet, docs/elements.md",
+               o.threads);
 }
 
 ViewerSession::~ViewerSession() {
