@@ -7,6 +7,7 @@
 #include <fmt/ranges.h>
 #include <algorithm>
 #include <map>
+#include <tuple>
 #include <stdexcept>
 
 #include "tools/bench/bench.h"
@@ -91,25 +92,26 @@ std::vector<LockingBenchRow> run_locking_bench(const LockingBenchOptions& o, std
         for (int n : linear) rows.push_back(beam_run(spec, false, n, value)), rows.back().reference_source = source;
         for (int n : quadratic) rows.push_back(beam_run(spec, true, n, value)), rows.back().reference_source = source;
     }
+    cook_rows(o, cache, rows, notes);
     return rows;
 }
 
 std::vector<std::string> locking_summary(const std::vector<LockingBenchRow>& rows) {
-    std::map<std::pair<double, std::string>, std::vector<const LockingBenchRow*>> runs;
-    for (const LockingBenchRow& r : rows) runs[{r.poisson, r.element}].push_back(&r);
+    std::map<std::tuple<std::string, double, std::string>, std::vector<const LockingBenchRow*>> runs;
+    for (const LockingBenchRow& r : rows) runs[{r.problem, r.poisson, r.element}].push_back(&r);
     for (auto& [key, v] : runs)
         std::sort(v.begin(), v.end(), [](const LockingBenchRow* a, const LockingBenchRow* b) { return a->cpu_s < b->cpu_s; });
     std::vector<std::string> out;
     for (const auto& [key, v] : runs) {
-        const auto& [nu, element] = key;
+        const auto& [problem, nu, element] = key;
         const LockingBenchRow* first = nullptr;
         for (const LockingBenchRow* r : v)
             if (std::abs(r->error) <= kTarget && (!first || r->dofs < first->dofs)) first = r;
-        std::string line = fmt::format("nu {:<4} {:<9}: ", nu, element);
+        std::string line = fmt::format("{} nu {:<4} {:<9}: ", problem, nu, element);
         line += first ? fmt::format("within 2 % from {} DOFs (n {}, {:+.2f} %): 10k-DOF target {}", first->dofs, first->n,
                                     100 * first->error, first->dofs <= 10000 ? "met" : "NOT met")
                       : "never within 2 %: 10k-DOF target NOT met";
-        const auto other = runs.find({nu, element == "linear" ? "quadratic" : "linear"});
+        const auto other = runs.find({problem, nu, element == "linear" ? "quadratic" : "linear"});
         if (other != runs.end())
             for (const LockingBenchRow* r : v) {
                 const double e = error_at(other->second, r->cpu_s);
@@ -127,14 +129,14 @@ int locking_bench_command(const LockingBenchOptions& o) {
     const std::vector<LockingBenchRow> rows = run_locking_bench(o, &notes);
     for (const std::string& n : notes) fmt::print("{}\n", n);
     auto csv = open_csv(o.csv);
-    csv.print("element,poisson,n,dofs,cpu_time_s,run_time_s,newton,cg_iterations,value_m,reference_m,error\n");
-    fmt::print("{:>10} {:>5} {:>3} {:>7} {:>8} {:>5} {:>12} {:>9}\n", "element", "nu", "n", "DOFs", "CPU s", "CG",
-               "deflection", "error");
+    csv.print("problem,element,poisson,n,dofs,cpu_time_s,run_time_s,newton,cg_iterations,value_m,reference_m,error\n");
+    fmt::print("{:>7} {:>10} {:>5} {:>3} {:>7} {:>8} {:>5} {:>12} {:>9}\n", "problem", "element", "nu", "n", "DOFs", "CPU s",
+               "CG", "value", "error");
     for (const LockingBenchRow& r : rows) {
-        fmt::print("{:>10} {:>5} {:>3} {:>7} {:>8.3f} {:>5} {:>10.4e}m {:>+8.2f}%\n", r.element, r.poisson, r.n, r.dofs,
-                   r.cpu_s, r.cg, r.value, 100 * r.error);
-        csv.print("{},{},{},{},{:.6g},{:.6g},{},{},{:.10g},{:.10g},{:.6g}\n", r.element, r.poisson, r.n, r.dofs, r.cpu_s,
-                  r.wall_s, r.newton, r.cg, r.value, r.reference, r.error);
+        fmt::print("{:>7} {:>10} {:>5} {:>3} {:>7} {:>8.3f} {:>5} {:>10.4e}m {:>+8.2f}%\n", r.problem, r.element, r.poisson,
+                   r.n, r.dofs, r.cpu_s, r.cg, r.value, 100 * r.error);
+        csv.print("{},{},{},{},{},{:.6g},{:.6g},{},{},{:.10g},{:.10g},{:.6g}\n", r.problem, r.element, r.poisson, r.n, r.dofs,
+                  r.cpu_s, r.wall_s, r.newton, r.cg, r.value, r.reference, r.error);
     }
     for (const std::string& line : locking_summary(rows)) fmt::print("{}\n", line);
     fmt::print("csv: {}\n", o.csv);

@@ -2,7 +2,8 @@
 // `xcut bench --suite locking`: problem 3 (the clamped beam under its own weight, 20n x n x n cells)
 // at Poisson's ratios 0, 0.3, 0.45 and 0.49, with the linear tetrahedron and the quadratic one
 // (components/quadratic_elements.h), each against CalculiX's C3D20 reference for that ratio
-// (tools/reference/calculix_reference.py, extrapolated). Per run: DOFs, CPU time, CG iterations,
+// (tools/reference/calculix_reference.py, extrapolated); and Cook's membrane in plane strain at
+// nu 0.3 and 0.49 against CalculiX's CPE8R (docs/verification.md problem 14). Per run: DOFs, CPU time, CG iterations,
 // the tip deflection's error. The verdicts: per ratio and element, the fewest DOFs with an error
 // within 2 % (target: <= 10k DOFs at every ratio), and the error at equal CPU time. A benchmark:
 // prints figures and writes results/bench_locking.csv (--tiny: results/bench_locking_quick.csv).
@@ -18,6 +19,7 @@ struct LockingBenchOptions {
 };
 
 struct LockingBenchRow {
+    std::string problem = "beam";  ///< "beam" (problem 3) or "cook" (Cook's membrane, problem 14)
     std::string element;   ///< "linear" or "quadratic"
     double poisson = 0;    ///< nu [-]
     int n = 0;             ///< cells across the beam
@@ -29,6 +31,9 @@ struct LockingBenchRow {
     std::string reference_source;
 };
 
+/// Cook's membrane's rows (tools/bench/bench_cook.cpp), appended to rows.
+void cook_rows(const LockingBenchOptions& options, const std::string& cache, std::vector<LockingBenchRow>& rows,
+               std::vector<std::string>* notes);
 std::vector<LockingBenchRow> run_locking_bench(const LockingBenchOptions& options, std::vector<std::string>* notes = nullptr);
 /// One line per ratio and element: the fewest DOFs within 2 %, and the error at the other element's CPU time.
 std::vector<std::string> locking_summary(const std::vector<LockingBenchRow>& rows);

@@ -11,6 +11,10 @@ PROBLEM 5: the block with a partial planar cut on C3D20, nodes duplicated across
   the plane x = cut_x (a conforming crack); both end faces held and pulled by +-pull; the values
   are the displacements at the suite's sample points [m], interpolated with the elements' own
   quadratic shape functions.
+PROBLEM 14: Cook's membrane (Cook 1974): the tapered panel with corners (0, 0), (48, 44), (48, 60),
+  (0, 44) x scale, clamped on its left edge, a shear load on its right edge (consistent nodal loads),
+  in plane strain on 8-node quadrilaterals with reduced integration (CPE8R, which does not lock as
+  nu nears 0.5); the value is the vertical displacement of the top right corner [m].
 PROBLEM 6: the edge-cracked plate in plane stress on 8-node quadrilaterals (CPS8) graded toward the
   crack tip (planes_toward), nodes duplicated along the crack; sigma on the top and bottom edges as consistent nodal loads; the value is the
   crack mouth opening [m].
@@ -274,7 +278,38 @@ def edge_crack(p, n, ccx, work):
     return {"n": n, "values": [disp[mouth_up][1] - disp[mouth_low][1]], "dofs": 2 * len(g.coords), "seconds": seconds}
 
 
-PROBLEMS = {3: cantilever, 5: cut_block, 6: edge_crack}
+def cook_point(p, xi, eta):
+    """Cook's membrane's map from the unit square: straight lines in xi and eta stay straight."""
+    s = p["scale"]
+    return (48.0 * s * xi, s * (44.0 * xi + eta * (44.0 - 28.0 * xi)))
+
+
+def cook_membrane(p, n, ccx, work):
+    unit = planes_through(1.0, n, [])
+    g = Grid([unit, unit])
+    elements = []
+    for i in range(n):
+        for j in range(n):
+            elements.append([g.node((2 * i + loc[0], 2 * j + loc[1])) for loc in QUAD_LOCAL])
+    g.coords = [cook_point(p, xi, eta) for (xi, eta) in g.coords]
+    loads, right = {}, 2 * n
+    edge = p["load"] / n  # the right edge's cells are equally long: each carries F / n
+    for j in range(n):  # consistent loads of a quadratic edge: 1/6, 2/3, 1/6
+        for off, w in ((0, 1 / 6), (1, 2 / 3), (2, 1 / 6)):
+            node = g.ids[((right, 2 * j + off), False)]
+            loads[node] = loads.get(node, 0.0) + edge * w
+    clamped = [i for (ij, c), i in g.ids.items() if ij[0] == 0]
+    corner = g.ids[((right, 2 * n), False)]
+    deck = (nodes_block(g) + elements_block("CPE8R", elements) + material(p, p["thickness"]) +
+            "*BOUNDARY\n" + "".join(f"{i}, 1, 2\n" for i in clamped) +
+            f"*NSET, NSET=CORNER\n{corner},\n" +
+            "*STEP\n*STATIC\n*CLOAD\n" + "".join(f"{node}, 2, {f:.12e}\n" for node, f in sorted(loads.items())) +
+            "*NODE PRINT, NSET=CORNER\nU\n*END STEP\n")
+    disp, seconds = run_ccx(ccx, work, f"p14_{n}", deck)
+    return {"n": n, "values": [disp[corner][1]], "dofs": 2 * len(g.coords), "seconds": seconds}
+
+
+PROBLEMS = {3: cantilever, 5: cut_block, 6: edge_crack, 14: cook_membrane}
 
 
 def norm(v):
@@ -320,7 +355,7 @@ def main(argv):
         sys.exit(__doc__)
     problem = int(argv[1])
     if problem not in PROBLEMS:
-        print(f"error: problem {problem}: CalculiX references exist for 3, 5 and 6", file=sys.stderr)
+        print(f"error: problem {problem}: CalculiX references exist for 3, 5, 6 and 14", file=sys.stderr)
         sys.exit(2)
     with open(argv[2]) as f:
         params = json.load(f)
@@ -337,7 +372,8 @@ def main(argv):
             print(f"problem {problem} level {n}: {results[-1]['dofs']} DOFs, {results[-1]['seconds']:.1f} s",
                   file=sys.stderr)
     values, err, order = estimate(results)
-    out = {"problem": problem, "solver": "CalculiX " + ("C3D20" if problem != 6 else "CPS8"), "levels": results,
+    solver = {6: "CPS8", 14: "CPE8R"}.get(problem, "C3D20")
+    out = {"problem": problem, "solver": "CalculiX " + solver, "levels": results,
            "values": values, "error_estimate": err, "observed_order": order}
     with open(argv[4], "w") as f:
         json.dump(out, f, indent=1)

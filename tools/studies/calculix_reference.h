@@ -14,7 +14,7 @@ struct ExternalReference {
     bool available = false;      ///< CalculiX and the script ran (or the cache had it)
     std::string why;             ///< when not available: what was missing or failed
     std::string solver;          ///< "CalculiX C3D20", "CalculiX CPS8"
-    std::vector<double> values;  ///< problem 3: tip deflection; 5: 3 per sample point; 6: CMOD [m]
+    std::vector<double> values;  ///< problem 3: tip deflection; 5: 3 per sample point; 6: CMOD; 14: corner's y [m]
     double error_estimate = 0.0; ///< its own relative error, estimated from its convergence [-]
     double order = 0.0;          ///< the order of convergence observed
     std::vector<int> levels;
@@ -25,7 +25,7 @@ struct ExternalReference {
     std::string path;            ///< the cache file
 };
 
-/// Problem 3, 5 or 6's reference at `levels` (cells across the problem's reference length); never
+/// Problem 3, 5, 6 or 14's reference at `levels` (cells across the problem's reference length); never
 /// throws for a missing CalculiX: the result says why it is not available.
 ExternalReference calculix_reference(int problem, const nlohmann::json& params, const std::vector<int>& levels,
                                      const std::string& cache_dir);
