@@ -167,10 +167,13 @@ bool run_substeps(World& world, const StepOperator& op, int substeps, const Eige
     throw NumericalError(fmt::format(
         "{}: the linear solve ({}) stopped at relative residual {:.3g} after {} CG iterations, above the tolerance "
         "{:.3g}, even with a fresh factor and in {} substeps of {:.3g} s. Change: a smaller solver.dt, a larger "
-        "solver.cg_max_iterations (now {}), solver.linear \"cholesky\", or the material (a Poisson ratio near 0.5 "
-        "locks linear tetrahedra)",
+        "solver.cg_max_iterations (now {}), solver.linear \"cholesky\", or the material ({})",
         where, w.linear.method, last.cg.relative_residual, last.cg.iterations, s.cg_tolerance, substeps,
-        s.dt / substeps, s.cg_max_iterations));
+        s.dt / substeps, s.cg_max_iterations,
+        w.quadratic.count() > 0 ? "a Poisson ratio near 0.5 makes the system ill-conditioned: the matrix-free jacobi "
+                                  "method needs thousands of iterations there"
+                                : "a Poisson ratio near 0.5 locks linear tetrahedra: \"element\": \"quadratic\" where "
+                                  "the tissue is not cut"));
 }
 
 }  // namespace
