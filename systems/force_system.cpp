@@ -273,10 +273,14 @@ public:
             if (world.elements.dim == 3) stiffness_product_element<3>(world, pv, e);
             else stiffness_product_element<2>(world, pv, e);
         }
-        const QuadraticView view = quadratic_view(world);
+        // Every thread sees the same count, so all skip the loop (and its barrier) together when the
+        // scene has no quadratic element: the common case adds nothing to each CG iteration.
         const int quadratic = world.quadratic.count();
+        if (quadratic > 0) {
+            const QuadraticView view = quadratic_view(world);
 #pragma omp for schedule(static)
-        for (int t = 0; t < quadratic; ++t) quadratic_product_element(view, pv, t, world.forces.quadratic_buffer);
+            for (int t = 0; t < quadratic; ++t) quadratic_product_element(view, pv, t, world.forces.quadratic_buffer);
+        }
 #pragma omp for schedule(static)
         for (int i = 0; i < nodes; ++i) {
             if (first) out.segment<3>(3 * i) = gathered(world, i);
