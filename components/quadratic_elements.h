@@ -12,6 +12,9 @@
 
 namespace xcut {
 
+/// Local corner pairs of the mid-edge nodes 4..9 (VTK order, cell type 24).
+inline constexpr int kTet10Edges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};
+
 struct QuadraticElements {
     std::vector<int> element;                  ///< its corner element in Elements
     std::vector<std::array<int, 10>> nodes;    ///< VTK order: corners, then edges (01 12 02 03 13 23)

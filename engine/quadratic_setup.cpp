@@ -6,8 +6,6 @@
 namespace xcut {
 namespace {
 
-/// Local corners of the mid-edge nodes, VTK order (as systems/kernels/quadratic_tet.h).
-constexpr int kEdges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};
 constexpr double kEdgeMass = 4.0 / 27.0;
 
 }  // namespace
@@ -33,7 +31,7 @@ void build_quadratic_elements(World& world) {
         if (!world.materials.list[el.material[e]].quadratic) continue;
         q.of_element[e] = q.count();
         q.element.push_back(e);
-        for (const auto& k : kEdges) {
+        for (const auto& k : kTet10Edges) {
             const int a = el.nodes[e][k[0]], b = el.nodes[e][k[1]];
             edges.push_back({std::min(a, b), std::max(a, b)});
         }
@@ -44,7 +42,7 @@ void build_quadratic_elements(World& world) {
     // while the linear element holds it straight: the mesh would tear there.
     for (int e = 0; e < world.mesh_elements; ++e) {
         if (q.of_element[e] >= 0) continue;
-        for (const auto& k : kEdges) {
+        for (const auto& k : kTet10Edges) {
             const int a = el.nodes[e][k[0]], b = el.nodes[e][k[1]];
             if (std::binary_search(edges.begin(), edges.end(), std::array<int, 2>{std::min(a, b), std::max(a, b)}))
                 throw std::invalid_argument(
@@ -69,7 +67,7 @@ void build_quadratic_elements(World& world) {
         const auto& c = el.nodes[q.element[t]];
         for (int a = 0; a < 4; ++a) q.nodes[t][a] = c[a];
         for (int k = 0; k < 6; ++k) {
-            const std::array<int, 2> key{std::min(c[kEdges[k][0]], c[kEdges[k][1]]), std::max(c[kEdges[k][0]], c[kEdges[k][1]])};
+            const std::array<int, 2> key{std::min(c[kTet10Edges[k][0]], c[kTet10Edges[k][1]]), std::max(c[kTet10Edges[k][0]], c[kTet10Edges[k][1]])};
             q.nodes[t][4 + k] = q.first_edge_node + static_cast<int>(std::lower_bound(edges.begin(), edges.end(), key) - edges.begin());
         }
     }

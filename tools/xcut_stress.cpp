@@ -19,6 +19,9 @@ Command add_stress_command(CLI::App& app) {
     cmd->add_option("--blades", o->blades, "Problem 8's scalpels per trajectory: 1, or 2 to this many at once "
                                            "(crossing in one step, stabs, blades with a face)")
         ->check(CLI::Range(1, 4));
+    cmd->add_option("--only", o->only, "Run only problem 8's trajectory of this index (as a full run of the same "
+                                       "--seed, --front and --blades numbers them), to reproduce one case")
+        ->check(CLI::NonNegativeNumber);
     return {cmd, [o, cmd] {
                 o->csv_given = cmd->count("--csv") > 0;
                 if (!o->csv_given && o->front != "semi") o->csv = "results/bench_stress_" + o->front + ".csv";

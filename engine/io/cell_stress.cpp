@@ -29,12 +29,11 @@ Mat3 cell_cauchy_stress(const World& w, int e) {
         // A quadratic element's strain is linear: its mean is the value at the centroid, where the
         // corners' gradients vanish and each mid-edge node's is g_a + g_b (components/quadratic_elements.h).
         const auto& q = w.quadratic.nodes[t];
-        constexpr int kEdges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};
         auto g = [&](int a) -> Vec3 {
             return a == 0 ? Vec3(-el.dm_inv[e].colwise().sum().transpose()) : Vec3(el.dm_inv[e].row(a - 1).transpose());
         };
         F.setZero();
-        for (int k = 0; k < 6; ++k) F += x[q[4 + k]] * (g(kEdges[k][0]) + g(kEdges[k][1])).transpose();
+        for (int k = 0; k < 6; ++k) F += x[q[4 + k]] * (g(kTet10Edges[k][0]) + g(kTet10Edges[k][1])).transpose();
     }
     const Mat3 eps = 0.5 * (R.transpose() * F + F.transpose() * R) - Mat3::Identity();
     const Material& m = w.materials.list[el.material[e]];

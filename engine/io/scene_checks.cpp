@@ -227,6 +227,13 @@ std::vector<std::string> end_of_run_notes(const World& w) {
                 "(docs/xfem.md), so they keep their first cut; where an incision meets a wound it stops about an "
                 "element short of it, and a closed loop does not free its piece",
                 w.tools.name[i], recut[i], recut[i] == 1 ? "" : "s"));
+    const std::vector<int>& on_skin = w.cut_state.on_skin_ignored;
+    for (int i = 0; i < static_cast<int>(on_skin.size()) && i < w.tools.count(); ++i)
+        if (on_skin[i] > 0)
+            out.push_back(fmt::format(
+                "tool \"{}\" lay on the tissue's surface in {} element{}: its cut there stayed within {:g} of an "
+                "element's edge from the skin, a flap thinner than that, so it made none (docs/xfem.md)",
+                w.tools.name[i], on_skin[i], on_skin[i] == 1 ? "" : "s", kThinFlapFraction));
     return out;
 }
 

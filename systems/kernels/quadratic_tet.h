@@ -25,12 +25,11 @@
 #include <array>
 
 #include "components/nodes.h"
+#include "components/quadratic_elements.h"
 #include "systems/kernels/corotational_kernel.h"
 
 namespace xcut {
 
-/// Local corner pairs of the mid-edge nodes 4..9 (VTK order).
-inline constexpr int kTet10Edges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};
 /// HRZ lumped mass share of a corner and of a mid-edge node [-] (of rho V).
 inline constexpr double kTet10CornerMass = 1.0 / 36.0, kTet10EdgeMass = 4.0 / 27.0;
 

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "components/cut_elements.h"
+#include "engine/io/scene_checks.h"
 #include "systems/pipeline.h"
 #include "systems/surface/surface_cut.h"
 #include "tools/studies/stress.h"
@@ -176,6 +177,65 @@ TEST(Stress, EachCrossedEdgeHasOneCrackPoint) { expect_closed_after_trajectory(6
 class ProgressiveTrajectory : public ::testing::TestWithParam<int> {};
 TEST_P(ProgressiveTrajectory, LeavesClosedSurfaces) { expect_closed_after_trajectory(GetParam(), 1, "progressive"); }
 INSTANTIATE_TEST_SUITE_P(Stress, ProgressiveTrajectory, ::testing::Values(6, 104, 159, 215));
+
+// Trajectory 4824 of the multi-blade record (seed 1): a blade on a grid plane holding a top edge of
+// the slab "crossed" the element under that edge within 1e-8 m of its top face, a cut face without
+// area however triangulated (two zero-area triangles). A cut lying on a skin face makes no flap:
+// the element stays whole, the end of the run says so, and the surfaces are closed, without
+// zero-area triangles.
+TEST(Stress, ABladeLyingOnTheSkinMakesNoFlap) {
+    std::mt19937_64 rng(1);
+    for (int i = 0; i < 4824; ++i) random_blades_scene(rng, "semi", 4);
+    auto sim = make_simulation(random_blades_scene(rng, "semi", 4), false);
+    for (int i = 0; i < kRandomCutSteps; ++i) step_simulation(*sim);
+    const World& w = sim->world;
+    int on_skin = 0;
+    for (int n : w.cut_state.on_skin_ignored) on_skin += n;
+    EXPECT_GT(on_skin, 0);
+    EXPECT_GT(w.cuts.count(), 10) << "the incisions themselves are made";
+    std::string notes;
+    for (const std::string& n : end_of_run_notes(w)) notes += n + "\n";
+    EXPECT_NE(notes.find("lay on the tissue's surface"), std::string::npos) << notes;
+    testing::check_closed_oriented(w.visual);
+    testing::check_closed_oriented(w.collision);
+    EXPECT_EQ(zero_area_triangles(w.visual), 0);
+    EXPECT_EQ(zero_area_triangles(w.collision), 0);
+}
+
+/// The CSV row of `name` (a case) in the file at `path`, empty if none.
+std::string csv_row(const std::string& path, const std::string& name) {
+    std::ifstream in(path);
+    for (std::string line; std::getline(in, line);)
+        if (line.find("\"" + name + "\"") != std::string::npos) return line;
+    return {};
+}
+
+// `xcut stress --only K` runs the trajectory a full run of the same seed numbers K, alone: its row is
+// the full run's row, field for field, and it never writes the record.
+TEST(Stress, OnlyRunsTheTrajectoryAFullRunNumbersSo) {
+    const auto dir = std::filesystem::temp_directory_path() / ("xcut_stress_only_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    StressOptions o;
+    o.count = 3;
+    o.blades = 4;
+    o.seed = 5;
+    o.progress = false;
+    o.csv = (dir / "full.csv").string();
+    o.csv_given = true;
+    run_stress(o);
+    o.only = 2;
+    o.csv = (dir / "bench_stress.csv").string();
+    o.csv_given = false;
+    const StressSummary one = run_stress(o).at("all");
+    EXPECT_EQ(one.cases, 1) << "that trajectory only";
+    EXPECT_FALSE(std::filesystem::exists(dir / "bench_stress.csv"));
+    const std::string full = csv_row((dir / "full.csv").string(), "trajectory 2");
+    ASSERT_FALSE(full.empty());
+    EXPECT_NE(full.find(",\"trajectory 2\",") , std::string::npos);
+    EXPECT_EQ(csv_row((dir / "bench_stress_quick.csv").string(), "trajectory 2"), full);
+    EXPECT_TRUE(csv_row((dir / "bench_stress_quick.csv").string(), "trajectory 1").empty());
+    std::filesystem::remove_all(dir);
+}
 
 }  // namespace
 }  // namespace xcut

@@ -291,14 +291,22 @@ std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
                             r.max_cg, r.nan, r.energy_ratio, r.energy_bound, r.lost, r.open_edges, r.pinched_edges,
                             r.zero_area);
     };
-    for (const CaseResult& r : slivers()) record(r);
-    for (const CaseResult& r : large_steps()) record(r);
     std::mt19937_64 rng(o.seed);
-    ProgressBar bar("stress", o.progress ? o.count : 0);
+    if (o.only < 0) {
+        for (const CaseResult& r : slivers()) record(r);
+        for (const CaseResult& r : large_steps()) record(r);
+    } else {  // the trajectories before it are drawn, as a full run draws them, and not run
+        for (int k = 0; k < o.only; ++k) {
+            if (o.blades > 1) random_blades_scene(rng, o.front, o.blades);
+            else random_cut_scene(rng, o.front);
+        }
+    }
+    const int count = o.only < 0 ? o.count : 1;
+    ProgressBar bar("stress", o.progress ? count : 0);
     const auto t0 = std::chrono::steady_clock::now();
     int done = 0;
-    for (; done < o.count; ++done) {
-        record(random_cut(rng, done, o.front, o.blades));
+    for (; done < count; ++done) {
+        record(random_cut(rng, o.only < 0 ? done : o.only, o.front, o.blades));
         bar.update(done + 1);
         if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > o.budget_s) {
             ++done;
@@ -309,7 +317,7 @@ std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     // The committed record is a complete run of kStressRecordCount trajectories; a smaller or cut-short
     // run writes beside it (<record>_quick.csv) unless a CSV was named.
     std::string csv_path = o.csv;
-    if (!o.csv_given && (done < kStressRecordCount || done < o.count)) {
+    if (!o.csv_given && (done < kStressRecordCount || done < o.count || o.only >= 0)) {
         csv_path = std::filesystem::path(o.csv).replace_extension().string() + "_quick.csv";
         fmt::print("{} of {} trajectories (the record is {}): this run writes {}, not the record {}\n", done, o.count,
                    kStressRecordCount, csv_path, o.csv);

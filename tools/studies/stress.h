@@ -49,6 +49,9 @@ struct StressOptions {
     bool csv_given = false;   ///< false: a run short of kStressRecordCount writes <csv>_quick.csv instead
     std::string front = "semi";  ///< problem 8's cutter.front
     int blades = 1;           ///< problem 8's scalpels per trajectory: 1, or 2 to this many (random_blades_scene)
+    /// >= 0: run only problem 8's trajectory of this index (the index-th of `seed`, as the full run
+    /// numbers them; the ones before it are drawn, not run), to reproduce one case. Never the record.
+    int only = -1;
     bool progress = true;
 };
 
