@@ -45,6 +45,31 @@ void close_polygon(World& w, SurfaceMesh& s, int e, int side, const std::vector<
     for (size_t k = 0; k < loop.size(); ++k) add_piece(s, {hub, loop[k], loop[(k + 1) % loop.size()]}, e, true);
 }
 
+/// Whether `loop` (rest positions), as ordered, faces away from `side`'s material: its area vector
+/// (Newell's sum) points from the element's nodes on `side` toward those on the other. A cut
+/// through nodes whose sides an earlier incision fixed need not be planar, and the plane fitted
+/// through its points can leave a node on the wrong side of it (two incisions meeting: stress
+/// trajectory 3113 of the multi-blade record), so the nodes' own sides decide. Where the loop has
+/// no area along that direction, the fitted plane's orientation does: the loop runs
+/// counter-clockwise about the cut's normal.
+bool faces_its_other_side(const World& w, const SurfaceMesh& s, int e, int side, const std::vector<int>& loop,
+                          const CutPlaneInfo& cp) {
+    Vec3 area = Vec3::Zero(), own = Vec3::Zero(), other = Vec3::Zero();
+    for (size_t k = 0; k < loop.size(); ++k)
+        area += vertex_rest(w, s, loop[k]).cross(vertex_rest(w, s, loop[(k + 1) % loop.size()]));
+    int n_own = 0, n_other = 0;
+    const auto& nodes = w.elements.nodes[e];
+    for (int a = 0; a < 4; ++a) {
+        const bool mine = w.enriched.sign[nodes[a]] == side;
+        (mine ? own : other) += w.nodes.rest[nodes[a]];
+        (mine ? n_own : n_other) += 1;
+    }
+    const Vec3 across = other / n_other - own / n_own;
+    const double facing = area.dot(across);
+    if (std::abs(facing) > 1e-6 * area.norm() * across.norm()) return facing > 0.0;
+    return side * cp.orient < 0;
+}
+
 }  // namespace
 
 void cut_faces(World& w, SurfaceMesh& s, int c, const CutPlaneInfo& cp, const std::vector<RimPoint>& rim) {
@@ -89,9 +114,8 @@ void cut_faces(World& w, SurfaceMesh& s, int c, const CutPlaneInfo& cp, const st
         const int side = k == 0 ? 1 : -1;
         std::vector<int>& loop = loops[k];
         if (loop.size() < 3) continue;
-        // The loop runs counter-clockwise about the cut's normal; outward for this side's piece is
-        // away from its own material, toward the other side.
-        if (side * cp.orient > 0) std::reverse(loop.begin(), loop.end());
+        // Outward for this side's piece is away from its own material, toward the other side.
+        if (!faces_its_other_side(w, s, e, side, loop, cp)) std::reverse(loop.begin(), loop.end());
         close_polygon(w, s, e, side, loop, centre, is_shared);
     }
 }
