@@ -123,7 +123,7 @@ TEST(ViewerWindow, RealMouseDragFromXdotoolCuts) {
     {
         std::ofstream sh(dir / "drag.sh");
         sh << XCUT_BINARY << " view " << XCUT_SOURCE_DIR << "/scenes/skin_slab.json --steps 3000 --set 'tools=[]' "
-           << "> " << (dir / "view.log").string() << " 2>&1 & pid=$!\n"
+           << "--screenshot " << (dir / "cut.png").string() << " > " << (dir / "view.log").string() << " 2>&1 & pid=$!\n"
            << "wid=$(" << XCUT_XDOTOOL << " search --sync --onlyvisible --name 'xcut view')\n"
            << "sleep 0.5\n"
            << XCUT_XDOTOOL << " mousemove --window $wid 760 500 mousedown 1\n"
@@ -142,6 +142,9 @@ TEST(ViewerWindow, RealMouseDragFromXdotoolCuts) {
     ss << log.rdbuf();
     EXPECT_GT(elements_split(ss.str()), 20) << ss.str();
     EXPECT_EQ(ss.str().find(", 3000 steps;"), std::string::npos) << "Esc closed it: " << ss.str();
+    // The screenshot is taken at the run's end, which Esc came before: the viewer says it wrote none.
+    EXPECT_NE(ss.str().find("warning: no screenshot written to " + (dir / "cut.png").string()), std::string::npos) << ss.str();
+    EXPECT_FALSE(fs::exists(dir / "cut.png"));
     fs::remove_all(dir);
 }
 

@@ -255,6 +255,7 @@ int run_viewer(const ViewerOptions& o) {
     size_t next_event = 0;
     int allowed = 0;
     auto last = Clock::now();
+    bool shot = false;  // the screenshot asked for is written
     for (int frame = 0; !glfwWindowShouldClose(window.handle); ++frame) {
         glfwPollEvents();
         int w, h;
@@ -288,6 +289,7 @@ int run_viewer(const ViewerOptions& o) {
                            session.buffer.front().step == session.first_step + physics.steps_done();
         if (shoot && !o.panels) {
             session.save_screenshot(read_framebuffer(w, h), camera, o);
+            shot = true;
             break;
         }
         ImGui_ImplOpenGL3_NewFrame();
@@ -298,6 +300,7 @@ int run_viewer(const ViewerOptions& o) {
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         if (shoot && frame > 2) {  // panels: a few frames in, once ImGui has laid them out
             session.save_screenshot(read_framebuffer(w, h), camera, o);
+            shot = true;
             break;
         }
         glfwSwapBuffers(window.handle);
@@ -311,6 +314,9 @@ int run_viewer(const ViewerOptions& o) {
         }
     }
     physics.stop();
+    if (!o.screenshot.empty() && !shot && o.bench_seconds <= 0.0)
+        fmt::print("warning: no screenshot written to {}: the window was closed (Esc) before the run's end, where it is "
+                   "taken\n", o.screenshot);
     if (o.bench_seconds > 0.0) session.report_bench(bench.figures);
     if (!o.timing_csv.empty()) {
         timing.steps = physics.timings();
