@@ -53,6 +53,10 @@ struct Window {
         glfwMakeContextCurrent(handle);
         glfwSwapInterval(o.input.empty() && o.screenshot.empty() ? 1 : 0);
         glfwSetScrollCallback(handle, on_scroll);  // before ImGui, which chains to it
+        // A key or button pressed and released between two frames (a quick tap on a loaded machine,
+        // where a frame can take longer than the tap) still reads as pressed at the next frame.
+        glfwSetInputMode(handle, GLFW_STICKY_KEYS, GLFW_TRUE);
+        glfwSetInputMode(handle, GLFW_STICKY_MOUSE_BUTTONS, GLFW_TRUE);
         IMGUI_CHECKVERSION();
         ImGui::CreateContext();
         ImGui::GetIO().IniFilename = nullptr;
