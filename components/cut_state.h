@@ -74,16 +74,17 @@ struct CutState {
     /// the run says so (an incision that meets a wound stops about an element short of it).
     std::vector<int> recut_ignored;
     std::unordered_set<int64_t> recut_seen;  ///< element * 64 + tool, counted once
-    /// Per tool: the elements its blade crossed lying on the skin, its cut through them within
-    /// kThinFlapFraction of their shortest edge from a boundary face: they are not split (no flap
-    /// that thin), and the end of the run says so.
+    /// Per tool: the elements its blade crossed lying on the skin (kThinFlapFraction): they are not
+    /// split (no flap that thin), and the end of the run says so.
     std::vector<int> on_skin_ignored;
     std::unordered_set<int64_t> on_skin_seen;  ///< element * 64 + tool, counted once
 };
 
 /// A cut whose every point in an element lies closer than this fraction of the element's shortest
-/// edge to one of its boundary faces is a blade lying on the skin, not an incision: it would leave a
-/// flap thinner than that, and is not made [-].
+/// edge to the plane of one of its boundary faces, and crosses an edge farther than that from its
+/// nodes, is a blade lying on the skin, not an incision: it would leave a flap thinner than that,
+/// and is not made (lies_on_skin in systems/cut/cut_system.cpp). A cut whose points all lie at nodes
+/// is one beside a node layer, and is made [-].
 inline constexpr double kThinFlapFraction = 1e-3;
 
 /// The angle between a blade and an element's earlier cut past which crossing it would be a second
