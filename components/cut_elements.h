@@ -61,14 +61,21 @@ struct VirtualElements {
 struct EnrichedDofs {
     std::vector<int8_t> sign;          ///< H_j: +1 above, -1 below, 0 not yet met by a cut
     std::vector<uint8_t> enriched;     ///< node belongs to a cut element
-    std::vector<uint8_t> front_fixed;  ///< crack-front rule (§3.5) holds a_j = 0: no phantom (yet)
-    std::vector<int> phantom;          ///< DOF node holding the other side's vertex, -1 if none
+    /// Crack-front rule (§3.5): some part of a cut element on the other side from the node still
+    /// uses the real node there (a_j = 0 for it), as material connectivity joins them
+    std::vector<uint8_t> front_fixed;
+    /// The node's first phantom (a DOF node holding a part of the material across a cut), -1 if
+    /// none. A node has one copy per class of material connectivity around it (docs/xfem.md,
+    /// Node copies): the real node and as many phantoms as there are other classes; the virtual
+    /// elements name them, node_of_phantom maps each back.
+    std::vector<int> phantom;
     /// The plane of the cut that fixed H_j (rest configuration): a point on it and its unit normal,
-    /// pointing to the side H = +1; zero normal while H_j = 0. The phantom is that cut's copy of the
-    /// node, so a cut element uses it only for its part across that plane from the node
-    /// (systems/cut/enrichment_system.cpp, same_incision).
+    /// pointing to the side H = +1; zero normal while H_j = 0.
     std::vector<Vec3> sign_point, sign_normal;
     std::vector<int> node_of_phantom;  ///< per phantom (index - mesh_nodes): its mesh node
+    /// per phantom: the DOF node whose state it started from (its mesh node, or an earlier phantom
+    /// of that node when a cut divides the material that phantom held)
+    std::vector<int> phantom_from;
 
     int count() const { return static_cast<int>(node_of_phantom.size()); }
 };

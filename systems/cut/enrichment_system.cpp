@@ -7,6 +7,7 @@
 
 #include "engine/parallel.h"
 #include "engine/setup.h"
+#include "systems/cut/node_copies.h"
 #include "systems/kernels/cut_geometry.h"
 #include "systems/xfem_queries.h"
 
@@ -37,35 +38,6 @@ void prepare_enrichment(World& w) {
 }
 
 namespace {
-
-/// How clearly on the node's own side of its first cut element c's other part must lie to be another
-/// incision: 0.1 of c's shortest edge [-]. A first cut through or near the node's layer puts the
-/// parts of the elements that continue it on that plane; they continue the incision.
-constexpr double kOtherIncisionMargin = 0.1;
-
-/// Whether cut element c uses node j's phantom for its part on the other side from j. The phantom
-/// is the copy of j across the cut that fixed H_j (its plane: EnrichedDofs::sign_point,
-/// sign_normal), so it carries the material across that plane. Element c's other part lies there
-/// when c continues that incision, straight or turning; it does not when c belongs to another
-/// incision that reaches j from j's own side of the first (a T, an X, a loop closing on itself):
-/// then c keeps the real node on both sides at j, as the crack-front rule does, and that incision
-/// does not open at j. Sharing the phantom would tie c's other part to the first wound's far lip
-/// (the elastic energy of a multi-blade trajectory jumped 25-fold at such a split,
-/// docs/BENCHMARKS.md).
-bool same_incision(const World& w, int c, int j) {
-    const EnrichedDofs& en = w.enriched;
-    const Vec3& normal = en.sign_normal[j];
-    if (normal.squaredNorm() == 0.0) return true;
-    const Elements& el = w.elements;
-    const auto& nodes = el.nodes[w.cuts.element[c]];
-    Vec3 centre = Vec3::Zero();
-    int n = 0;
-    for (int a = 0; a < el.nodes_per_element(); ++a)
-        if (en.sign[nodes[a]] != en.sign[j]) centre += w.nodes.rest[nodes[a]], ++n;
-    if (n == 0) return true;
-    const double across = (centre / n - en.sign_point[j]).dot(normal) * en.sign[j];
-    return across <= kOtherIncisionMargin * shortest_edge(el, w.nodes.rest.data(), w.cuts.element[c]);
-}
 
 /// Splits one element as `ev` asks; returns false if it is already cut or the signs do not differ.
 bool record_cut(World& w, const CutEvent& ev) {
@@ -148,50 +120,6 @@ void record_crossings(World& w, const CutEvent& ev, std::vector<int>& affected) 
     }
 }
 
-/// Crack-front rule (§3.5): node j keeps a_j = 0 while a crossed edge (j, k) of a cut element is
-/// also an edge of an uncut element, i.e. while the crack front runs through that neighbour; and,
-/// on a progressive front, while such an edge lies on the cut's extension ahead of the blade (no
-/// cut element has it crossed: edge_crossed).
-bool held_by_front(const World& w, int j) {
-    const Incidence& inc = w.incidence;
-    const Elements& el = w.elements;
-    const int npe = el.nodes_per_element();
-    for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
-        const int e = inc.entry[p] >> 2;
-        if (w.cuts.cut_of_element[e] < 0) continue;
-        for (int b = 0; b < npe; ++b) {
-            const int k = el.nodes[e][b];
-            if (k == j || w.enriched.sign[k] == w.enriched.sign[j]) continue;
-            if (!edge_crossed(w, j, k)) return true;
-            // Crossed edge (j, k): is there an uncut element containing it?
-            for (int q = inc.offset[j]; q < inc.offset[j + 1]; ++q) {
-                const int f = inc.entry[q] >> 2;
-                if (w.cuts.cut_of_element[f] >= 0) continue;
-                const auto& fn = el.nodes[f];
-                if (std::find(fn.begin(), fn.begin() + npe, k) != fn.begin() + npe) return true;
-            }
-        }
-    }
-    return false;
-}
-
-void add_phantom(World& w, int j) {
-    Nodes& n = w.nodes;
-    const int p = n.count();
-    n.rest.push_back(n.rest[j]);
-    n.position.push_back(n.position[j]);
-    n.velocity.push_back(n.velocity[j]);
-    n.mass.push_back(0.0);
-    n.fixed.push_back(n.fixed[j]);
-    w.enriched.phantom[j] = p;
-    w.enriched.node_of_phantom.push_back(j);
-    Eigen::VectorXd& dv = w.forces.last_dv;
-    if (dv.size() == 3 * p) {
-        dv.conservativeResize(3 * p + 3);
-        dv.segment<3>(3 * p) = dv.segment<3>(3 * j);
-    }
-}
-
 /// Records when cut element c first has a phantom vertex (the wound can open there): the time from
 /// the blade's first crossing of it, simulated and wall.
 void note_opening(World& w, int c) {
@@ -208,34 +136,20 @@ void note_opening(World& w, int c) {
         }
 }
 
-/// Creates or updates the two virtual elements of cut element `c` (vertex = real node on its own
-/// side, phantom on the other side, or the real node while the front rule holds a_j = 0).
-void build_virtual_elements(World& w, int c) {
+/// Creates the two virtual elements of a newly cut element `c` over its own nodes (the copies the
+/// nodes' material connectivity gives them are written next: assign_node_copies).
+void create_virtual_elements(World& w, int c) {
     Elements& el = w.elements;
-    const int e = w.cuts.element[c], npe = el.nodes_per_element();
+    const int e = w.cuts.element[c];
     const double fa = w.cuts.fraction_above[c];
     for (int s = 0; s < 2; ++s) {
         const int8_t side = s == 0 ? 1 : -1;
-        std::array<int, 4> verts = el.nodes[e];
-        for (int a = 0; a < npe; ++a) {
-            const int j = el.nodes[e][a];
-            if (w.enriched.sign[j] != side && w.enriched.phantom[j] >= 0 && same_incision(w, c, j))
-                verts[a] = w.enriched.phantom[j];
-        }
-        int& ve = w.cuts.virtual_element[c][s];
-        if (ve >= 0) {
-            el.nodes[w.virtual_elements.element[ve]] = verts;
-            continue;
-        }
-        ve = w.virtual_elements.count();
+        w.cuts.virtual_element[c][s] = w.virtual_elements.count();
         w.virtual_elements.parent.push_back(e);
         w.virtual_elements.side.push_back(side);
-        const int added = append_element_copy(el, e, std::max(side > 0 ? fa : 1.0 - fa, kMinSideFraction));
-        el.nodes[added] = verts;
-        w.virtual_elements.element.push_back(added);
+        w.virtual_elements.element.push_back(append_element_copy(el, e, std::max(side > 0 ? fa : 1.0 - fa, kMinSideFraction)));
     }
     el.weight[e] = 0.0;
-    note_opening(w, c);
 }
 
 }  // namespace
@@ -259,20 +173,11 @@ int apply_cut_events(World& w) {
     affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
 
     std::vector<int> update;  // cut elements whose virtual vertices change
-    for (int c = first_new; c < w.cuts.count(); ++c) update.push_back(c);
-    for (int j : affected) {
-        w.enriched.front_fixed[j] = held_by_front(w, j) ? 1 : 0;
-        if (w.enriched.front_fixed[j] || w.enriched.phantom[j] >= 0) continue;
-        add_phantom(w, j);
-        const Incidence& inc = w.incidence;
-        for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
-            const int c = w.cuts.cut_of_element[inc.entry[p] >> 2];
-            if (c >= 0 && c < first_new) update.push_back(c);
-        }
-    }
+    for (int c = first_new; c < w.cuts.count(); ++c) create_virtual_elements(w, c), update.push_back(c);
+    for (int j : affected) assign_node_copies(w, j, update);
     std::sort(update.begin(), update.end());
     update.erase(std::unique(update.begin(), update.end()), update.end());
-    for (int c : update) build_virtual_elements(w, c);
+    for (int c : update) note_opening(w, c);
 
     build_virtual_incidence(w);
     std::vector<int> touched;  // every vertex of the updated virtual elements and of their parents

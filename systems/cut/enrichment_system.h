@@ -5,13 +5,16 @@
 //    a node exactly on the cut goes above: fixed tie-break), so every element sharing a node sees
 //    the same H_j;
 //  - computes the exact volume fractions V_a/V, V_b/V;
-//  - gives each node one enriched DOF (stored as the phantom vertex, components/cut_elements.h),
-//    unless the crack-front rule (§3.5) holds it at zero: an enriched DOF on a crossed edge that the
-//    cut element shares with an uncut element stays at zero until that neighbour is cut too, and
-//    on a progressive front one on a split edge the blade has not crossed yet (docs/xfem.md);
+//  - gives each node its copies (the real node and phantom DOF nodes, components/cut_elements.h)
+//    by material connectivity around it (systems/cut/node_copies.h): one cut through an element
+//    gives the node one enriched DOF unless the crack-front rule (§3.5) holds it at zero (an
+//    enriched DOF on a crossed edge that the cut element shares with an uncut element stays at zero
+//    until that neighbour is cut too, and on a progressive front one on a split edge the blade has
+//    not crossed yet: docs/xfem.md); incisions that meet at a node give it a copy per part;
 //  - for an event on an element already cut (a tip element), marks the edges the blade has crossed
 //    since and releases the nodes no longer held;
-//  - creates the two virtual elements (above, below) with weights V_s/V and their own rotations;
+//  - creates the two virtual elements (above, below) with weights V_s/V and their own rotations,
+//    whose vertices are those copies;
 //  - re-lumps masses (each side's share to its own vertices; momentum is conserved because a new
 //    phantom starts at its node's position and velocity) and rebuilds the force incidence.
 #include <vector>

@@ -43,7 +43,8 @@ bool augment_for_grown_system(const World& w, LinearFactor& f, const Eigen::Vect
     for (int j = base_nodes; j < A.rows(); ++j) {
         const int phantom = j - w.mesh_nodes;
         if (phantom >= w.enriched.count()) return false;
-        const int node = w.enriched.node_of_phantom[phantom];
+        int node = w.enriched.phantom_from[phantom];  // the copy it split from, in the old block
+        while (node >= base_nodes) node = w.enriched.phantom_from[node - w.mesh_nodes];
         for (int c = 0; c < 3; ++c)
             parent.push_back(mask[3 * node + c] != 0.0 && mask[3 * j + c] != 0.0 ? 3 * node + c : -1);
     }

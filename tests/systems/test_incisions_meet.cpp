@@ -1,7 +1,7 @@
-// Two incisions that meet: a node's phantom is the copy of the node across the cut that first gave
-// it a side, so a second incision reaching the first wound from one of its sides must not use it
-// (systems/cut/enrichment_system.cpp, same_incision). A split never changes the elastic energy: a
-// new virtual element starts with its parent's shape.
+// Two incisions that meet: a node's copies are the classes of material connectivity around it
+// (systems/cut/node_copies.cpp), so a second incision reaching the first wound from one of its sides
+// gets copies of its own there, not the wound's far-lip phantom. A split never changes the elastic
+// energy: a new virtual element starts with its parent's shape.
 #include <gtest/gtest.h>
 
 #include "systems/force_system.h"

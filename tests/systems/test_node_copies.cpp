@@ -1,10 +1,13 @@
-// The copies of a node that the EnrichmentSystem makes (the real node and its phantom) against an
-// independent definition: material connectivity, the virtual node algorithm's (Molino, Bao & Fedkiw
-// 2004). For mesh node j, each element around it holds one fragment of material (a whole element)
-// or two (a cut element's sides); two fragments hold the same copy of j when their elements share a
-// face through j and their parts of that face overlap. docs/xfem.md (Several cuts per element) plans
-// to make the copies so; this checks that for one cut per element it is what the crack-front rule
-// gives today, on whole scenes as they are cut.
+// The copies of a node that the EnrichmentSystem makes (the real node and its phantoms) against
+// material connectivity computed from scratch, the virtual node algorithm's rule (Molino, Bao &
+// Fedkiw 2004): for mesh node j, each element around it holds one fragment of material (a whole
+// element) or two (a cut element's sides); two fragments hold the same copy of j when their elements
+// share a face through j and their parts of that face overlap. The engine keeps the copies by this
+// rule incrementally (systems/cut/node_copies.cpp: only the nodes of the elements a step split or
+// crossed are looked at again), so this checks that nothing it skips goes stale, on whole scenes as
+// they are cut. That one cut per element gives the paper's crack-front rule is checked elsewhere,
+// against the runs before the rule (GoldenRuns, bit for bit) and against hand-made cases
+// (XfemCutBodies, ProgressiveFront).
 #include <gtest/gtest.h>
 
 #include <map>
@@ -138,6 +141,14 @@ TEST(NodeCopies, AnXIncisionsCopiesAreItsMaterialConnectivity) {
     expect_copies_by_connectivity("skin_slab.json", 210, 10, {R"(tools+={"name": "cross", "blade": {"tip": [0, 0, -0.003], "heel": [0, 0, 0.004]},
         "trajectory": [{"time": 0, "position": [0.016, 0.0203, 0.03]}, {"time": 1.25, "position": [0.016, 0.0203, 0.03]},
                        {"time": 1.3, "position": [0.016, 0.0203, 0]}, {"time": 2.0, "position": [0.046, 0.0203, 0]}]})"});
+}
+
+// A T: a stem from the middle of the default wound, after it. The stem's elements beside the wound
+// take copies of its nodes of their own (not the wound's far lip), so the stem opens at the wound.
+TEST(NodeCopies, ATIncisionsCopiesAreItsMaterialConnectivity) {
+    expect_copies_by_connectivity("skin_slab.json", 210, 10, {R"(tools+={"name": "stem", "blade": {"tip": [0, 0, -0.003], "heel": [0, 0, 0.004]},
+        "trajectory": [{"time": 0, "position": [0.031, 0.0203, 0.03]}, {"time": 1.25, "position": [0.031, 0.0203, 0.03]},
+                       {"time": 1.3, "position": [0.031, 0.0203, 0]}, {"time": 2.0, "position": [0.046, 0.0203, 0]}]})"});
 }
 
 TEST(NodeCopies, OrganAndLayeredScenesCopiesAreTheirMaterialConnectivity) {

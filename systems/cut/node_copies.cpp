@@ -1,0 +1,181 @@
+#include "systems/cut/node_copies.h"
+
+#include <algorithm>
+#include <array>
+#include <numeric>
+
+#include "systems/xfem_queries.h"
+
+namespace xcut {
+namespace {
+
+/// Material of one element around the node: side 0 a whole element, else a cut element's side.
+struct Fragment {
+    int element;
+    int8_t side;
+    int8_t slot;  ///< the node's local index in the element
+};
+
+/// A face through the node (its nodes sorted) and the first fragment of an element holding it.
+struct FaceOf {
+    std::array<int, 3> nodes;
+    int fragment;
+    bool operator<(const FaceOf& o) const { return nodes != o.nodes ? nodes < o.nodes : fragment < o.fragment; }
+};
+
+int find_root(std::vector<int>& parent, int a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+}
+
+void unite(std::vector<int>& parent, int a, int b) {
+    a = find_root(parent, a), b = find_root(parent, b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+}
+
+/// Whether fragment f has material on a face: a whole element everywhere, a side where one of the
+/// face's nodes is on it.
+bool on_face(const World& w, const Fragment& f, const std::array<int, 3>& face, int n) {
+    if (f.side == 0) return true;
+    for (int a = 0; a < n; ++a)
+        if (w.enriched.sign[face[a]] == f.side) return true;
+    return false;
+}
+
+/// The force element of fragment f's virtual element (f a cut element's side).
+int virtual_of(const World& w, const Fragment& f) {
+    const int c = w.cuts.cut_of_element[f.element];
+    return w.virtual_elements.element[w.cuts.virtual_element[c][f.side > 0 ? 0 : 1]];
+}
+
+/// The DOF node fragment f uses for the node now.
+int dof_of(const World& w, const Fragment& f, int j) {
+    return f.side == 0 ? j : w.elements.nodes[virtual_of(w, f)][f.slot];
+}
+
+/// A phantom of mesh node j, starting from DOF node `from`'s position and velocity (and its last
+/// velocity increment, the solver's warm start): the material it holds was at `from` until now.
+int add_phantom(World& w, int j, int from) {
+    Nodes& n = w.nodes;
+    const int p = n.count();
+    n.rest.push_back(n.rest[j]);
+    n.position.push_back(n.position[from]);
+    n.velocity.push_back(n.velocity[from]);
+    n.mass.push_back(0.0);
+    n.fixed.push_back(n.fixed[j]);
+    if (w.enriched.phantom[j] < 0) w.enriched.phantom[j] = p;
+    w.enriched.node_of_phantom.push_back(j);
+    w.enriched.phantom_from.push_back(from);
+    Eigen::VectorXd& dv = w.forces.last_dv;
+    if (dv.size() == 3 * p) {
+        dv.conservativeResize(3 * p + 3);
+        dv.segment<3>(3 * p) = dv.segment<3>(3 * from);
+    }
+    return p;
+}
+
+/// The fragments around mesh node j, in incidence order (a cut element's side +1 before -1).
+std::vector<Fragment> fragments_around(const World& w, int j) {
+    std::vector<Fragment> frags;
+    const Incidence& inc = w.incidence;
+    for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
+        const int e = inc.entry[p] >> 2;
+        const auto slot = static_cast<int8_t>(inc.entry[p] & 3);
+        if (e >= w.mesh_elements) continue;
+        if (w.cuts.cut_of_element[e] < 0) {
+            frags.push_back({e, 0, slot});
+        } else {
+            frags.push_back({e, 1, slot});
+            frags.push_back({e, -1, slot});
+        }
+    }
+    return frags;
+}
+
+/// The union of fragments over the faces through j their elements share, and the progressive
+/// front's clause; returns each fragment's class (its smallest fragment index).
+std::vector<int> material_classes(const World& w, int j, const std::vector<Fragment>& frags) {
+    const Elements& el = w.elements;
+    const int npe = el.nodes_per_element(), dim = el.dim;
+    std::vector<int> parent(frags.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    std::vector<FaceOf> faces;
+    for (size_t f = 0; f < frags.size(); ++f) {
+        if (frags[f].side < 0) continue;  // an element's first fragment stands for it
+        const auto& nodes = el.nodes[frags[f].element];
+        for (int skip = 0; skip < npe; ++skip) {
+            if (skip == frags[f].slot) continue;
+            FaceOf face{{-1, -1, -1}, static_cast<int>(f)};
+            for (int a = 0, n = 0; a < npe; ++a)
+                if (a != skip) face.nodes[n++] = nodes[a];
+            std::sort(face.nodes.begin(), face.nodes.begin() + dim);
+            faces.push_back(face);
+        }
+    }
+    std::sort(faces.begin(), faces.end());
+    const auto count_of = [&](int f) { return frags[f].side == 0 ? 1 : 2; };
+    for (size_t k = 0; k + 1 < faces.size(); ++k) {
+        if (faces[k].nodes != faces[k + 1].nodes) continue;
+        const int fa = faces[k].fragment, fb = faces[k + 1].fragment;
+        for (int a = fa; a < fa + count_of(fa); ++a)
+            for (int b = fb; b < fb + count_of(fb); ++b) {
+                const Fragment &A = frags[a], &B = frags[b];
+                if (A.side != 0 && B.side != 0 && A.side != B.side) continue;  // the cut's two sides
+                if (on_face(w, A, faces[k].nodes, dim) && on_face(w, B, faces[k].nodes, dim)) unite(parent, a, b);
+            }
+    }
+    for (size_t f = 0; f + 1 < frags.size(); ++f) {
+        if (frags[f].side != 1) continue;
+        const auto& nodes = el.nodes[frags[f].element];
+        for (int a = 0; a < npe; ++a)
+            if (nodes[a] != j && w.enriched.sign[nodes[a]] != w.enriched.sign[j] && !edge_crossed(w, j, nodes[a])) {
+                unite(parent, static_cast<int>(f), static_cast<int>(f + 1));
+                break;
+            }
+    }
+    for (size_t f = 0; f < frags.size(); ++f) parent[f] = find_root(parent, static_cast<int>(f));
+    return parent;
+}
+
+}  // namespace
+
+void assign_node_copies(World& w, int j, std::vector<int>& changed) {
+    const std::vector<Fragment> frags = fragments_around(w, j);
+    const std::vector<int> cls = material_classes(w, j, frags);
+    const int own = w.enriched.sign[j];
+    int real = -1;  // the class of j's own material
+    for (size_t f = 0; f < frags.size() && real < 0; ++f)
+        if (frags[f].side == 0 || frags[f].side == own) real = cls[f];
+    std::vector<int> copy(frags.size(), -1);  // per class (its root): its DOF node
+    std::vector<int> claimed;
+    const int phantoms_before = w.nodes.count();
+    if (real >= 0) copy[real] = j;
+    uint8_t held = 0;
+    for (size_t r = 0; r < frags.size(); ++r) {
+        if (cls[r] != static_cast<int>(r) || copy[r] >= 0) continue;
+        int keep = -1, from = j;  // the smallest phantom its fragments used, unclaimed; else the state's source
+        for (size_t f = r; f < frags.size(); ++f) {
+            if (cls[f] != static_cast<int>(r)) continue;
+            const int d = dof_of(w, frags[f], j);
+            if (d < w.mesh_nodes) continue;
+            const bool taken = std::find(claimed.begin(), claimed.end(), d) != claimed.end();
+            if (!taken && (keep < 0 || d < keep)) keep = d;
+            if (from == j || d < from) from = d;
+        }
+        copy[r] = keep >= 0 ? keep : add_phantom(w, j, from);
+        claimed.push_back(copy[r]);
+    }
+    const bool grew = w.nodes.count() > phantoms_before;
+    for (size_t f = 0; f < frags.size(); ++f) {
+        if (frags[f].side == 0) continue;
+        held |= cls[f] == real && frags[f].side != own;
+        if (grew) changed.push_back(w.cuts.cut_of_element[frags[f].element]);
+        int& vertex = w.elements.nodes[virtual_of(w, frags[f])][frags[f].slot];
+        if (vertex == copy[cls[f]]) continue;
+        vertex = copy[cls[f]];
+        changed.push_back(w.cuts.cut_of_element[frags[f].element]);
+    }
+    w.enriched.front_fixed[j] = held;
+}
+
+}  // namespace xcut
