@@ -42,7 +42,8 @@ void write_vtu(const World& world, const std::string& path) {
     }
     VtuWriter vtu(world.output.ascii);
     const size_t points = shown.position.size();
-    std::vector<double> xyz, u, v;
+    std::vector<double> xyz, u, v;  // each array sized once: a file of 53k cells is written beside the step
+    xyz.reserve(3 * points), u.reserve(3 * points), v.reserve(3 * points);
     for (size_t i = 0; i < points; ++i)
         for (int k = 0; k < 3; ++k) {
             xyz.push_back(shown.position[i][k]);
@@ -66,6 +67,10 @@ void write_vtu(const World& world, const std::string& path) {
     std::vector<int32_t> side_of, parent_of, region, material, body, conn, offsets;
     std::vector<double> fraction, mises, stress;
     std::vector<uint8_t> types;
+    const size_t cells = shown.cells.size();
+    for (auto* a : {&side_of, &parent_of, &region, &material, &body, &offsets}) a->reserve(cells);
+    fraction.reserve(cells), mises.reserve(cells), stress.reserve(9 * cells), types.reserve(cells);
+    conn.reserve(static_cast<size_t>(el.nodes_per_element()) * cells);
     int last = -1;
     Mat3 sigma = Mat3::Zero();
     for (size_t c = 0; c < shown.cells.size(); ++c) {

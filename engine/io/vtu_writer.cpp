@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <stdexcept>
+#include <string_view>
 
 namespace xcut {
 
@@ -20,7 +21,7 @@ void put_u64(std::string& out, uint64_t v) {
 }
 
 /// [blocks][block size][last block size][compressed size of each] then the zlib blocks.
-std::string compressed(const std::string& raw) {
+std::string compressed(std::string_view raw) {
     const size_t blocks = raw.empty() ? 0 : (raw.size() + kBlock - 1) / kBlock;
     std::string header, body;
     put_u64(header, blocks);
@@ -43,10 +44,12 @@ std::string compressed(const std::string& raw) {
 }  // namespace
 
 template <class T>
-VtuWriter::Array VtuWriter::make(const std::string& name, const char* type, int components, const std::vector<T>& values) {
+VtuWriter::Array VtuWriter::make(const std::string& name, const char* type, int components, const std::vector<T>& values,
+                                 bool pack) const {
     Array a;
     a.name = name, a.type = type, a.components = components, a.count = values.size();
-    a.bytes.assign(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+    const std::string_view raw(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+    a.bytes = pack && !ascii_ ? compressed(raw) : std::string(raw);
     return a;
 }
 
@@ -82,14 +85,14 @@ void VtuWriter::cell_data(const std::string& name, const std::vector<uint8_t>& v
 }
 void VtuWriter::field(const std::string& name, const std::string& text) {
     std::vector<uint8_t> bytes(text.begin(), text.end());
-    fields_.push_back(make(name, "UInt8", 1, bytes));  // VTK stores strings as UInt8 arrays with NumberOfTuples
+    fields_.push_back(make(name, "UInt8", 1, bytes, /*pack=*/false));  // VTK stores strings as UInt8 arrays with NumberOfTuples
 }
 
-void VtuWriter::open_array(std::string& xml, const Array& a, std::string& appended) const {
+void VtuWriter::open_array(std::string& xml, const Array& a, size_t& offset) const {
     xml += fmt::format("<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" ", a.type, a.name, a.components);
     if (!ascii_) {
-        xml += fmt::format("format=\"appended\" offset=\"{}\"/>\n", appended.size());
-        appended += compressed(a.bytes);
+        xml += fmt::format("format=\"appended\" offset=\"{}\"/>\n", offset);
+        offset += a.bytes.size();
         return;
     }
     xml += "format=\"ascii\">\n";
@@ -114,7 +117,7 @@ void VtuWriter::write(const std::string& path) const {
     std::string xml = fmt::format("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
                                   "byte_order=\"LittleEndian\" header_type=\"UInt64\"{}>\n<UnstructuredGrid>\n",
                                   ascii_ ? "" : " compressor=\"vtkZLibDataCompressor\"");
-    std::string appended;
+    size_t offset = 0;  // into the appended data, where each array's compressed bytes go in this order
     if (!fields_.empty()) {
         xml += "<FieldData>\n";
         for (const Array& f : fields_) {
@@ -125,18 +128,24 @@ void VtuWriter::write(const std::string& path) const {
         xml += "</FieldData>\n";
     }
     xml += fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n<PointData>\n", point_count_, cell_count_);
-    for (const Array& a : point_data_) open_array(xml, a, appended);
+    for (const Array& a : point_data_) open_array(xml, a, offset);
     xml += "</PointData>\n<CellData>\n";
-    for (const Array& a : cell_data_) open_array(xml, a, appended);
+    for (const Array& a : cell_data_) open_array(xml, a, offset);
     xml += "</CellData>\n<Points>\n";
-    open_array(xml, points_, appended);
+    open_array(xml, points_, offset);
     xml += "</Points>\n<Cells>\n";
-    for (const Array& a : cells_) open_array(xml, a, appended);
+    for (const Array& a : cells_) open_array(xml, a, offset);
     xml += "</Cells>\n</Piece>\n</UnstructuredGrid>\n";
     if (!ascii_) xml += "<AppendedData encoding=\"raw\">\n_";
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out << xml;
-    if (!ascii_) out << appended << "\n</AppendedData>\n";
+    if (!ascii_) {  // straight from each array: no second copy of them all
+        for (const std::vector<Array>* arrays : {&point_data_, &cell_data_})
+            for (const Array& a : *arrays) out << a.bytes;
+        out << points_.bytes;
+        for (const Array& a : cells_) out << a.bytes;
+        out << "\n</AppendedData>\n";
+    }
     out << "</VTKFile>\n";
     if (!out) throw std::runtime_error(fmt::format("{}: cannot write", path));
 }

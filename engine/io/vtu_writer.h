@@ -3,7 +3,9 @@
 // ParaView and VTK write by default; header UInt64, 32 KiB blocks as vtkZLibDataCompressor makes
 // them), or ASCII for reading by eye. The arrays are given first, the file is written at the end.
 // Format reference: VTK's "VTK File Formats" (XML formats). The reader (vtu_reader.cpp) and VTK's
-// own reader in Python read these files in tests/engine/io/test_output_files.cpp.
+// own reader in Python read these files in tests/engine/io/test_output_files.cpp. In binary an array
+// is compressed as it is given, so the writer holds the compressed bytes only, not a second copy of
+// every array (at 53k tets the raw copies were ~10 MB of the run's peak memory).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -34,12 +36,13 @@ private:
     struct Array {
         std::string name, type;  ///< VTK type: Float64, Int32, UInt8
         int components = 1;
-        std::string bytes;       ///< little-endian values
+        std::string bytes;       ///< little-endian values; compressed when the file is binary (not a field)
         size_t count = 0;        ///< values
     };
     template <class T>
-    static Array make(const std::string& name, const char* type, int components, const std::vector<T>& values);
-    void open_array(std::string& xml, const Array& a, std::string& appended) const;
+    Array make(const std::string& name, const char* type, int components, const std::vector<T>& values,
+               bool pack = true) const;
+    void open_array(std::string& xml, const Array& a, size_t& offset) const;
 
     bool ascii_;
     Array points_;

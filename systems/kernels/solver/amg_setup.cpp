@@ -28,9 +28,39 @@ struct Grouping {
     int nodes() const { return static_cast<int>(start.size()) - 1; }
 };
 
+/// A level's operator read row by row, `row(i, f)` calling f(column, value) for each stored entry of
+/// scalar row i in order. ScalarRows reads a CSR matrix; BlockRows reads the finest level straight
+/// from the block system (row 3k + r: block row k's blocks in order, three columns each), the entries
+/// and order of its scalar copy (copy_to_scalar), which the setup no longer makes: 15 MB at 53k tets,
+/// alive at the setup's peak. Every sum below runs over a row in this order, so both give the same bits.
+struct ScalarRows {
+    const CsrMatrix& m;
+    int rows() const { return static_cast<int>(m.rows()); }
+    int cols() const { return static_cast<int>(m.cols()); }
+    template <class F>
+    void row(int i, F&& f) const {
+        for (CsrMatrix::InnerIterator it(m, i); it; ++it) f(static_cast<int>(it.col()), it.value());
+    }
+    double diagonal(int i) const { return m.coeff(i, i); }
+};
+
+struct BlockRows {
+    const LinearSystem& m;
+    int rows() const { return 3 * m.rows(); }
+    int cols() const { return 3 * m.rows(); }
+    template <class F>
+    void row(int i, F&& f) const {
+        const int k = i / 3, r = i % 3;
+        for (int b = m.row_offset[k]; b < m.row_offset[k + 1]; ++b)
+            for (int c = 0; c < 3; ++c) f(3 * m.column[b] + c, m.value[9 * b + 3 * r + c]);
+    }
+    double diagonal(int i) const { return m.value[9 * m.diagonal[i / 3] + 4 * (i % 3)]; }
+};
+
 /// The strong neighbours of each node: |A_ij|_F^2 >= theta^2 |A_ii|_F |A_jj|_F (blocks summed over
 /// the nodes' DOFs); a node with no coupling at all (a held node) has none.
-std::vector<std::vector<int>> strong_neighbours(const CsrMatrix& A, const Grouping& g, double theta) {
+template <class Rows>
+std::vector<std::vector<int>> strong_neighbours(const Rows& A, const Grouping& g, double theta) {
     const int nn = g.nodes();
     std::vector<int> node_of(A.rows());
     for (int k = 0; k < nn; ++k)
@@ -41,11 +71,11 @@ std::vector<std::vector<int>> strong_neighbours(const CsrMatrix& A, const Groupi
     for (int k = 0; k < nn; ++k) {
         touched.clear();
         for (int i = g.start[k]; i < g.start[k + 1]; ++i)
-            for (CsrMatrix::InnerIterator it(A, i); it; ++it) {
-                const int j = node_of[it.col()];
+            A.row(i, [&](int col, double value) {
+                const int j = node_of[col];
                 if (sum[j] == 0.0) touched.push_back(j);
-                sum[j] += it.value() * it.value() + 1e-300;  // marks a structural entry
-            }
+                sum[j] += value * value + 1e-300;  // marks a structural entry
+            });
         std::sort(touched.begin(), touched.end());
         for (int j : touched) {
             if (j == k) diagonal[k] = std::sqrt(sum[j]);
@@ -135,10 +165,15 @@ CsrMatrix tentative(const NearNull& B, const Grouping& g, const std::vector<int>
 /// fixed right-hand side (the Lanczos tridiagonal from CG's coefficients: Saad, "Iterative methods
 /// for sparse linear systems", 2nd ed., §6.7.3), which approaches it from below far faster than
 /// power iteration; capped by Gershgorin's bound max_i sum_j |a_ij| / a_ii, which lies above it.
-double largest_eigenvalue(const CsrMatrix& A, const Eigen::VectorXd& inverse_diagonal) {
-    const int n = static_cast<int>(A.rows());
+template <class Rows>
+double largest_eigenvalue(const Rows& A, const Eigen::VectorXd& inverse_diagonal) {
+    const int n = A.rows();
     double gershgorin = 0.0;
-    for (int i = 0; i < n; ++i) gershgorin = std::max(gershgorin, A.row(i).cwiseAbs().sum() * inverse_diagonal[i]);
+    for (int i = 0; i < n; ++i) {
+        double sum = 0.0;
+        A.row(i, [&](int, double value) { sum += std::abs(value); });
+        gershgorin = std::max(gershgorin, sum * inverse_diagonal[i]);
+    }
     Eigen::VectorXd r(n), z(n), p(n), q(n);
     for (int i = 0; i < n; ++i) r[i] = 1.0 + 0.5 * std::sin(1.7 * i);  // fixed, not an eigenvector
     const int steps = std::min(20, n);
@@ -146,7 +181,11 @@ double largest_eigenvalue(const CsrMatrix& A, const Eigen::VectorXd& inverse_dia
     z = inverse_diagonal.cwiseProduct(r), p = z;
     double rz = r.dot(z);
     for (int k = 0; k < steps && rz > 0.0 && std::isfinite(rz); ++k) {
-        q = A * p;
+        parallel_for(n, [&](int i) {  // q = A p, each row summed in its order
+            double sum = 0.0;
+            A.row(i, [&](int col, double value) { sum += value * p[col]; });
+            q[i] = sum;
+        });
         const double pq = p.dot(q);
         if (!(pq > 0.0)) break;
         alpha.push_back(rz / pq);
@@ -167,8 +206,10 @@ double largest_eigenvalue(const CsrMatrix& A, const Eigen::VectorXd& inverse_dia
     return std::min(ritz, gershgorin);
 }
 
-void smoother_data(AmgLevel& L, const CsrMatrix& A) {
-    L.inverse_diagonal = A.diagonal().cwiseInverse();
+template <class Rows>
+void smoother_data(AmgLevel& L, const Rows& A) {
+    L.inverse_diagonal.resize(A.rows());
+    for (int i = 0; i < A.rows(); ++i) L.inverse_diagonal[i] = 1.0 / A.diagonal(i);
     L.lambda_max = largest_eigenvalue(A, L.inverse_diagonal);
 }
 
@@ -190,10 +231,13 @@ NearNull rigid_modes(const std::vector<Eigen::Vector3d>& position, int rows, con
     return B;
 }
 
+/// Frees m's storage. Assigning an empty matrix does not: Eigen 3.4's sparse assignment keeps the
+/// storage's capacity (CompressedStorage::resize never shrinks), so each "freed" matrix of the setup
+/// lived to its end.
+void release(CsrMatrix& m) { CsrMatrix().swap(m); }
+
 /// The cycle's vectors of a level with n DOFs.
 void size_vectors(AmgLevel& L, int n) { L.x.setZero(n), L.b.setZero(n), L.r.setZero(n), L.d.setZero(n), L.t.setZero(n); }
-
-}  // namespace
 
 /// C = A B, row by row with a dense accumulator (Gustavson, ACM TOMS 4(3), 1978), in two passes (the
 /// pattern, then the values straight into C's storage), the rows shared among the threads. Each entry sums its terms in the order
@@ -201,8 +245,9 @@ void size_vectors(AmgLevel& L, int n) { L.x.setZero(n), L.b.setZero(n), L.r.setZ
 /// so the values are the same bits; Eigen's product of row-major operands builds its result in
 /// another storage and converts it, two copies of C at once, and its conversions were a third of
 /// the setup's time at 53k tets.
-CsrMatrix sparse_product(const CsrMatrix& A, const CsrMatrix& B) {
-    const int rows = static_cast<int>(A.rows()), cols = static_cast<int>(B.cols());
+template <class Rows>
+CsrMatrix product_of(const Rows& A, const CsrMatrix& B) {
+    const int rows = A.rows(), cols = static_cast<int>(B.cols());
     CsrMatrix C(rows, cols);
     // The rows split in one contiguous share per thread, each with its own accumulator: a row's
     // entries do not depend on the split, so the bits do not depend on the thread count.
@@ -218,9 +263,10 @@ CsrMatrix sparse_product(const CsrMatrix& A, const CsrMatrix& B) {
         std::vector<int> seen(cols, -1);
         for (int i = lo; i < hi; ++i) {
             int n = 0;
-            for (CsrMatrix::InnerIterator a(A, i); a; ++a)
-                for (CsrMatrix::InnerIterator b(B, a.col()); b; ++b)
+            A.row(i, [&](int k, double) {
+                for (CsrMatrix::InnerIterator b(B, k); b; ++b)
                     if (seen[b.col()] != i) seen[b.col()] = i, ++n;
+            });
             outer[i + 1] = n;
         }
     }, 1);
@@ -236,16 +282,17 @@ CsrMatrix sparse_product(const CsrMatrix& A, const CsrMatrix& B) {
         for (int i = lo; i < hi; ++i) {
             int* row_cols = C.innerIndexPtr() + outer[i];
             int n = 0;
-            for (CsrMatrix::InnerIterator a(A, i); a; ++a)
-                for (CsrMatrix::InnerIterator b(B, a.col()); b; ++b) {
+            A.row(i, [&](int k, double a) {
+                for (CsrMatrix::InnerIterator b(B, k); b; ++b) {
                     const int j = static_cast<int>(b.col());
                     if (seen[j] != i) {
                         seen[j] = i, row_cols[n++] = j;
-                        sum[j] = b.value() * a.value();
+                        sum[j] = b.value() * a;
                     } else {
-                        sum[j] += b.value() * a.value();
+                        sum[j] += b.value() * a;
                     }
                 }
+            });
             std::sort(row_cols, row_cols + n);
             double* row_values = C.valuePtr() + outer[i];
             for (int k = 0; k < n; ++k) row_values[k] = sum[row_cols[k]];
@@ -253,6 +300,10 @@ CsrMatrix sparse_product(const CsrMatrix& A, const CsrMatrix& B) {
     }, 1);
     return C;
 }
+
+}  // namespace
+
+CsrMatrix sparse_product(const CsrMatrix& A, const CsrMatrix& B) { return product_of(ScalarRows{A}, B); }
 
 RunMatrix to_runs(const CsrMatrix& M) {
     RunMatrix out;
@@ -274,53 +325,71 @@ RunMatrix to_runs(const CsrMatrix& M) {
     return out;
 }
 
+namespace {
+
+/// One level of the setup on operator A (rows: ScalarRows or BlockRows): its smoother's data and,
+/// unless it is the coarsest, its prolongator and restriction and the next level's operator
+/// (returned in `coarse_A`; B and g become the next level's). `owned`, if given, is A's storage:
+/// freed as soon as the next operator no longer needs it. Returns false at the coarsest level.
+template <class Rows>
+bool coarsen(const Rows& A, CsrMatrix* owned, AmgHierarchy& h, NearNull& B, Grouping& g, double theta,
+             CsrMatrix& coarse_A) {
+    AmgLevel& L = h.levels.back();
+    smoother_data(L, A);
+    if (A.rows() <= kAmgCoarsest || static_cast<int>(h.levels.size()) == kMaxLevels) return false;
+    int count = 0;
+    const std::vector<int> agg = aggregate(strong_neighbours(A, g, theta), count);
+    NearNull coarse_B;
+    Grouping coarse;
+    // Each double-precision matrix is freed as soon as the next one no longer needs it (the level
+    // keeps single-precision runs): the setup's peak memory is the product's operands, not every
+    // intermediate at once.
+    CsrMatrix P;
+    {
+        const CsrMatrix Pt = tentative(B, g, agg, count, coarse_B, coarse);
+        if (count == 0 || Pt.cols() > kStallRatio * A.rows()) return false;
+        const double omega = 4.0 / 3.0 / L.lambda_max;
+        CsrMatrix smoothing = product_of(A, Pt);  // becomes omega D^-1 A P_tent
+        for (int i = 0; i < smoothing.outerSize(); ++i)
+            for (CsrMatrix::InnerIterator it(smoothing, i); it; ++it) it.valueRef() *= omega * L.inverse_diagonal[i];
+        P = Pt - smoothing;
+    }
+    CsrMatrix AP = product_of(A, P);
+    if (owned) release(*owned);
+    L.P = to_runs(P);
+    CsrMatrix R = P.transpose();
+    release(P);
+    CsrMatrix RAP = sparse_product(R, AP);  // R (A P): the Galerkin product
+    coarse_A.swap(RAP);
+    release(AP);
+    L.R = to_runs(R);
+    release(R);
+    h.levels.emplace_back();
+    h.levels.back().A = to_runs(coarse_A);
+    B = std::move(coarse_B), g = std::move(coarse);
+    return true;
+}
+
+}  // namespace
+
 void build_amg(const LinearSystem& Ablock, const std::vector<Eigen::Vector3d>& position, const Eigen::VectorXd& mask,
                AmgHierarchy& h) {
     h.levels.assign(1, AmgLevel{});
     h.ok = false, h.age = 0, h.first_iterations = h.last_iterations = 0;
     h.topology = Ablock.topology;
     const int rows = Ablock.rows();
-    CsrMatrix A;
-    copy_to_scalar(Ablock, A, true);
     Grouping g;
     for (int k = 0; k <= rows; ++k) g.start.push_back(3 * k);
     NearNull B = rigid_modes(position, rows, mask);
     double theta = kTheta;
-    while (true) {
-        AmgLevel& L = h.levels.back();
-        smoother_data(L, A);
-        if (A.rows() <= kAmgCoarsest || static_cast<int>(h.levels.size()) == kMaxLevels) break;
-        int count = 0;
-        const std::vector<int> agg = aggregate(strong_neighbours(A, g, theta), count);
-        NearNull coarse_B;
-        Grouping coarse;
-        // Each double-precision matrix is freed as soon as the next one no longer needs it (the
-        // level keeps single-precision runs): the setup's peak memory is the product's operands,
-        // not every intermediate at once (at 53k tets it stood 62 MB above the run's resident size).
-        CsrMatrix P;
-        {
-            const CsrMatrix Pt = tentative(B, g, agg, count, coarse_B, coarse);
-            if (count == 0 || Pt.cols() > kStallRatio * A.rows()) break;
-            const double omega = 4.0 / 3.0 / L.lambda_max;
-            CsrMatrix smoothing = sparse_product(A, Pt);  // becomes omega D^-1 A P_tent
-            for (int i = 0; i < smoothing.outerSize(); ++i)
-                for (CsrMatrix::InnerIterator it(smoothing, i); it; ++it) it.valueRef() *= omega * L.inverse_diagonal[i];
-            P = Pt - smoothing;
+    CsrMatrix A;  // the operator of the level being set up, from the first coarse one on
+    if (!coarsen(BlockRows{Ablock}, nullptr, h, B, g, theta, A)) {
+        copy_to_scalar(Ablock, A, true);  // the finest level is the coarsest
+    } else {
+        for (CsrMatrix coarse_A;; A.swap(coarse_A)) {  // Eigen 3.4's sparse matrices have no move assignment
+            theta *= 0.5;
+            if (!coarsen(ScalarRows{A}, &A, h, B, g, theta, coarse_A)) break;
         }
-        CsrMatrix AP = sparse_product(A, P);
-        A = CsrMatrix();
-        L.P = to_runs(P);
-        CsrMatrix R = P.transpose();
-        P = CsrMatrix();
-        CsrMatrix coarse_A = sparse_product(R, AP);  // R (A P): the Galerkin product
-        AP = CsrMatrix();
-        L.R = to_runs(R);
-        R = CsrMatrix();
-        h.levels.emplace_back();
-        h.levels.back().A = to_runs(coarse_A);
-        A = std::move(coarse_A);
-        B = std::move(coarse_B), g = std::move(coarse);
-        theta *= 0.5;
     }
     h.coarsest.compute(Eigen::SparseMatrix<double>(A));  // the coarsest level is solved exactly
     h.ok = h.coarsest.info() == Eigen::Success;
