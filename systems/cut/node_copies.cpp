@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <fmt/format.h>
 #include <numeric>
+#include <stdexcept>
 
 #include "systems/xfem_queries.h"
 
@@ -33,12 +35,12 @@ void unite(std::vector<int>& parent, int a, int b) {
     if (a != b) parent[std::max(a, b)] = std::min(a, b);
 }
 
-/// Whether fragment f has material on a face: a whole element everywhere, a side where one of the
-/// face's nodes is on it.
-bool on_face(const World& w, const Fragment& f, const std::array<int, 3>& face, int n) {
+/// Whether fragment f has material on a face (its nodes; -1 for none: a 2D face has two): a whole
+/// element everywhere, a side where one of the face's nodes is on it.
+bool on_face(const World& w, const Fragment& f, const std::array<int, 3>& face) {
     if (f.side == 0) return true;
-    for (int a = 0; a < n; ++a)
-        if (w.enriched.sign[face[a]] == f.side) return true;
+    for (int n : face)
+        if (n >= 0 && w.enriched.sign[n] == f.side) return true;
     return false;
 }
 
@@ -96,7 +98,7 @@ std::vector<Fragment> fragments_around(const World& w, int j) {
 /// front's clause; returns each fragment's class (its smallest fragment index).
 std::vector<int> material_classes(const World& w, int j, const std::vector<Fragment>& frags) {
     const Elements& el = w.elements;
-    const int npe = el.nodes_per_element(), dim = el.dim;
+    const int npe = el.nodes_per_element();
     std::vector<int> parent(frags.size());
     std::iota(parent.begin(), parent.end(), 0);
     std::vector<FaceOf> faces;
@@ -106,9 +108,9 @@ std::vector<int> material_classes(const World& w, int j, const std::vector<Fragm
         for (int skip = 0; skip < npe; ++skip) {
             if (skip == frags[f].slot) continue;
             FaceOf face{{-1, -1, -1}, static_cast<int>(f)};
-            for (int a = 0, n = 0; a < npe; ++a)
+            for (int a = 0, n = 0; a < npe && n < 3; ++a)
                 if (a != skip) face.nodes[n++] = nodes[a];
-            std::sort(face.nodes.begin(), face.nodes.begin() + dim);
+            std::sort(face.nodes.begin(), face.nodes.end());  // in 2D the third stays -1, first
             faces.push_back(face);
         }
     }
@@ -121,7 +123,7 @@ std::vector<int> material_classes(const World& w, int j, const std::vector<Fragm
             for (int b = fb; b < fb + count_of(fb); ++b) {
                 const Fragment &A = frags[a], &B = frags[b];
                 if (A.side != 0 && B.side != 0 && A.side != B.side) continue;  // the cut's two sides
-                if (on_face(w, A, faces[k].nodes, dim) && on_face(w, B, faces[k].nodes, dim)) unite(parent, a, b);
+                if (on_face(w, A, faces[k].nodes) && on_face(w, B, faces[k].nodes)) unite(parent, a, b);
             }
     }
     for (size_t f = 0; f + 1 < frags.size(); ++f) {
@@ -164,6 +166,14 @@ void assign_node_copies(World& w, int j, std::vector<int>& changed) {
         }
         copy[r] = keep >= 0 ? keep : add_phantom(w, j, from);
         claimed.push_back(copy[r]);
+    }
+    // Material only divides as cuts are added (a split or a crossing never joins two classes), so no
+    // phantom a fragment used is left without one: it would keep no mass and no stiffness.
+    for (size_t f = 0; f < frags.size(); ++f) {
+        const int d = dof_of(w, frags[f], j);
+        if (d >= w.mesh_nodes && std::find(claimed.begin(), claimed.end(), d) == claimed.end())
+            throw std::logic_error(fmt::format("node copies: phantom {} of node {} would hold no material (two parts "
+                                               "of the material around the node joined)", d, j));
     }
     const bool grew = w.nodes.count() > phantoms_before;
     for (size_t f = 0; f < frags.size(); ++f) {
