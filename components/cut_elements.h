@@ -69,9 +69,9 @@ struct EnrichedDofs {
     /// Node copies): the real node and as many phantoms as there are other classes; the virtual
     /// elements name them, node_of_phantom maps each back.
     std::vector<int> phantom;
-    /// The plane of the cut that fixed H_j (rest configuration): a point on it and its unit normal,
-    /// pointing to the side H = +1; zero normal while H_j = 0.
-    std::vector<Vec3> sign_point, sign_normal;
+    /// The unit normal of the cut that fixed H_j (rest configuration), pointing to the side H = +1;
+    /// zero while H_j = 0 (a crack tip's lips, systems/cut/crack_tip_system.cpp).
+    std::vector<Vec3> sign_normal;
     std::vector<int> node_of_phantom;  ///< per phantom (index - mesh_nodes): its mesh node
     /// per phantom: the DOF node whose state it started from (its mesh node, or an earlier phantom
     /// of that node when a cut divides the material that phantom held)

@@ -50,7 +50,7 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
             const CrackTips& t = w.tips;
             h.all(t.point, t.direction, t.node, t.tip, t.element, t.first, t.moment_first, t.function, t.gradient, t.moment);
             const EnrichedDofs& en = w.enriched;
-            return h.all(en.sign, en.enriched, en.front_fixed, en.phantom, en.node_of_phantom, en.phantom_from, en.sign_point, en.sign_normal);
+            return h.all(en.sign, en.enriched, en.front_fixed, en.phantom, en.node_of_phantom, en.phantom_from, en.sign_normal);
         }
         case kTools: {
             const ToolBodies& t = w.tools;

@@ -20,7 +20,6 @@ void prepare_enrichment(World& w) {
     en.enriched.assign(w.mesh_nodes, 0);
     en.front_fixed.assign(w.mesh_nodes, 0);
     en.phantom.assign(w.mesh_nodes, -1);
-    en.sign_point.assign(w.mesh_nodes, Vec3::Zero());
     en.sign_normal.assign(w.mesh_nodes, Vec3::Zero());
     w.cuts.cut_of_element.assign(w.mesh_elements, -1);
     // Room for virtual elements and phantom nodes, so a split never copies the whole mesh arrays
@@ -81,7 +80,7 @@ bool record_cut(World& w, const CutEvent& ev) {
     for (int a = 0; a < npe; ++a) toward += H[a] * (X[a] - points[0]).dot(normal);
     if (toward < 0.0) normal = -normal;
     for (int a = 0; a < npe; ++a) {
-        if (en.sign[c[a]] == 0) en.sign_point[c[a]] = points[0], en.sign_normal[c[a]] = normal;
+        if (en.sign[c[a]] == 0) en.sign_normal[c[a]] = normal;
         en.sign[c[a]] = H[a];
         en.enriched[c[a]] = 1;
     }

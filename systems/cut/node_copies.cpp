@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <fmt/format.h>
-#include <numeric>
 #include <stdexcept>
 
+#include "systems/kernels/disjoint_sets.h"
 #include "systems/xfem_queries.h"
 
 namespace xcut {
@@ -24,16 +24,6 @@ struct FaceOf {
     int fragment;
     bool operator<(const FaceOf& o) const { return nodes != o.nodes ? nodes < o.nodes : fragment < o.fragment; }
 };
-
-int find_root(std::vector<int>& parent, int a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-}
-
-void unite(std::vector<int>& parent, int a, int b) {
-    a = find_root(parent, a), b = find_root(parent, b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-}
 
 /// Whether fragment f has material on a face (its nodes; -1 for none: a 2D face has two): a whole
 /// element everywhere, a side where one of the face's nodes is on it.
@@ -99,8 +89,7 @@ std::vector<Fragment> fragments_around(const World& w, int j) {
 std::vector<int> material_classes(const World& w, int j, const std::vector<Fragment>& frags) {
     const Elements& el = w.elements;
     const int npe = el.nodes_per_element();
-    std::vector<int> parent(frags.size());
-    std::iota(parent.begin(), parent.end(), 0);
+    DisjointSets sets(static_cast<int>(frags.size()));
     std::vector<FaceOf> faces;
     for (size_t f = 0; f < frags.size(); ++f) {
         if (frags[f].side < 0) continue;  // an element's first fragment stands for it
@@ -123,7 +112,7 @@ std::vector<int> material_classes(const World& w, int j, const std::vector<Fragm
             for (int b = fb; b < fb + count_of(fb); ++b) {
                 const Fragment &A = frags[a], &B = frags[b];
                 if (A.side != 0 && B.side != 0 && A.side != B.side) continue;  // the cut's two sides
-                if (on_face(w, A, faces[k].nodes) && on_face(w, B, faces[k].nodes)) unite(parent, a, b);
+                if (on_face(w, A, faces[k].nodes) && on_face(w, B, faces[k].nodes)) sets.join(a, b);
             }
     }
     for (size_t f = 0; f + 1 < frags.size(); ++f) {
@@ -131,12 +120,13 @@ std::vector<int> material_classes(const World& w, int j, const std::vector<Fragm
         const auto& nodes = el.nodes[frags[f].element];
         for (int a = 0; a < npe; ++a)
             if (nodes[a] != j && w.enriched.sign[nodes[a]] != w.enriched.sign[j] && !edge_crossed(w, j, nodes[a])) {
-                unite(parent, static_cast<int>(f), static_cast<int>(f + 1));
+                sets.join(static_cast<int>(f), static_cast<int>(f + 1));
                 break;
             }
     }
-    for (size_t f = 0; f < frags.size(); ++f) parent[f] = find_root(parent, static_cast<int>(f));
-    return parent;
+    std::vector<int> cls(frags.size());
+    for (size_t f = 0; f < frags.size(); ++f) cls[f] = sets.find(static_cast<int>(f));
+    return cls;
 }
 
 }  // namespace

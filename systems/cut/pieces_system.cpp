@@ -6,25 +6,11 @@
 #include <utility>
 
 #include "systems/cut/enrichment_system.h"
+#include "systems/kernels/disjoint_sets.h"
 
 namespace xcut {
 
 namespace {
-
-/// Union-find over DOF nodes with path halving; the smaller root wins, so the result does not
-/// depend on the order of the unions.
-struct DisjointSets {
-    std::vector<int> parent;
-    explicit DisjointSets(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-    int find(int i) {
-        while (parent[i] != i) i = parent[i] = parent[parent[i]];
-        return i;
-    }
-    void join(int a, int b) {
-        a = find(a), b = find(b);
-        if (a != b) (a < b ? parent[b] : parent[a]) = std::min(a, b);
-    }
-};
 
 /// A force element that joins what it touches: not a cut mesh element (weight 0), nor a side whose
 /// weight is the floor kMinSideFraction (a cut through its face or node: no material, 1e-9 of the

@@ -9,6 +9,7 @@
 
 #include "engine/setup.h"
 #include "systems/kernels/cut_geometry.h"
+#include "systems/kernels/disjoint_sets.h"
 #include "systems/surface/mapping_system.h"
 #include "systems/kernels/snap_split_patterns.h"
 
@@ -224,12 +225,6 @@ void regenerate(World& w, int f) {
     el.weight[f] = 0.0;
 }
 
-/// Smallest-index representative (union-find with path halving).
-int find_root(std::vector<int>& parent, int i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-}
-
 /// Splits surface root r into one copy per group of the pieces around it that touch through a
 /// facet holding r without crossing the cut (pieces of opposite sides never join). A group keeps
 /// the copy its pieces used before; a group that has none (or whose copy an earlier group kept)
@@ -246,8 +241,7 @@ void separate(World& w, int r, std::vector<int>& rewritten) {
             if (s.piece_live[slot] && holds(s.piece_roots[slot], npe, r)) P.push_back(q);
         }
     const int n = static_cast<int>(P.size());
-    std::vector<int> parent(n);
-    std::iota(parent.begin(), parent.end(), 0);
+    DisjointSets sets(n);
     for (int i = 0; i < n; ++i)
         for (int j = i + 1; j < n; ++j) {
             const int si = s.piece_side[P[i] - w.mesh_elements], sj = s.piece_side[P[j] - w.mesh_elements];
@@ -257,8 +251,7 @@ void separate(World& w, int r, std::vector<int>& rewritten) {
             int common = 0;
             for (int a = 0; a < npe; ++a) common += holds(rj, npe, ri[a]) ? 1 : 0;
             if (common >= facet) {
-                const int a = find_root(parent, i), b = find_root(parent, j);
-                parent[std::max(a, b)] = std::min(a, b);
+                sets.join(i, j);
             }
         }
     auto key_of = [&](int q) {
@@ -267,12 +260,12 @@ void separate(World& w, int r, std::vector<int>& rewritten) {
     };
     std::vector<int> groups;  // representatives, in order of first piece
     for (int i = 0; i < n; ++i)
-        if (find_root(parent, i) == i) groups.push_back(i);
+        if (sets.find(i) == i) groups.push_back(i);
     std::vector<int> chosen(groups.size(), -1), previous(groups.size(), -1);
     std::vector<int> claimed;
     for (size_t g = 0; g < groups.size(); ++g)
         for (int i = 0; i < n && chosen[g] < 0; ++i) {
-            if (find_root(parent, i) != groups[g]) continue;
+            if (sets.find(i) != groups[g]) continue;
             const auto it = s.copy.find(key_of(P[i]));
             if (it == s.copy.end()) continue;
             if (previous[g] < 0) previous[g] = it->second;
@@ -289,7 +282,7 @@ void separate(World& w, int r, std::vector<int>& rewritten) {
         claimed.push_back(chosen[g]);
     }
     for (int i = 0; i < n; ++i) {
-        const int g = static_cast<int>(std::find(groups.begin(), groups.end(), find_root(parent, i)) - groups.begin());
+        const int g = static_cast<int>(std::find(groups.begin(), groups.end(), sets.find(i)) - groups.begin());
         const int q = P[i];
         s.copy[key_of(q)] = chosen[g];
         const auto& roots = s.piece_roots[q - w.mesh_elements];

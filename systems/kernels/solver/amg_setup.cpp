@@ -36,7 +36,6 @@ struct Grouping {
 struct ScalarRows {
     const CsrMatrix& m;
     int rows() const { return static_cast<int>(m.rows()); }
-    int cols() const { return static_cast<int>(m.cols()); }
     template <class F>
     void row(int i, F&& f) const {
         for (CsrMatrix::InnerIterator it(m, i); it; ++it) f(static_cast<int>(it.col()), it.value());
@@ -47,7 +46,6 @@ struct ScalarRows {
 struct BlockRows {
     const LinearSystem& m;
     int rows() const { return 3 * m.rows(); }
-    int cols() const { return 3 * m.rows(); }
     template <class F>
     void row(int i, F&& f) const {
         const int k = i / 3, r = i % 3;
