@@ -25,6 +25,8 @@ struct AmgHierarchy;
 struct PendingHierarchy;
 /// A Cholesky factor being computed off the step (systems/solver/factor_background.h); opaque here.
 struct PendingFactor;
+/// The factor of the system a term kept beside the assembly completes (systems/solver/beside_factor.h); opaque here.
+struct BesideFactor;
 
 /// What the kept solutions of earlier steps belong to (systems/kernels/solver/projected_guess.h): a step
 /// with another key starts them again (a cut changes the DOFs, the elements or the pattern). A
@@ -66,6 +68,7 @@ struct LinearSystem {
     // The solver's state between steps.
     std::shared_ptr<LinearFactor> factor;  ///< the preconditioner factor, if the method keeps one
     std::shared_ptr<AmgHierarchy> amg;     ///< the multigrid hierarchy, if the method is amg
+    std::shared_ptr<BesideFactor> beside_factor;  ///< cholesky, direct: the factor with a beside term's block
     int factor_age = 0;                    ///< steps since the factor was computed
     int factorizations = 0;                ///< numeric factorizations (or amg hierarchies built) so far
     int symbolic_factorizations = 0;       ///< symbolic (pattern) analyses so far

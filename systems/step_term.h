@@ -16,6 +16,8 @@
 // writes the force and the product, the others add; in the assembled A the row terms fill each
 // block row (the first writes), the mass is added to the diagonal, then the scattered terms add.
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +25,18 @@
 #include "engine/world.h"
 
 namespace xcut {
+
+/// The sparse system a term kept beside the assembly is the Schur complement of: its stiffness is
+/// K_t = -C^T H^-1 C, with C (rows x 3 per DOF node) and H (rows x rows, symmetric positive
+/// semi-definite) sparse, as the term is linearized now. The full matrix [A, s C^T; s C, s H] has
+/// A + s K_t as its Schur complement, so its factor preconditions CG on A + s K_t exactly
+/// (systems/solver/beside_factor.h). Entries as triplets (row, column, value); H's both triangles.
+struct BesideBlock {
+    int rows = 0;
+    std::vector<Eigen::Triplet<double>> coupling;  ///< C [N/m^1.5 or the term's units]
+    std::vector<Eigen::Triplet<double>> stiffness; ///< H
+    uint64_t version = 0;                          ///< the term's beside_version
+};
 
 class StepTerm {
 public:
@@ -55,6 +69,14 @@ public:
     /// amplitudes) stays out of the assembled A: the assembled methods add its product beside A's
     /// (CG's operator is then the whole A, its preconditioner A's without the term).
     virtual bool beside_assembly() const { return false; }
+    /// Such a term may say which sparse system it is the Schur complement of (BesideBlock), at its
+    /// current linearization; false if it cannot.
+    virtual bool beside_block(World&, BesideBlock&) const { return false; }
+    /// Whether it gives one (beside_block), without building it.
+    virtual bool gives_beside_block() const { return false; }
+    /// A number that changes when the term's own unknowns change (the crack tips' zones are built
+    /// again): a factor knows which block it was made for.
+    virtual uint64_t beside_version(const World&) const { return 0; }
     /// Whether a scheduled system computes its force at the step's start (the elastic term's: the
     /// ForceSystem; the contacts': the CollisionSystem). A term without one (the crack tips) has it
     /// added by the SolverSystem as the step begins (StepOperator::add_start_forces).
@@ -89,6 +111,13 @@ struct StepOperator {
     /// out += scale mask (K_t (mask p)) over the active terms kept beside the assembly; whether any is.
     bool add_beside_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, double scale,
                             const Eigen::VectorXd& mask) const;
+    /// Whether the active terms kept beside the assembly are one, and it gives its block
+    /// (several are not combined).
+    bool gives_beside_block(const World& world) const;
+    /// That term's beside_version (0 if none gives a block).
+    uint64_t beside_version(const World& world) const;
+    /// Its block, if gives_beside_block.
+    bool beside_block(World& world, BesideBlock& block) const;
 };
 
 /// The scales of a backward Euler step of length h [s]: A = mass M + stiffness K, with Rayleigh

@@ -119,18 +119,7 @@ public:
     void factor(const World& w) {
         const CrackTips& ct = w.tips;
         Eigen::MatrixXd H = Eigen::MatrixXd::Zero(2 * ct.functions(), 2 * ct.functions());
-        for (int z = 0; z < ct.zone(); ++z) {
-            const int fe = ct.element[z], n = ct.first[z + 1] - ct.first[z];
-            const Eigen::Matrix2d R = w.elements.rotation[fe].topLeftCorner<2, 2>();
-            const LameParameters lame = plane_lame(w, fe);
-            for (int a = 0; a < n; ++a)
-                for (int b = 0; b < n; ++b) {
-                    const Eigen::Matrix2d M = ct.moment[ct.moment_first[z] + a * n + b].topLeftCorner<2, 2>();
-                    const Eigen::Matrix2d K = lame.lambda * M + lame.mu * M.transpose() +
-                                              lame.mu * M.trace() * Eigen::Matrix2d::Identity();
-                    H.block<2, 2>(2 * ct.function[ct.first[z] + a], 2 * ct.function[ct.first[z] + b]) += R * K * R.transpose();
-                }
-        }
+        stiffness_blocks(w, [&](int fa, int fb, const Eigen::Matrix2d& K) { H.block<2, 2>(2 * fa, 2 * fb) += K; });
         // Jacobi scaling first: far from the tip a shifted function is nearly linear over its
         // element, so its diagonal is orders of magnitude below the tip's (Béchet et al. 2005).
         scale_ = H.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
@@ -148,6 +137,34 @@ public:
                 "(smallest pivot {:.3g} of the largest)", H.rows(), d.minCoeff() / largest));
         inverse_pivot_ = d.unaryExpr([&](double p) { return p > kDroppedPivot * largest ? 1.0 / p : 0.0; });
         dropped_ = static_cast<int>((inverse_pivot_.array() == 0.0).count());
+    }
+    /// The sparse system the condensation is the Schur complement of (BesideBlock): H's blocks as
+    /// factor() sums them, and C = ∂g/∂x, the coupling's map from the nodes' displacements (3 per
+    /// DOF node) to the amplitudes' forces, at the current rotations.
+    void block(const World& w, BesideBlock& out) const {
+        const CrackTips& ct = w.tips;
+        out.rows = 2 * ct.functions();
+        stiffness_blocks(w, [&](int fa, int fb, const Eigen::Matrix2d& K) {
+            for (int i = 0; i < 2; ++i)
+                for (int j = 0; j < 2; ++j) out.stiffness.emplace_back(2 * fa + i, 2 * fb + j, K(i, j));
+        });
+        for (int z = 0; z < ct.zone(); ++z) {
+            const int fe = ct.element[z];
+            const Eigen::Matrix2d R = w.elements.rotation[fe].topLeftCorner<2, 2>();
+            const Eigen::Matrix2d dm_inv = w.elements.dm_inv[fe].topLeftCorner<2, 2>();
+            for (int k = 0; k < 3; ++k)
+                for (int d = 0; d < 2; ++d) {  // node k moved along axis d
+                    std::array<Vec3, 4> x;
+                    x.fill(Vec3::Zero());
+                    x[k][d] = 1.0;
+                    const Eigen::Matrix2d RS = R * linear_stress<2>(R.transpose() * edge_matrix<2>(x) * dm_inv, plane_lame(w, fe));
+                    const int column = 3 * w.elements.nodes[fe][k] + d;
+                    for (int a = ct.first[z]; a < ct.first[z + 1]; ++a) {
+                        const Vec2 g = RS * ct.gradient[a].head<2>();
+                        for (int i = 0; i < 2; ++i) out.coupling.emplace_back(2 * ct.function[a] + i, column, g[i]);
+                    }
+                }
+        }
     }
     /// g = Σ_z R σ(R^T F - shift I) G_a, F from the nodal vectors v (positions, or a direction with shift 0).
     Eigen::VectorXd coupling(const World& w, const Vec3* v, double shift) const {
@@ -181,17 +198,37 @@ public:
         }
     }
     /// H^+ g through the scaled factor P^T L D L^T P, dropped pivots as 0.
-    template <class V>
-    Eigen::MatrixXd solve(const V& g) const {
-        Eigen::MatrixXd y = ldlt_.transpositionsP() * (scale_.asDiagonal() * g);
+    /// (One column: a VectorXd takes Eigen's triangular vector solves, not the blocked matrix
+    /// ones, which pack L anew at every call.)
+    Eigen::VectorXd solve(const Eigen::VectorXd& g) const {
+        Eigen::VectorXd y = scale_.cwiseProduct(g);
+        y = ldlt_.transpositionsP() * y;
         ldlt_.matrixL().solveInPlace(y);
-        y = inverse_pivot_.asDiagonal() * y;
+        y.array() *= inverse_pivot_.array();
         ldlt_.matrixU().solveInPlace(y);
-        return scale_.asDiagonal() * (ldlt_.transpositionsP().transpose() * y);
+        y = ldlt_.transpositionsP().transpose() * y;
+        return y.cwiseProduct(scale_);
     }
     int dropped() const { return dropped_; }
 
 private:
+    /// f(fa, fb, R K_ab R^T) for every pair of functions of every zone element (H's terms).
+    template <class F>
+    static void stiffness_blocks(const World& w, F&& f) {
+        const CrackTips& ct = w.tips;
+        for (int z = 0; z < ct.zone(); ++z) {
+            const int fe = ct.element[z], n = ct.first[z + 1] - ct.first[z];
+            const Eigen::Matrix2d R = w.elements.rotation[fe].topLeftCorner<2, 2>();
+            const LameParameters lame = plane_lame(w, fe);
+            for (int a = 0; a < n; ++a)
+                for (int b = 0; b < n; ++b) {
+                    const Eigen::Matrix2d M = ct.moment[ct.moment_first[z] + a * n + b].topLeftCorner<2, 2>();
+                    const Eigen::Matrix2d K = lame.lambda * M + lame.mu * M.transpose() +
+                                              lame.mu * M.trace() * Eigen::Matrix2d::Identity();
+                    f(ct.function[ct.first[z] + a], ct.function[ct.first[z] + b], R * K * R.transpose());
+                }
+        }
+    }
     Eigen::LDLT<Eigen::MatrixXd> ldlt_;
     Eigen::VectorXd scale_;          ///< H's Jacobi scaling, 1 / sqrt(H_ii)
     Eigen::VectorXd inverse_pivot_;  ///< 1 / D of the scaled factor, 0 where dropped
@@ -229,6 +266,15 @@ public:
     bool beside_assembly() const override { return true; }
     /// No system of its own: the SolverSystem adds its force at the step's start.
     bool from_system() const override { return false; }
+    /// The amplitudes' sparse system, for the assembled methods' factor (systems/solver/beside_factor.h).
+    bool beside_block(World& w, BesideBlock& out) const override {
+        if (!active(w)) return false;
+        c_.block(w, out);
+        out.version = beside_version(w);
+        return true;
+    }
+    bool gives_beside_block() const override { return true; }
+    uint64_t beside_version(const World& w) const override { return static_cast<uint64_t>(w.tips.version); }
 
 private:
     /// A step whose rotations came from the ForceSystem (no linearize through the terms) factors

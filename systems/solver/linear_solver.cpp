@@ -12,6 +12,7 @@
 #include "systems/kernels/solver/projected_guess.h"
 #include "systems/kernels/solver/team_cg.h"
 #include "systems/solver/amg_background.h"
+#include "systems/solver/beside_factor.h"
 #include "systems/solver/cholesky_factor.h"
 #include "systems/solver/factor_background.h"
 #include "systems/solver/linear_assembly.h"
@@ -276,7 +277,8 @@ public:
     /// cholesky / direct: CG preconditioned by CHOLMOD's factor, solved on one thread of the team.
     /// cholesky renews it off the step (systems/solver/factor_background.h): at a cut the old one
     /// goes on through an augmented block, an aged one as it is, until the successor is due.
-    void cholesky() {
+    void cholesky(double mass_scale) {
+        if (beside_cholesky(mass_scale)) return;
         const SolverSettings& s = w_.solver;
         const bool off_step = off_step_factors(w_);
         const bool failed_off_step = take_due_factor();
@@ -312,8 +314,47 @@ public:
             f->last_iterations = iterations;
             ++A_.factor_age;
         };
-        with_kept(stale, renew, [&] { return f && f->ok; },
+        with_kept(stale, renew, [&] { return f->ok; },
                   [&] { return cg(Preconditioning::kSingle, no_rows, solve_factor); }, solved);
+    }
+
+    /// cholesky / direct beside a term that gives its block (the crack tips): CG preconditioned by
+    /// the factor of the whole sparse system (systems/solver/beside_factor.h), computed in the step
+    /// (only 2D scenes carry tips) and kept as A's own is: renewed when the block, A's pattern or
+    /// the scales change, when it has preconditioned refactor_every solves, when CG needed more
+    /// than refactor_iterations with it, and every solve for direct. False if no term gives a block,
+    /// or while the block moves from step to step (systems/solver/beside_factor.h says why).
+    bool beside_cholesky(double mass_scale) {
+        if (!op_.gives_beside_block(w_)) return false;
+        const SolverSettings& s = w_.solver;
+        std::shared_ptr<BesideFactor>& f = A_.beside_factor;
+        if (!f) f = std::make_shared<BesideFactor>();
+        const uint64_t version = op_.beside_version(w_);
+        if (version != f->seen_version) f->changed_before = f->changed_step, f->changed_step = w_.step, f->seen_version = version;
+        if (f->changed_step == w_.step && w_.step - f->changed_before <= 2) return false;  // a moving block
+        const double ratio = mass_scale > 0.0 ? stiff_scale_ / mass_scale : -stiff_scale_;  // static solves: -s
+        const bool stale = !f->ok || f->version != version || f->topology != A_.topology ||
+                           f->base != 3 * A_.rows() || f->ratio != ratio || f->age >= s.refactor_every ||
+                           f->last_iterations > s.refactor_iterations || A_.method == "direct";
+        const auto renew = [&] {
+            BesideBlock block;
+            if (!op_.beside_block(w_, block)) return false;
+            const bool ok = factor_beside(A_, block, stiff_scale_, mask_, *f);
+            f->ratio = ratio;
+            ++A_.factorizations;
+            A_.factor_age = 0;
+            A_.factor_nonzeros = f->lnz;
+            A_.step_preconditioner = 3;
+            return ok;
+        };
+        const auto solved = [&](int iterations) {
+            f->last_iterations = iterations;
+            ++f->age;
+        };
+        with_kept(stale, renew, [&] { return f->ok; },
+                  [&] { return cg(Preconditioning::kSingle, no_rows, [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) { f->solve(r, z); }); },
+                  solved);
+        return true;
     }
 
     /// Takes the factor computed off the step that is due at this step (waiting for it if it is
@@ -407,7 +448,7 @@ LinearSolve solve(World& w, const StepOperator& op, double mass_scale, double st
         AssembledSolve solve(w, op, stiff_scale, b, mask, limits, x, out);
         if (A.method == "block_jacobi") solve.accept(solve.block_jacobi());
         else if (A.method == "amg") solve.amg(stiff_scale / mass_scale);
-        else solve.cholesky();
+        else solve.cholesky(mass_scale);
     }
     if (history && out.converged) remember_solution(*history, key, w.solver.guess_history, x, mask);
     return out;

@@ -1,0 +1,60 @@
+#pragma once
+// The cholesky and direct methods' preconditioner when a term is kept beside the assembly (the
+// crack tips' condensed amplitudes, systems/cut/crack_tip_system.h): CHOLMOD's supernodal factor of
+// the sparse system the CG operator is the Schur complement of,
+//
+//   M = [ A      s C^T           ]      S(M) = A - s C^T H^-1 C = A + s K_t,
+//       [ s C    s (H + eps D_H) ]
+//
+// (BesideBlock, systems/step_term.h). Solving M [z; y] = [r; 0] gives z = (A + s K_t)^-1 r: the
+// exact inverse of CG's operator at the factor's linearization, where A's own factor leaves the
+// term's low-rank part to CG (problem 6's plate at 10 cells: 126 iterations). The amplitudes'
+// stiffness is semi-definite (the branch functions' exact dependencies, docs/xfem.md), so eps = 1e-8
+// of its diagonal is added: C has no part along those directions, and elsewhere the preconditioner
+// moves by 1e-8 relative. Its fill stays local (the amplitudes couple nodes of the tip's zone only),
+// so it costs about what A's factor does. Held axes: C's columns dropped (A holds them as 1).
+//
+// Used while the block stands still: renewed when it changes, and kept as A's own factor is (aged
+// by solves and CG iterations). A block that changed at this step and at one of the two before (a
+// blade that carries its tip rebuilds the zone every step it moves, and its old M preconditions no
+// better than A's own factor) is left to A's factor with the term beside it: a factor every step
+// cost that scene more than the CG iterations it saved. A static solve's block is built once.
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCore>
+#include <cstdint>
+
+#include "components/linear_system.h"
+#include "systems/step_term.h"
+
+namespace xcut {
+
+struct BesideFactor {
+    Eigen::SparseMatrix<double> matrix;  ///< M, both triangles
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt;
+    uint64_t topology = 0;      ///< A's pattern it was made for
+    uint64_t version = 0;       ///< the block's version (StepTerm::beside_version) it was made for
+    // Whether the block moves (a blade that carries its tip rebuilds the zone every step it moves):
+    uint64_t seen_version = 0;  ///< the version at the last solve
+    int changed_step = -1000;   ///< the step it last changed at
+    int changed_before = -1000; ///< the step it changed at before that
+    int base = 0;               ///< 3 per DOF node: A's rows
+    double ratio = 0.0;         ///< stiff_scale / mass_scale it was made for (mass 0: stiff_scale)
+    bool ok = false;
+    int age = 0;                ///< solves since it was computed
+    int last_iterations = 0;    ///< CG iterations of the last solve with it
+    double lnz = 0.0;           ///< non-zeros of its L
+
+    /// z = the first `base` entries of M^-1 [r; 0] (takes the CHOLMOD lock).
+    void solve(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
+};
+
+/// Relative regularization of the block's H in M (its diagonal's share).
+constexpr double kBesideRegularization = 1e-8;
+
+/// Builds M from the assembled A (as filled for this step), the block and stiff_scale s, with the
+/// held axes of `mask` (0) dropped from C, and factors it on the calling thread. Returns f.ok (false
+/// if CHOLMOD found M not positive definite).
+bool factor_beside(const LinearSystem& A, const BesideBlock& block, double stiff_scale, const Eigen::VectorXd& mask,
+                   BesideFactor& f);
+
+}  // namespace xcut
