@@ -136,7 +136,6 @@ public:
                 "crack-tip enrichment: the branch functions' stiffness (H, {} amplitudes) is not positive semi-definite "
                 "(smallest pivot {:.3g} of the largest)", H.rows(), d.minCoeff() / largest));
         inverse_pivot_ = d.unaryExpr([&](double p) { return p > kDroppedPivot * largest ? 1.0 / p : 0.0; });
-        dropped_ = static_cast<int>((inverse_pivot_.array() == 0.0).count());
     }
     /// The sparse system the condensation is the Schur complement of (BesideBlock): H's blocks as
     /// factor() sums them, and C = ∂g/∂x, the coupling's map from the nodes' displacements (3 per
@@ -209,7 +208,6 @@ public:
         y = ldlt_.transpositionsP().transpose() * y;
         return y.cwiseProduct(scale_);
     }
-    int dropped() const { return dropped_; }
 
 private:
     /// f(fa, fb, R K_ab R^T) for every pair of functions of every zone element (H's terms).
@@ -232,7 +230,6 @@ private:
     Eigen::LDLT<Eigen::MatrixXd> ldlt_;
     Eigen::VectorXd scale_;          ///< H's Jacobi scaling, 1 / sqrt(H_ii)
     Eigen::VectorXd inverse_pivot_;  ///< 1 / D of the scaled factor, 0 where dropped
-    int dropped_ = 0;
 };
 
 class CrackTipTerm final : public StepTerm {
