@@ -81,30 +81,14 @@ bool StepOperator::add_beside_product(World& world, const Eigen::VectorXd& p, Ei
     return any;
 }
 
-bool StepOperator::gives_beside_block(const World& world) const {
+StepTerm* StepOperator::block_term(const World& world) const {
+    StepTerm* one = nullptr;
     int count = 0;
-    bool gives = false;
     in_order(terms, world, [](const StepTerm& t) { return t.beside_assembly(); }, [&](StepTerm& t, bool) {
-        gives = t.gives_beside_block();
+        one = &t;
         ++count;
     });
-    return count == 1 && gives;
-}
-
-uint64_t StepOperator::beside_version(const World& world) const {
-    uint64_t version = 0;
-    if (gives_beside_block(world))
-        in_order(terms, world, [](const StepTerm& t) { return t.beside_assembly(); },
-                 [&](StepTerm& t, bool) { version = t.beside_version(world); });
-    return version;
-}
-
-bool StepOperator::beside_block(World& world, BesideBlock& block) const {
-    if (!gives_beside_block(world)) return false;
-    bool given = false;
-    in_order(terms, world, [](const StepTerm& t) { return t.beside_assembly(); },
-             [&](StepTerm& t, bool) { given = t.beside_block(world, block); });
-    return given;
+    return count == 1 && one->gives_beside_block() ? one : nullptr;
 }
 
 }  // namespace xcut

@@ -35,7 +35,6 @@ struct BesideBlock {
     int rows = 0;
     std::vector<Eigen::Triplet<double>> coupling;  ///< C [N/m^1.5 or the term's units]
     std::vector<Eigen::Triplet<double>> stiffness; ///< H
-    uint64_t version = 0;                          ///< the term's beside_version
 };
 
 class StepTerm {
@@ -111,13 +110,9 @@ struct StepOperator {
     /// out += scale mask (K_t (mask p)) over the active terms kept beside the assembly; whether any is.
     bool add_beside_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, double scale,
                             const Eigen::VectorXd& mask) const;
-    /// Whether the active terms kept beside the assembly are one, and it gives its block
-    /// (several are not combined).
-    bool gives_beside_block(const World& world) const;
-    /// That term's beside_version (0 if none gives a block).
-    uint64_t beside_version(const World& world) const;
-    /// Its block, if gives_beside_block.
-    bool beside_block(World& world, BesideBlock& block) const;
+    /// The active term kept beside the assembly, if it is the only one and gives its block
+    /// (several are not combined); null otherwise.
+    StepTerm* block_term(const World& world) const;
 };
 
 /// The scales of a backward Euler step of length h [s]: A = mass M + stiffness K, with Rayleigh

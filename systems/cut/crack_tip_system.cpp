@@ -149,14 +149,12 @@ public:
         });
         for (int z = 0; z < ct.zone(); ++z) {
             const int fe = ct.element[z];
-            const Eigen::Matrix2d R = w.elements.rotation[fe].topLeftCorner<2, 2>();
-            const Eigen::Matrix2d dm_inv = w.elements.dm_inv[fe].topLeftCorner<2, 2>();
             for (int k = 0; k < 3; ++k)
                 for (int d = 0; d < 2; ++d) {  // node k moved along axis d
                     std::array<Vec3, 4> x;
                     x.fill(Vec3::Zero());
                     x[k][d] = 1.0;
-                    const Eigen::Matrix2d RS = R * linear_stress<2>(R.transpose() * edge_matrix<2>(x) * dm_inv, plane_lame(w, fe));
+                    const Eigen::Matrix2d RS = rotated_stress(w, fe, x, 0.0);
                     const int column = 3 * w.elements.nodes[fe][k] + d;
                     for (int a = ct.first[z]; a < ct.first[z + 1]; ++a) {
                         const Vec2 g = RS * ct.gradient[a].head<2>();
@@ -171,12 +169,9 @@ public:
         Eigen::VectorXd g = Eigen::VectorXd::Zero(2 * ct.functions());
         for (int z = 0; z < ct.zone(); ++z) {
             const int fe = ct.element[z];
-            const Eigen::Matrix2d R = w.elements.rotation[fe].topLeftCorner<2, 2>();
-            const Eigen::Matrix2d dm_inv = w.elements.dm_inv[fe].topLeftCorner<2, 2>();
             std::array<Vec3, 4> x{};
             for (int k = 0; k < 3; ++k) x[k] = v[w.elements.nodes[fe][k]];
-            const Eigen::Matrix2d H = R.transpose() * edge_matrix<2>(x) * dm_inv - shift * Eigen::Matrix2d::Identity();
-            const Eigen::Matrix2d RS = R * linear_stress<2>(H, plane_lame(w, fe));
+            const Eigen::Matrix2d RS = rotated_stress(w, fe, x, shift);
             for (int a = ct.first[z]; a < ct.first[z + 1]; ++a) g.segment<2>(2 * ct.function[a]) += RS * ct.gradient[a].head<2>();
         }
         return g;
@@ -210,6 +205,13 @@ public:
     }
 
 private:
+    /// R σ(R^T F - shift I) of force element fe with nodal vectors x (its first three), F = D(x) D_m^-1.
+    static Eigen::Matrix2d rotated_stress(const World& w, int fe, const std::array<Vec3, 4>& x, double shift) {
+        const Eigen::Matrix2d R = w.elements.rotation[fe].topLeftCorner<2, 2>();
+        const Eigen::Matrix2d dm_inv = w.elements.dm_inv[fe].topLeftCorner<2, 2>();
+        const Eigen::Matrix2d H = R.transpose() * edge_matrix<2>(x) * dm_inv - shift * Eigen::Matrix2d::Identity();
+        return R * linear_stress<2>(H, plane_lame(w, fe));
+    }
     /// f(fa, fb, R K_ab R^T) for every pair of functions of every zone element (H's terms).
     template <class F>
     static void stiffness_blocks(const World& w, F&& f) {
@@ -267,7 +269,6 @@ public:
     bool beside_block(World& w, BesideBlock& out) const override {
         if (!active(w)) return false;
         c_.block(w, out);
-        out.version = beside_version(w);
         return true;
     }
     bool gives_beside_block() const override { return true; }

@@ -39,7 +39,7 @@ bool factor_beside(const LinearSystem& A, const BesideBlock& block, double stiff
     f.matrix.setFromTriplets(entries.begin(), entries.end());
     with_cholmod_blas([&] { f.llt.compute(f.matrix); });
     f.ok = f.llt.info() == Eigen::Success;
-    f.base = base, f.topology = A.topology, f.version = block.version, f.age = 0, f.last_iterations = 0;
+    f.base = base, f.topology = A.topology, f.age = 0, f.last_iterations = 0;
     f.lnz = f.ok ? f.llt.cholmod().lnz : 0.0;
     return f.ok;
 }

@@ -32,7 +32,7 @@ struct BesideFactor {
     Eigen::SparseMatrix<double> matrix;  ///< M, both triangles
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt;
     uint64_t topology = 0;      ///< A's pattern it was made for
-    uint64_t version = 0;       ///< the block's version (StepTerm::beside_version) it was made for
+    uint64_t version = 0;       ///< the term's beside_version it was made for
     // Whether the block moves (a blade that carries its tip rebuilds the zone every step it moves):
     uint64_t seen_version = 0;  ///< the version at the last solve
     int changed_step = -1000;   ///< the step it last changed at

@@ -314,7 +314,7 @@ public:
             f->last_iterations = iterations;
             ++A_.factor_age;
         };
-        with_kept(stale, renew, [&] { return f->ok; },
+        with_kept(stale, renew, [&] { return f && f->ok; },
                   [&] { return cg(Preconditioning::kSingle, no_rows, solve_factor); }, solved);
     }
 
@@ -325,11 +325,12 @@ public:
     /// than refactor_iterations with it, and every solve for direct. False if no term gives a block,
     /// or while the block moves from step to step (systems/solver/beside_factor.h says why).
     bool beside_cholesky(double mass_scale) {
-        if (!op_.gives_beside_block(w_)) return false;
+        StepTerm* term = op_.block_term(w_);
+        if (!term) return false;
         const SolverSettings& s = w_.solver;
         std::shared_ptr<BesideFactor>& f = A_.beside_factor;
         if (!f) f = std::make_shared<BesideFactor>();
-        const uint64_t version = op_.beside_version(w_);
+        const uint64_t version = term->beside_version(w_);
         if (version != f->seen_version) f->changed_before = f->changed_step, f->changed_step = w_.step, f->seen_version = version;
         if (f->changed_step == w_.step && w_.step - f->changed_before <= 2) return false;  // a moving block
         const double ratio = mass_scale > 0.0 ? stiff_scale_ / mass_scale : -stiff_scale_;  // static solves: -s
@@ -338,9 +339,9 @@ public:
                            f->last_iterations > s.refactor_iterations || A_.method == "direct";
         const auto renew = [&] {
             BesideBlock block;
-            if (!op_.beside_block(w_, block)) return false;
+            if (!term->beside_block(w_, block)) return false;
             const bool ok = factor_beside(A_, block, stiff_scale_, mask_, *f);
-            f->ratio = ratio;
+            f->ratio = ratio, f->version = version;
             ++A_.factorizations;
             A_.factor_age = 0;
             A_.factor_nonzeros = f->lnz;
