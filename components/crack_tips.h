@@ -11,6 +11,13 @@
 
 namespace xcut {
 
+/// A blade's tip follows it once the blade has moved this fraction of the mesh's mean edge length,
+/// in the world and in the rest configuration, since the tip was put (systems/cut/crack_tip_system.cpp,
+/// follow_blades). Until then the tip stands: the tissue drifting under a blade held still moves
+/// the blade's rest point (by about 1e-6 m a step on the face skin, 2 mm cells), and a direction
+/// taken from that drift is noise (it turned the crack by up to 180 degrees a step) [-].
+inline constexpr double kTipFollowFraction = 0.01;
+
 struct CrackTips {
     // ---- per tip (rest configuration)
     std::vector<Vec3> point;       ///< where the crack ends [m]
@@ -29,7 +36,8 @@ struct CrackTips {
 
     // ---- blades that carry tips (scene cutter.tip; systems/cut/crack_tip_system.h, follow_blades)
     double follow_radius = -1.0;     ///< [m] each blade's tip enriched within this radius; < 0: off
-    std::vector<Vec3> blade_point;   ///< per tool: its blade's last rest point in uncut tissue [m]
+    std::vector<Vec3> blade_point;   ///< per tool: the rest point its tip was put at (or its blade entered at) [m]
+    std::vector<Vec3> blade_world;   ///< per tool: its blade point in the world then [m]
     std::vector<uint8_t> blade_seen; ///< per tool: blade_point holds one
     int cuts_seen = 0;               ///< cut elements when the zones were last built
     int phantoms_seen = 0;           ///< phantoms then: later ones take the tips' field (transfer)

@@ -380,6 +380,8 @@ bool follow_blades(World& w) {
     const ToolBodies& tb = w.tools;
     ct.blade_point.resize(tb.count(), Vec3::Zero());
     ct.blade_seen.resize(tb.count(), 0);
+    ct.blade_world.resize(tb.count(), Vec3::Zero());
+    const double follow = kTipFollowFraction * w.cut_state.mean_edge;
     std::vector<std::array<Vec3, 2>> wanted;  // point, direction (rest)
     for (int t = 0; t < tb.count(); ++t) {
         Vec3 T;
@@ -387,18 +389,31 @@ bool follow_blades(World& w) {
             ct.blade_seen[t] = 0;
             continue;
         }
-        // The crack runs behind the tip along the blade's travel through the rest configuration; a
-        // blade standing still keeps its tip's direction; one just entering takes its velocity's.
+        // The crack runs behind the tip along the blade's travel through the rest configuration
+        // since the tip was put; one just entering takes its velocity's direction. A blade that
+        // has not moved `follow` in the world since (the tissue drifting under a blade that
+        // stands moves its rest point, and a direction taken from that drift is noise), or
+        // backs into its own wound, keeps its tip: neither the zone nor the crack turns.
+        const Vec3 P = tb.position[t] + tb.orientation[t] * tb.blade_tip[t];
         Vec3 dir = Vec3::Zero();
-        if (ct.blade_seen[t] && (T - ct.blade_point[t]).norm() > 1e-12) {
+        if (ct.blade_seen[t]) {
+            int own = -1;
+            for (int k = 0; k < ct.count(); ++k)
+                if ((ct.point[k] - ct.blade_point[t]).norm() <= 1e-12) own = k;
             dir = T - ct.blade_point[t];
+            dir.z() = 0.0;
+            const bool stands = (P - ct.blade_world[t]).norm() <= follow || dir.norm() <= follow;
+            if (stands || (own >= 0 && dir.dot(ct.direction[own]) < 0.0)) {
+                if (own >= 0) wanted.push_back({ct.point[own], ct.direction[own]});
+                continue;
+            }
         } else {
             for (int k = 0; k < ct.count(); ++k)
                 if ((ct.point[k] - T).norm() <= 1e-12) dir = ct.direction[k];
             if (dir.norm() == 0.0) dir = tb.velocity[t];
         }
         dir.z() = 0.0;
-        ct.blade_point[t] = T, ct.blade_seen[t] = 1;
+        ct.blade_point[t] = T, ct.blade_world[t] = P, ct.blade_seen[t] = 1;
         if (dir.norm() > 1e-12) wanted.push_back({T, dir.normalized()});  // else from its next move
     }
     bool same = static_cast<int>(wanted.size()) == ct.count() && w.cuts.count() == ct.cuts_seen;
@@ -411,6 +426,7 @@ bool follow_blades(World& w) {
     fresh.follow_radius = ct.follow_radius;
     fresh.blade_point = ct.blade_point;
     fresh.blade_seen = ct.blade_seen;
+    fresh.blade_world = ct.blade_world;
     ct = std::move(fresh);
     for (const auto& [T, dir] : wanted) enrich_crack_tip(w, T, dir, TipZone{ct.follow_radius});
     ct.cuts_seen = w.cuts.count();

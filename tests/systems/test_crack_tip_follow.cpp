@@ -52,6 +52,25 @@ double energy(World& w) {
     return w.forces.elastic_energy;
 }
 
+/// Step n's cut: tool, cutter, enrichment and tips (with or without the transfer to the new
+/// phantoms); whether it split elements.
+bool cut_step(World& w, ElementBvh& bvh, int n, bool transfer) {
+    w.time = n * kDt;
+    advance_tools(w, w.time);
+    run_cut_system(w, bvh);
+    const bool split = apply_cut_events(w) > 0;
+    if (!transfer) w.tips.phantoms_seen = w.enriched.count();
+    follow_blades(w);
+    return split;
+}
+
+/// Step n's dynamics: rotations, forces, implicit Euler.
+void dynamics_step(World& w) {
+    update_rotations(w);
+    compute_forces(w);
+    implicit_euler_step(w, xcut_step_terms());
+}
+
 struct PatchRun {
     double jump = 0.0;  ///< worst |energy change| at a split, at fixed positions, / the run's largest energy
     std::vector<Vec3> position;
@@ -69,13 +88,8 @@ PatchRun run_patch(bool transfer, int threads) {
     double worst = 0.0, scale = 0.0;
     int splits = 0;
     for (int n = 1; n <= 100; ++n) {
-        w.time = n * kDt;
-        advance_tools(w, w.time);
         const double before = n > 1 ? energy(w) : 0.0;
-        run_cut_system(w, bvh);
-        const bool split = apply_cut_events(w) > 0;
-        if (!transfer) w.tips.phantoms_seen = w.enriched.count();
-        follow_blades(w);
+        const bool split = cut_step(w, bvh, n, transfer);
         // The tip is the blade's point mapped to rest through its element (from the blade's second
         // step in the tissue: its direction is the blade's travel); rest and current differ by the
         // skin's stretch.
@@ -88,9 +102,7 @@ PatchRun run_patch(bool transfer, int threads) {
         }
         if (split && n > 1) worst = std::max(worst, std::abs(energy(w) - before)), ++splits;
         scale = std::max(scale, energy(w));
-        update_rotations(w);
-        compute_forces(w);
-        implicit_euler_step(w, xcut_step_terms());
+        dynamics_step(w);
     }
     EXPECT_GT(splits, 5);
     set_thread_count(kept);
@@ -98,17 +110,42 @@ PatchRun run_patch(bool transfer, int threads) {
 }
 
 TEST(CrackTipFollow, TheTipIsWhereTheBladeIsAndTheSplitKeepsTheOpening) {
-    // Measured: the worst change of the elastic energy at a split, at fixed positions, 0.28 % of the
-    // run's largest energy with the transfer and 1.2 % without (the opening the tip carried
-    // collapses to the new phantoms' zero jump).
+    // Measured: the worst change of the elastic energy at a split, at fixed positions, 0.018 % of
+    // the run's largest energy with the transfer and 0.019 % without. (Before tips had a follow
+    // distance, 0.28 % and 1.2 %: all of it at the split after the blade stopped, whose tip the
+    // tissue's drift had turned; the transfer made up for a part of that.)
     const PatchRun with = run_patch(true, 2), without = run_patch(false, 2);
     std::printf("energy jump at a split: %.3g with the transfer, %.3g without\n", with.jump, without.jump);
-    EXPECT_LT(with.jump, 0.005);
-    EXPECT_LT(with.jump, 0.5 * without.jump);
+    EXPECT_LT(with.jump, 5e-4);
     // Bit-identical on one and two threads.
     const PatchRun one = run_patch(true, 1);
     ASSERT_EQ(one.position.size(), with.position.size());
     for (size_t i = 0; i < one.position.size(); ++i) ASSERT_EQ(one.position[i], with.position[i]) << i;
+}
+
+TEST(CrackTipFollow, ABladeThatStandsKeepsItsTipWhileTheTissueDriftsUnderIt) {
+    // The blade moves along +y for 0.8 s, then stands for 0.4 s while the held skin settles under
+    // it: its rest point drifts by about 1e-6 m a step (measured on the face skin). Before tips had
+    // a follow distance (kTipFollowFraction), that drift rebuilt the zone at every step and its
+    // direction, taken as the crack's, turned the crack by up to 180 degrees.
+    World w = patch(0.0);
+    ElementBvh bvh;
+    prepare_cut_search(w, bvh);
+    prepare_enrichment(w);
+    int moving_builds = 0, standing_builds = 0;
+    for (int n = 1; n <= 120; ++n) {
+        const int version = w.tips.version;
+        cut_step(w, bvh, n, true);
+        (n <= 80 ? moving_builds : standing_builds) += w.tips.version != version;
+        if (n >= 3) {
+            ASSERT_EQ(w.tips.count(), 1) << "step " << n;
+            EXPECT_GT(w.tips.direction[0].y(), 0.95) << "step " << n << ": the crack runs along the blade's travel";
+        }
+        dynamics_step(w);
+    }
+    EXPECT_GT(moving_builds, 60);  // the tip follows a moving blade (0.2 mm a step, 2 mm cells)
+    EXPECT_LE(standing_builds, 1);  // at most the split of the element the blade stopped past
+    EXPECT_LT((w.tips.point[0] - Vec3(kX, 0.021, 0.0)).norm(), 2e-3);
 }
 
 }  // namespace
