@@ -18,6 +18,10 @@ namespace xcut {
 /// taken from that drift is noise (it turned the crack by up to 180 degrees a step) [-].
 inline constexpr double kTipFollowFraction = 0.01;
 
+/// A tip's crack turns with its blade once the blade has run this fraction of the mean edge length
+/// in the new direction (follow_blades); a shorter stretch keeps the crack's direction [-].
+inline constexpr double kTipTurnFraction = 0.25;
+
 struct CrackTips {
     // ---- per tip (rest configuration)
     std::vector<Vec3> point;       ///< where the crack ends [m]
@@ -38,6 +42,7 @@ struct CrackTips {
     double follow_radius = -1.0;     ///< [m] each blade's tip enriched within this radius; < 0: off
     std::vector<Vec3> blade_point;   ///< per tool: the rest point its tip was put at (or its blade entered at) [m]
     std::vector<Vec3> blade_world;   ///< per tool: its blade point in the world then [m]
+    std::vector<Vec3> blade_heading_from;  ///< per tool: the rest point its crack's direction was last taken from [m]
     std::vector<uint8_t> blade_seen; ///< per tool: blade_point holds one
     int cuts_seen = 0;               ///< cut elements when the zones were last built
     int phantoms_seen = 0;           ///< phantoms then: later ones take the tips' field (transfer)

@@ -19,12 +19,18 @@ Command add_stress_command(CLI::App& app) {
     cmd->add_option("--blades", o->blades, "Problem 8's scalpels per trajectory: 1, or 2 to this many at once "
                                            "(crossing in one step, stabs, blades with a face)")
         ->check(CLI::Range(1, 4));
+    cmd->add_flag("--tip", o->tip, "Problem 8 in 2D with crack tips at the blades (a skin patch, random trajectories "
+                                   "and tip radii; --front and --blades do not apply)");
     cmd->add_option("--only", o->only, "Run only problem 8's trajectory of this index (as a full run of the same "
                                        "--seed, --front and --blades numbers them), to reproduce one case")
         ->check(CLI::NonNegativeNumber);
     return {cmd, [o, cmd] {
                 o->csv_given = cmd->count("--csv") > 0;
                 if (!o->csv_given && o->front != "semi") o->csv = "results/bench_stress_" + o->front + ".csv";
+                if (o->tip && (o->front != "semi" || o->blades > 1))
+                    throw CLI::ValidationError("--tip", "crack tips follow the semi-progressive front's single blade: "
+                                                        "without --front and --blades");
+                if (!o->csv_given && o->tip) o->csv = "results/bench_stress_tip.csv";
                 if (!o->csv_given && o->blades > 1)
                     o->csv = std::filesystem::path(o->csv).replace_extension().string() + "_blades.csv";
                 return stress_command(*o);

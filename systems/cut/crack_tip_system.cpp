@@ -381,7 +381,8 @@ bool follow_blades(World& w) {
     ct.blade_point.resize(tb.count(), Vec3::Zero());
     ct.blade_seen.resize(tb.count(), 0);
     ct.blade_world.resize(tb.count(), Vec3::Zero());
-    const double follow = kTipFollowFraction * w.cut_state.mean_edge;
+    ct.blade_heading_from.resize(tb.count(), Vec3::Zero());
+    const double follow = kTipFollowFraction * w.cut_state.mean_edge, turn = kTipTurnFraction * w.cut_state.mean_edge;
     std::vector<std::array<Vec3, 2>> wanted;  // point, direction (rest)
     for (int t = 0; t < tb.count(); ++t) {
         Vec3 T;
@@ -407,10 +408,22 @@ bool follow_blades(World& w) {
                 if (own >= 0) wanted.push_back({ct.point[own], ct.direction[own]});
                 continue;
             }
+            // The crack turns with the blade once it has run `turn` in its new direction: a
+            // shorter stretch is the crack's own (a tip turned by a blade creeping sideways puts the
+            // branch functions' discontinuity across uncut material, beside the crack).
+            Vec3 heading = T - ct.blade_heading_from[t];
+            heading.z() = 0.0;
+            if (own >= 0 && heading.norm() < turn) {
+                dir = ct.direction[own];
+            } else {
+                dir = heading.norm() > 0.0 ? heading : dir;
+                ct.blade_heading_from[t] = T;
+            }
         } else {
             for (int k = 0; k < ct.count(); ++k)
                 if ((ct.point[k] - T).norm() <= 1e-12) dir = ct.direction[k];
             if (dir.norm() == 0.0) dir = tb.velocity[t];
+            ct.blade_heading_from[t] = T;
         }
         dir.z() = 0.0;
         ct.blade_point[t] = T, ct.blade_world[t] = P, ct.blade_seen[t] = 1;
@@ -427,6 +440,7 @@ bool follow_blades(World& w) {
     fresh.blade_point = ct.blade_point;
     fresh.blade_seen = ct.blade_seen;
     fresh.blade_world = ct.blade_world;
+    fresh.blade_heading_from = ct.blade_heading_from;
     ct = std::move(fresh);
     for (const auto& [T, dir] : wanted) enrich_crack_tip(w, T, dir, TipZone{ct.follow_radius});
     ct.cuts_seen = w.cuts.count();

@@ -29,8 +29,8 @@ Keyframe key(double t, double y) {
 }
 
 /// The face-skin patch (60 x 40 mm, 2 mm cells), its sides held 1 mm apart, a scalpel point from
-/// y = 5 to 21 mm in 0.8 s, then still; tips within `radius`.
-World patch(double radius) {
+/// y = 5 to 21 mm in 0.8 s, then still (or along `keys`); tips within `radius`.
+World patch(double radius, const std::vector<Keyframe>& keys = {key(0.0, 0.005), key(0.8, 0.021)}) {
     Material m;
     m.young = 1e4, m.poisson = 0.3, m.density = 1000.0, m.thickness = 0.002;
     World w = world_from_mesh(generate_plate(grid({0.06, 0.04, 0}, {30, 20, 1})), m);
@@ -40,7 +40,7 @@ World patch(double radius) {
         w.nodes.fixed[i] |= 3;
         w.nodes.position[i].x() += x < 0.03 ? -5e-4 : 5e-4;
     }
-    add_scalpel(w, "scalpel", {key(0.0, 0.005), key(0.8, 0.021)}, Vec3::Zero(), Vec3(0, 0, 0.001));
+    add_scalpel(w, "scalpel", keys, Vec3::Zero(), Vec3(0, 0, 0.001));
     w.tips.follow_radius = radius;
     w.solver.dt = kDt;
     return w;
@@ -146,6 +146,32 @@ TEST(CrackTipFollow, ABladeThatStandsKeepsItsTipWhileTheTissueDriftsUnderIt) {
     EXPECT_GT(moving_builds, 60);  // the tip follows a moving blade (0.2 mm a step, 2 mm cells)
     EXPECT_LE(standing_builds, 1);  // at most the split of the element the blade stopped past
     EXPECT_LT((w.tips.point[0] - Vec3(kX, 0.021, 0.0)).norm(), 2e-3);
+}
+
+TEST(CrackTipFollow, ACrackTurnsOnlyOnceTheBladeHasRunAQuarterEdgeTheNewWay) {
+    // Along +y for 0.8 s (16 mm), then 0.1 mm sideways (+x) over 0.4 s, 2.5 micrometres a step: the
+    // tip follows (it moves past kTipFollowFraction of an edge every few steps), and the crack
+    // keeps its direction (the stress suite's blades that crept so turned the crack 50 degrees and
+    // raised the energy at fixed positions by 10-70 % at each rebuild).
+    Keyframe side = key(1.2, 0.021);
+    side.position.x() += 1e-4;
+    World w = patch(0.0, {key(0.0, 0.005), key(0.8, 0.021), side});
+    ElementBvh bvh;
+    prepare_cut_search(w, bvh);
+    prepare_enrichment(w);
+    int creeping_builds = 0;
+    for (int n = 1; n <= 120; ++n) {
+        const int version = w.tips.version;
+        cut_step(w, bvh, n, true);
+        creeping_builds += n > 81 && w.tips.version != version;
+        if (n >= 3) {
+            ASSERT_EQ(w.tips.count(), 1) << "step " << n;
+            EXPECT_GT(w.tips.direction[0].y(), 0.95) << "step " << n;
+        }
+        dynamics_step(w);
+    }
+    EXPECT_GE(creeping_builds, 2);  // the tip moved with the creeping blade
+    EXPECT_GT(w.tips.point[0].x(), kX + 5e-5);
 }
 
 }  // namespace

@@ -385,6 +385,7 @@ def generic_section(name):
 SUITES = {"perf": perf_section, "cut": cut_section, "accuracy": accuracy_section, "stress": stress_section,
           "stress_progressive": lambda d, plt, plots: stress_section(d, plt, plots, "bench_stress_progressive.csv"),
           "stress_blades": lambda d, plt, plots: stress_section(d, plt, plots, "bench_stress_blades.csv"),
+          "stress_tip": lambda d, plt, plots: stress_section(d, plt, plots, "bench_stress_tip.csv"),
           "solver": solver_section}
 
 

@@ -58,6 +58,27 @@ EdgeDefects edge_defects(const SurfaceMesh& s) {
     return d;
 }
 
+/// A 2D body's surface is the sheet itself, open at its borders and along a cut: its edges are
+/// not counted open; `pinched` ones are used more than once in one direction (two triangles
+/// overlapping there, or a sheet folded onto itself by its orientation).
+EdgeDefects sheet_defects(const SurfaceMesh& s) {
+    std::map<std::pair<int, int>, int> directed;
+    for (const auto& t : s.triangles)
+        for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+    EdgeDefects d;
+    for (const auto& [e, n] : directed) d.pinched += n > 1;
+    return d;
+}
+
+/// Elastic energy at the step's end [J]: the elements' own and, with crack tips, their amplitudes'
+/// condensed part (the minimum over the amplitudes, negative), which elastic_energy_now leaves
+/// out. The forces this computes at the step's end are computed again at the next step's start.
+double energy_now(World& w) {
+    if (w.tips.count() == 0) return elastic_energy_now(w);
+    xcut_step_terms().relinearize(w);
+    return w.forces.elastic_energy;
+}
+
 /// Steps `sim` `steps` times, recording CG iterations, NaNs and the energy ratio against `work`
 /// (a function of the world: the work put in so far [J]).
 template <class Work>
@@ -77,17 +98,15 @@ void run_steps(Simulation& sim, int steps, Work work, CaseResult& r) {
         const double put_in = work(w);
         // Kinetic and elastic energy of the same instant, the step's end (the step's metrics hold the
         // elastic energy of its start, where the forces were evaluated).
-        if (put_in > 1e-15) r.energy_ratio = std::max(r.energy_ratio, (m.kinetic_energy + elastic_energy_now(w)) / put_in);
+        if (put_in > 1e-15) r.energy_ratio = std::max(r.energy_ratio, (m.kinetic_energy + energy_now(w)) / put_in);
     }
     r.cuts = w.cuts.count();
-    if (w.elements.dim == 3) {
-        r.lost = lost_vertices(w, w.visual) + lost_vertices(w, w.collision);
-        for (const SurfaceMesh* surface : {&w.visual, &w.collision}) {
-            const EdgeDefects d = edge_defects(*surface);
-            r.open_edges += d.open;
-            r.pinched_edges += d.pinched;
-            r.zero_area += zero_area_triangles(*surface);
-        }
+    r.lost = lost_vertices(w, w.visual) + lost_vertices(w, w.collision);
+    for (const SurfaceMesh* surface : {&w.visual, &w.collision}) {
+        const EdgeDefects d = w.elements.dim == 3 ? edge_defects(*surface) : sheet_defects(*surface);
+        r.open_edges += d.open;
+        r.pinched_edges += d.pinched;
+        r.zero_area += zero_area_triangles(*surface);
     }
 }
 
@@ -174,6 +193,35 @@ Scene random_blades_scene(std::mt19937_64& rng, const std::string& front, int bl
     return s;
 }
 
+Scene random_tip_scene(std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    Scene s = block_scene(Vec3(0.04, 0.04, 0.0), Eigen::Vector3i(20, 20, 1));
+    s.mesh.generator = "plate";
+    s.material.thickness = 0.002;
+    s.gravity = Vec3(0, -9.81, 0);
+    s.solver.dt = 0.02;
+    s.solver.damping_mass = 1.0;
+    s.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7, Vec3::Zero()});
+    s.constraints.boxes.push_back({Vec3(0.04 - 1e-9, -1, -1), Vec3(1, 1, 1), 7, Vec3::Zero()});
+    s.visual_subdivisions = 1;
+    s.tip_radius = 0.002 * std::floor(3.0 * u(rng));  // 0 (the tip's element), 2 or 4 mm
+    ToolBodies& tb = s.tools;
+    tb.name = {"scalpel"};
+    tb.has_blade = {1};
+    tb.blade_tip = {Vec3::Zero()};
+    tb.blade_heel = {Vec3(0, 0, 0.001)};
+    std::vector<Keyframe> keys(3);
+    for (int k = 0; k < 3; ++k) {
+        keys[k].time = 0.2 * k;
+        keys[k].position = Vec3(-0.004 + 0.048 * u(rng), -0.004 + 0.048 * u(rng), 0.0);
+    }
+    if (u(rng) < 0.25) keys[2].position = keys[1].position + 1e-4 * (keys[1].position - keys[0].position).normalized();
+    tb.trajectory = {keys};
+    tb.position = {keys.front().position};
+    tb.orientation = {keys.front().orientation};
+    return s;
+}
+
 namespace {
 
 std::vector<Vec3> square(const Vec3& centre, const Vec3& normal) {
@@ -207,10 +255,17 @@ std::vector<CaseResult> slivers() {
     return out;
 }
 
-/// Problem 8: one random trajectory's run (`blades` > 1: several scalpels).
-CaseResult random_cut(std::mt19937_64& rng, int index, const std::string& front, int blades) {
-    auto sim = make_simulation(blades > 1 ? random_blades_scene(rng, front, blades) : random_cut_scene(rng, front), false);
-    CaseResult r{blades > 1 ? "8 many blades" : "8 many cuts", fmt::format("trajectory {}", index)};
+/// Problem 8's scene for the next trajectory of `rng`, as the options ask.
+Scene random_scene(std::mt19937_64& rng, const StressOptions& o) {
+    if (o.tip) return random_tip_scene(rng);
+    return o.blades > 1 ? random_blades_scene(rng, o.front, o.blades) : random_cut_scene(rng, o.front);
+}
+
+/// Problem 8: one random trajectory's run (several scalpels, or a 2D patch with crack tips, as the
+/// options ask).
+CaseResult random_cut(std::mt19937_64& rng, int index, const StressOptions& o) {
+    auto sim = make_simulation(random_scene(rng, o), false);
+    CaseResult r{o.tip ? "8 crack tips" : o.blades > 1 ? "8 many blades" : "8 many cuts", fmt::format("trajectory {}", index)};
     run_steps(*sim, kRandomCutSteps, [](const World& w) { return w.metrics.current.gravity_work; }, r);
     return r;
 }
@@ -296,17 +351,14 @@ std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
         for (const CaseResult& r : slivers()) record(r);
         for (const CaseResult& r : large_steps()) record(r);
     } else {  // the trajectories before it are drawn, as a full run draws them, and not run
-        for (int k = 0; k < o.only; ++k) {
-            if (o.blades > 1) random_blades_scene(rng, o.front, o.blades);
-            else random_cut_scene(rng, o.front);
-        }
+        for (int k = 0; k < o.only; ++k) random_scene(rng, o);
     }
     const int count = o.only < 0 ? o.count : 1;
     ProgressBar bar("stress", o.progress ? count : 0);
     const auto t0 = std::chrono::steady_clock::now();
     int done = 0;
     for (; done < count; ++done) {
-        record(random_cut(rng, o.only < 0 ? done : o.only, o.front, o.blades));
+        record(random_cut(rng, o.only < 0 ? done : o.only, o));
         bar.update(done + 1);
         if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > o.budget_s) {
             ++done;

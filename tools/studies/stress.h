@@ -41,6 +41,12 @@ Scene random_cut_scene(std::mt19937_64& rng, const std::string& front = "semi");
 /// quarter of the drawn blades keep to a grid plane (a cut through mesh nodes and edges).
 Scene random_blades_scene(std::mt19937_64& rng, const std::string& front, int blades);
 
+/// Problem 8 in 2D with crack tips: a 40 x 40 mm skin patch (2 mm cells, 2 mm thick) held at its
+/// x borders under gravity along -y, a scalpel point through three random waypoints (some outside
+/// the patch: it enters and leaves), its tip enriched within a random radius (0: the tip's element,
+/// 2 or 4 mm); a quarter of the blades stop 0.1 mm past their second waypoint and stand.
+Scene random_tip_scene(std::mt19937_64& rng);
+
 struct StressOptions {
     int count = 200;          ///< random trajectories of problem 8
     double budget_s = 120.0;  ///< wall-time budget for problem 8 [s]; it stops early when spent
@@ -49,6 +55,7 @@ struct StressOptions {
     bool csv_given = false;   ///< false: a run short of kStressRecordCount writes <csv>_quick.csv instead
     std::string front = "semi";  ///< problem 8's cutter.front
     int blades = 1;           ///< problem 8's scalpels per trajectory: 1, or 2 to this many (random_blades_scene)
+    bool tip = false;         ///< problem 8 on the 2D patch with crack tips (random_tip_scene)
     /// >= 0: run only problem 8's trajectory of this index (the index-th of `seed`, as the full run
     /// numbers them; the ones before it are drawn, not run), to reproduce one case. Never the record.
     int only = -1;
