@@ -21,6 +21,9 @@ Command add_stress_command(CLI::App& app) {
         ->check(CLI::Range(1, 4));
     cmd->add_flag("--tip", o->tip, "Problem 8 in 2D with crack tips at the blades (a skin patch, random trajectories "
                                    "and tip radii; --front and --blades do not apply)");
+    cmd->add_option("--newton", o->newton, "Problem 8's steps iterated by Newton to 1e-9, at most this many times "
+                                           "(1, the default: the paper's once-linearized step)")
+        ->check(CLI::Range(1, 1000));
     cmd->add_option("--only", o->only, "Run only problem 8's trajectory of this index (as a full run of the same "
                                        "--seed, --front and --blades numbers them), to reproduce one case")
         ->check(CLI::NonNegativeNumber);
@@ -31,6 +34,8 @@ Command add_stress_command(CLI::App& app) {
                     throw CLI::ValidationError("--tip", "crack tips follow the semi-progressive front's single blade: "
                                                         "without --front and --blades");
                 if (!o->csv_given && o->tip) o->csv = "results/bench_stress_tip.csv";
+                if (!o->csv_given && o->newton > 1)
+                    o->csv = std::filesystem::path(o->csv).replace_extension().string() + "_newton.csv";
                 if (!o->csv_given && o->blades > 1)
                     o->csv = std::filesystem::path(o->csv).replace_extension().string() + "_blades.csv";
                 return stress_command(*o);

@@ -264,8 +264,11 @@ Scene random_scene(std::mt19937_64& rng, const StressOptions& o) {
 /// Problem 8: one random trajectory's run (several scalpels, or a 2D patch with crack tips, as the
 /// options ask).
 CaseResult random_cut(std::mt19937_64& rng, int index, const StressOptions& o) {
-    auto sim = make_simulation(random_scene(rng, o), false);
-    CaseResult r{o.tip ? "8 crack tips" : o.blades > 1 ? "8 many blades" : "8 many cuts", fmt::format("trajectory {}", index)};
+    Scene scene = random_scene(rng, o);
+    if (o.newton > 1) scene.solver.newton_iterations = o.newton, scene.solver.newton_tolerance = 1e-9;
+    auto sim = make_simulation(scene, false);
+    const char* problem = o.tip ? "8 crack tips" : o.blades > 1 ? "8 many blades" : "8 many cuts";
+    CaseResult r{problem, fmt::format("trajectory {}", index)};
     run_steps(*sim, kRandomCutSteps, [](const World& w) { return w.metrics.current.gravity_work; }, r);
     return r;
 }

@@ -56,6 +56,9 @@ struct StressOptions {
     std::string front = "semi";  ///< problem 8's cutter.front
     int blades = 1;           ///< problem 8's scalpels per trajectory: 1, or 2 to this many (random_blades_scene)
     bool tip = false;         ///< problem 8 on the 2D patch with crack tips (random_tip_scene)
+    /// > 1: problem 8's steps iterated by Newton to 1e-9, at most this many times (1: the paper's
+    /// once-linearized step), to tell the scheme's energy gain at large rotations from a defect
+    int newton = 1;
     /// >= 0: run only problem 8's trajectory of this index (the index-th of `seed`, as the full run
     /// numbers them; the ones before it are drawn, not run), to reproduce one case. Never the record.
     int only = -1;
