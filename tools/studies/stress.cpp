@@ -35,6 +35,14 @@ int lost_vertices(const World& w, const SurfaceMesh& s) {
     return lost;
 }
 
+/// How often each directed edge of `s`'s triangles is used.
+std::map<std::pair<int, int>, int> directed_edges(const SurfaceMesh& s) {
+    std::map<std::pair<int, int>, int> directed;
+    for (const auto& t : s.triangles)
+        for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+    return directed;
+}
+
 /// Surface edges of `s` (3D closed surfaces: each edge used once in each direction) that break
 /// closure: `open` edges are used a different number of times in the two directions (a gap);
 /// `pinched` ones are used equally often, more than once each way (closed, but not 2-manifold:
@@ -42,10 +50,9 @@ int lost_vertices(const World& w, const SurfaceMesh& s) {
 struct EdgeDefects {
     int open = 0, pinched = 0;
 };
+
 EdgeDefects edge_defects(const SurfaceMesh& s) {
-    std::map<std::pair<int, int>, int> directed;
-    for (const auto& t : s.triangles)
-        for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+    const auto directed = directed_edges(s);
     EdgeDefects d;
     for (const auto& [e, n] : directed) {
         const auto back = directed.find({e.second, e.first});
@@ -62,11 +69,8 @@ EdgeDefects edge_defects(const SurfaceMesh& s) {
 /// not counted open; `pinched` ones are used more than once in one direction (two triangles
 /// overlapping there, or a sheet folded onto itself by its orientation).
 EdgeDefects sheet_defects(const SurfaceMesh& s) {
-    std::map<std::pair<int, int>, int> directed;
-    for (const auto& t : s.triangles)
-        for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
     EdgeDefects d;
-    for (const auto& [e, n] : directed) d.pinched += n > 1;
+    for (const auto& [e, n] : directed_edges(s)) d.pinched += n > 1;
     return d;
 }
 
