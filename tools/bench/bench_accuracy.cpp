@@ -87,50 +87,6 @@ AccuracyRow cantilever_run(int n, double reference) {
     return row;
 }
 
-AccuracyRow block_run(int n, const char* cutter, const std::vector<Vec3>& reference) {
-    const CutBlockSpec spec;
-    World w = cut_block_world(spec, n);
-    w.snap.enabled = std::string(cutter) == "snap";
-    const RunTimer t;
-    const int split = cut_with_polygon(w, cut_block_polygon(spec));
-    pull_block_ends(w, spec);
-    const StaticResult r = solve_equilibrium(w);
-    AccuracyRow row = row_of(5, cutter, n, spec.size.x() / n, w, split, t, r);
-    const std::vector<Probe> probes = locate_points(w, cut_block_samples(spec));
-    double diff = 0.0, norm = 0.0, own = 0.0;
-    for (size_t k = 0; k < probes.size(); ++k) {
-        const Vec3 u = probe_displacement(w, probes[k]);
-        diff += (u - reference[k]).squaredNorm();
-        norm += reference[k].squaredNorm();
-        own += u.squaredNorm();
-    }
-    row.value = std::sqrt(own / probes.size());
-    row.reference = std::sqrt(norm / probes.size());
-    row.error = std::sqrt(diff / norm);
-    return row;
-}
-
-/// A run under kShortRun s of CPU time is repeated, kRepeats runs in all (each from a fresh world: the
-/// errors are the same), and keeps the median CPU and wall times: one run of 5-40 ms on this shared
-/// machine varies by 30 % and more (cold pages, the host's load), which moves a comparison at equal
-/// CPU time as much as the methods do.
-constexpr double kShortRun = 0.1;
-constexpr int kRepeats = 5;
-template <class Run>
-AccuracyRow median_if_short(Run&& run) {
-    AccuracyRow row = run();
-    if (row.cpu_s >= kShortRun) return row;
-    std::vector<double> cpu{row.cpu_s}, wall{row.run_s};
-    for (int k = 1; k < kRepeats; ++k) {
-        const AccuracyRow again = run();
-        cpu.push_back(again.cpu_s), wall.push_back(again.run_s);
-    }
-    std::sort(cpu.begin(), cpu.end());
-    std::sort(wall.begin(), wall.end());
-    row.cpu_s = cpu[kRepeats / 2], row.run_s = wall[kRepeats / 2];
-    return row;
-}
-
 /// The tip's enrichment on problem 6: the nodes within four cells of the tip (docs/xfem.md).
 TipZone tip_zone(int n, const EdgeCrackSpec& spec) { return TipZone{4.0 * spec.width / n}; }
 
@@ -166,13 +122,7 @@ nlohmann::json problem_parameters(int problem) {
         return {{"length", c.length}, {"width", c.width}, {"height", c.height}, {"young", c.young},
                 {"poisson", 0.0}, {"density", c.density}, {"gravity", c.gravity}};
     }
-    if (problem == 5) {
-        const CutBlockSpec b;
-        nlohmann::json samples = nlohmann::json::array();
-        for (const Vec3& p : cut_block_samples(b)) samples.push_back({p.x(), p.y(), p.z()});
-        return {{"size", {b.size.x(), b.size.y(), b.size.z()}}, {"cut_x", b.cut_x}, {"depth", b.depth}, {"pull", b.pull},
-                {"young", b.young}, {"poisson", b.poisson}, {"density", b.density}, {"samples", samples}};
-    }
+    if (problem == 5) return cut_block_parameters(CutBlockSpec{});
     return plate_parameters(EdgeCrackSpec{});
 }
 
@@ -306,6 +256,41 @@ bool wants(const AccuracyBenchOptions& o, int problem) {
 
 }  // namespace
 
+AccuracyRow cut_block_run(const CutBlockSpec& spec, int n, const char* cutter, const std::vector<Vec3>& reference) {
+    World w = cut_block_world(spec, n);
+    w.snap.enabled = std::string(cutter) == "snap";
+    const RunTimer t;
+    const int split = cut_with_polygon(w, cut_block_polygon(spec));
+    pull_block_ends(w, spec);
+    const StaticResult r = solve_equilibrium(w);
+    AccuracyRow row = row_of(5, cutter, n, spec.size.x() / n, w, split, t, r);
+    const std::vector<Probe> probes = locate_points(w, cut_block_samples(spec));
+    double diff = 0.0, norm = 0.0, own = 0.0;
+    for (size_t k = 0; k < probes.size(); ++k) {
+        const Vec3 u = probe_displacement(w, probes[k]);
+        diff += (u - reference[k]).squaredNorm();
+        norm += reference[k].squaredNorm();
+        own += u.squaredNorm();
+    }
+    row.value = std::sqrt(own / probes.size());
+    row.reference = std::sqrt(norm / probes.size());
+    row.error = std::sqrt(diff / norm);
+    return row;
+}
+
+nlohmann::json cut_block_parameters(const CutBlockSpec& b) {
+    nlohmann::json samples = nlohmann::json::array();
+    for (const Vec3& p : cut_block_samples(b)) samples.push_back({p.x(), p.y(), p.z()});
+    return {{"size", {b.size.x(), b.size.y(), b.size.z()}}, {"cut_x", b.cut_x}, {"depth", b.depth}, {"pull", b.pull},
+            {"young", b.young}, {"poisson", b.poisson}, {"density", b.density}, {"samples", samples}};
+}
+
+std::vector<Vec3> reference_points(const ExternalReference& ref) {
+    std::vector<Vec3> points;
+    for (size_t k = 0; k + 2 < ref.values.size(); k += 3) points.emplace_back(ref.values[k], ref.values[k + 1], ref.values[k + 2]);
+    return points;
+}
+
 AccuracyBenchOptions AccuracyBenchOptions::tiny() {
     AccuracyBenchOptions o;
     o.cantilever_levels = {1, 2, 3};
@@ -345,8 +330,7 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o, std::
         const ExternalReference ext = external_reference(5, o.block_reference_levels, cache, notes);
         std::vector<Vec3> reference;
         if (ext.available) {
-            for (size_t k = 0; k + 2 < ext.values.size(); k += 3)
-                reference.emplace_back(ext.values[k], ext.values[k + 1], ext.values[k + 2]);
+            reference = reference_points(ext);
         } else {
             const ReferenceField ref = cut_block_reference(CutBlockSpec{}, o.block_reference, cache);
             reference = ref.displacement;
@@ -357,7 +341,7 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o, std::
         bar.update(++done);
         for (int n : o.block_levels)
             for (const char* c : kCutters)
-                rows.push_back(median_if_short([&] { return block_run(n, c, reference); })), bar.update(++done);
+                rows.push_back(median_if_short([&] { return cut_block_run(CutBlockSpec{}, n, c, reference); })), bar.update(++done);
         if (ext.available) refuse_weak_reference(rows, 5, ext.error_estimate, notes);
     }
     if (wants(o, 6)) {

@@ -3,9 +3,11 @@
 // at Poisson's ratios 0, 0.3, 0.45 and 0.49, with the linear tetrahedron and the quadratic one
 // (components/quadratic_elements.h), each against CalculiX's C3D20 reference for that ratio
 // (tools/reference/calculix_reference.py, extrapolated); and Cook's membrane in plane strain at
-// nu 0.3 and 0.49 against CalculiX's CPE8R (docs/verification.md problem 14). Per run: DOFs, CPU time, CG iterations,
-// the tip deflection's error. The verdicts: per ratio and element, the fewest DOFs with an error
-// within 2 % (target: <= 10k DOFs at every ratio), and the error at equal CPU time. A benchmark:
+// nu 0.3 and 0.49 against CalculiX's CPE8R (docs/verification.md problem 14); and problem 5 (a block cut
+// part-way, pulled apart) at nu 0.3, 0.45 and 0.49 with both cutters on linear tetrahedra. Per run: DOFs,
+// CPU time, CG iterations, the error (tip deflection; the block: L2 at sample points). The verdicts: per
+// ratio and element, the fewest DOFs with an error within 2 % (target: <= 10k DOFs at every ratio), the
+// error at equal CPU time; for the block, each level's error at nu 0.45 and 0.49 against 0.3. A benchmark:
 // prints figures and writes results/bench_locking.csv (--tiny: results/bench_locking_quick.csv).
 #include <string>
 #include <vector>
@@ -19,18 +21,25 @@ struct LockingBenchOptions {
 };
 
 struct LockingBenchRow {
-    std::string problem = "beam";  ///< "beam" (problem 3) or "cook" (Cook's membrane, problem 14)
-    std::string element;   ///< "linear" or "quadratic"
+    std::string problem = "beam";  ///< "beam" (problem 3), "cook" (Cook's membrane, problem 14) or "block" (problem 5)
+    std::string element;   ///< "linear" or "quadratic"; for "block" the cutter on linear tetrahedra: "xfem" or "snap"
     double poisson = 0;    ///< nu [-]
-    int n = 0;             ///< cells across the beam
+    int n = 0;             ///< cells across the beam (block: along its length)
     int dofs = 0;
     double cpu_s = 0, wall_s = 0;
     int newton = 0, cg = 0;
-    double value = 0, reference = 0;  ///< tip deflection [m]
-    double error = 0;      ///< value / reference - 1 [-]
+    double value = 0, reference = 0;  ///< tip deflection, corner's displacement; block: RMS sample displacement [m]
+    double error = 0;      ///< value / reference - 1; block: relative L2 error at the samples (>= 0) [-]
     std::string reference_source;
 };
 
+/// Problem 5's rows (tools/bench/bench_locking_cut.cpp): the cut block at nu 0.3, 0.45 and 0.49 (tiny:
+/// 0.3, 0.49), each cutter (element "xfem" or "snap", linear tetrahedra) against CalculiX's C3D20 for that
+/// ratio, appended to rows.
+void cut_block_rows(const LockingBenchOptions& options, const std::string& cache, std::vector<LockingBenchRow>& rows,
+                    std::vector<std::string>* notes);
+/// One line per cutter and level: its error at nu 0.3, and at each higher ratio run with its ratio to that, CG and CPU.
+std::vector<std::string> cut_block_lines(const std::vector<LockingBenchRow>& rows);
 /// Cook's membrane's rows (tools/bench/bench_cook.cpp), appended to rows.
 void cook_rows(const LockingBenchOptions& options, const std::string& cache, std::vector<LockingBenchRow>& rows,
                std::vector<std::string>* notes);
