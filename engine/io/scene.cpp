@@ -474,19 +474,27 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
     return scene;
 }
 
-/// A quadratic material where xcut has no quadratic element yet: a 2D mesh, a cut.
+/// A quadratic material where xcut has no quadratic element yet: a 2D mesh, a scripted cut, the
+/// snapping cutter (it moves nodes onto the cut, off the mid-edge nodes' edges). A blade may share
+/// the scene: it cuts the linear tissue and passes the quadratic elements uncut (the CutSystem
+/// counts them, and the end of the run says so).
 void refuse_quadratic_where_unsupported(const World& world, const Scene& scene, int dim) {
     for (const Material& m : world.materials.list) {
         if (!m.quadratic) continue;
         const std::string what = fmt::format("material \"{}\" asks for quadratic elements, ", m.name);
         if (dim != 3)
             throw InputError(scene.file, "material.element", what + "which are tetrahedra: the mesh is 2D (use \"linear\")");
-        bool blade = !scene.cuts.empty();
-        for (int i = 0; i < scene.tools.count(); ++i) blade = blade || scene.tools.has_blade[i];
-        if (blade)
+        if (!scene.cuts.empty())
             throw InputError(scene.file, "material.element",
-                             what + "which cannot be cut yet: the scene has a blade or a scripted cut (use \"linear\" "
-                                    "for tissue that is cut, docs/scene-format.md)");
+                             what + "which cannot be cut yet: the scene has a scripted cut (use \"linear\" for tissue "
+                                    "that is cut, docs/elements.md)");
+        bool blade = false;
+        for (int i = 0; i < scene.tools.count(); ++i) blade = blade || scene.tools.has_blade[i];
+        if (blade && scene.cutter == "snap")
+            throw InputError(scene.file, "material.element",
+                             what + "which the snapping cutter cannot take: it moves nodes onto the cut, off the "
+                                    "mid-edge nodes' edges (use \"linear\", or the XFEM cutter, which passes quadratic "
+                                    "elements uncut: docs/elements.md)");
     }
 }
 

@@ -218,22 +218,27 @@ std::vector<std::string> end_of_run_notes(const World& w) {
                 "edge sweeps, and an edge moving along itself sweeps none, so that travel made no incision; move the "
                 "blade across its edge to cut",
                 w.tools.name[i], 1e3 * stab[i]));
+    // Per tool, the elements its blade crossed and left uncut, and why: one line each.
+    const auto per_tool = [&](const std::vector<int>& count, auto&& line) {
+        for (int i = 0; i < static_cast<int>(count.size()) && i < w.tools.count(); ++i)
+            if (count[i] > 0) out.push_back(line(w.tools.name[i], count[i], count[i] == 1 ? "" : "s"));
+    };
     // A blade across an earlier wound: xcut splits an element once.
-    const std::vector<int>& recut = w.cut_state.recut_ignored;
-    for (int i = 0; i < static_cast<int>(recut.size()) && i < w.tools.count(); ++i)
-        if (recut[i] > 0)
-            out.push_back(fmt::format(
-                "tool \"{}\" crossed {} element{} already cut along another plane: xcut splits an element once "
-                "(docs/xfem.md), so they keep their first cut; where an incision meets a wound it stops about an "
-                "element short of it, and a closed loop does not free its piece",
-                w.tools.name[i], recut[i], recut[i] == 1 ? "" : "s"));
-    const std::vector<int>& on_skin = w.cut_state.on_skin_ignored;
-    for (int i = 0; i < static_cast<int>(on_skin.size()) && i < w.tools.count(); ++i)
-        if (on_skin[i] > 0)
-            out.push_back(fmt::format(
-                "tool \"{}\" lay on the tissue's surface in {} element{}: its cut there stayed within {:g} of an "
-                "element's edge from the skin, a flap thinner than that, so it made none (docs/xfem.md)",
-                w.tools.name[i], on_skin[i], on_skin[i] == 1 ? "" : "s", kThinFlapFraction));
+    per_tool(w.cut_state.recut_ignored, [](const std::string& tool, int n, const char* s) {
+        return fmt::format("tool \"{}\" crossed {} element{} already cut along another plane: xcut splits an element "
+                           "once (docs/xfem.md), so they keep their first cut; where an incision meets a wound it stops "
+                           "about an element short of it, and a closed loop does not free its piece", tool, n, s);
+    });
+    per_tool(w.cut_state.on_skin_ignored, [](const std::string& tool, int n, const char* s) {
+        return fmt::format("tool \"{}\" lay on the tissue's surface in {} element{}: its cut there stayed within {:g} "
+                           "of an element's edge from the skin, a flap thinner than that, so it made none (docs/xfem.md)",
+                           tool, n, s, kThinFlapFraction);
+    });
+    per_tool(w.cut_state.quadratic_ignored, [](const std::string& tool, int n, const char* s) {
+        return fmt::format("tool \"{}\" passed through {} quadratic element{} without cutting {}: XFEM on quadratic "
+                           "elements is not built yet (docs/elements.md); give tissue that is cut \"element\": "
+                           "\"linear\"", tool, n, s, n == 1 ? "it" : "them");
+    });
     return out;
 }
 

@@ -61,6 +61,15 @@ inline Tet10Gradients tet10_gradients(const Mat3& dm_inv) {
     return out;
 }
 
+/// The point at barycentric coordinates L of quadratic element `ids` (node positions x):
+/// sum_j N_j(L) x_j, N_i = L_i (2 L_i - 1) at the corners and N_ab = 4 L_a L_b on the edges [m].
+inline Vec3 tet10_point(const std::array<int, 10>& ids, const Eigen::Vector4d& L, const Vec3* x) {
+    Vec3 p = Vec3::Zero();
+    for (int i = 0; i < 4; ++i) p += L[i] * (2.0 * L[i] - 1.0) * x[ids[i]];
+    for (int k = 0; k < 6; ++k) p += 4.0 * L[kTet10Edges[k][0]] * L[kTet10Edges[k][1]] * x[ids[4 + k]];
+    return p;
+}
+
 /// sum_j v_j grad N_j(q)^T.
 XCUT_INLINE Mat3 tet10_gradient_of(const Tet10Vectors& v, const Tet10Gradients& G, int q) {
     Mat3 out = Mat3::Zero();

@@ -6,6 +6,7 @@
 
 #include "components/cut_elements.h"
 #include "engine/parallel.h"
+#include "systems/kernels/quadratic_tet.h"
 #include "systems/surface/surface_cut.h"
 
 namespace xcut {
@@ -140,7 +141,7 @@ void build_surface(const World& w, SurfaceMesh& s, int subdivisions) {
         for (int a = 0; a < el.nodes_per_element(); ++a) rest += s.bary[v][a] * w.nodes.rest[el.nodes[s.element[v]][a]];
         s.base_vertex_at.emplace(surface_place(rest), v);
     }
-    update_surface_positions(w, s);
+    update_surface_positions(w, s, &s == &w.visual);
 }
 
 void build_visual_surface(World& w, int subdivisions) { build_surface(w, w.visual, subdivisions); }
@@ -171,12 +172,19 @@ int rebind_cut_vertices(World& w) {
     return map_cuts(w, w.visual);
 }
 
-void update_surface_positions(const World& w, SurfaceMesh& s) {
+void update_surface_positions(const World& w, SurfaceMesh& s, bool curved) {
     const Elements& el = w.elements;
     const int npe = el.nodes_per_element();
     const Vec3* x = w.nodes.position.data();
+    const QuadraticElements& q = w.quadratic;
+    curved = curved && q.count() > 0;  // quadratic elements are never cut: only mesh elements are
     parallel_for(s.vertex_count(), [&](int v) {
-        const auto& nodes = el.nodes[s.element[v]];
+        const int e = s.element[v];
+        if (curved && e < w.mesh_elements && q.of_element[e] >= 0) {
+            s.position[v] = tet10_point(q.nodes[q.of_element[e]], s.bary[v], x);
+            return;
+        }
+        const auto& nodes = el.nodes[e];
         Vec3 p = Vec3::Zero();
         for (int a = 0; a < npe; ++a) p += s.bary[v][a] * x[nodes[a]];
         s.position[v] = p;
@@ -184,7 +192,7 @@ void update_surface_positions(const World& w, SurfaceMesh& s) {
 }
 
 void update_surface_positions(World& w) {
-    update_surface_positions(w, w.visual);
+    update_surface_positions(w, w.visual, true);
     update_surface_positions(w, w.collision);
 }
 

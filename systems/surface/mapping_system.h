@@ -7,7 +7,8 @@
 //    vertex on one lip of a wound follows that lip's virtual element (eq. 4, 6).
 //  - The surface is cut along the new cut elements and closed by their cut faces
 //    (systems/surface/surface_cut.h).
-// Two surfaces are mapped: the visual one and the collision one (coarser, for tool contact).
+// Two surfaces are mapped: the visual one and the collision one (coarser, for tool contact). On a
+// quadratic element the visual surface follows the element's quadratic shape functions.
 #include "engine/scheduler.h"
 #include "engine/world.h"
 #include "systems/surface/surface_cut.h"
@@ -40,9 +41,14 @@ inline Vec3 bound_position(const World& w, int element, const Eigen::Vector4d& b
 int map_cuts(World& world, SurfaceMesh& surface);
 /// map_cuts on the collision surface, then the visual one; returns the visual count.
 int rebind_cut_vertices(World& world);
-/// Positions of all vertices of `surface` from the current DOF positions.
-void update_surface_positions(const World& world, SurfaceMesh& surface);
-/// Both surfaces.
+/// Positions of all vertices of `surface` from the current DOF positions. `curved`: a vertex bound to
+/// a quadratic element follows its 10 shape functions (systems/kernels/quadratic_tet.h), so a
+/// subdivided surface shows the bending its mid-edge nodes carry inside the element; else every
+/// vertex follows its element's corners linearly (bound_position). The visual surface is curved; the
+/// collision surface is not: a contact's force goes to the corners by the same linear weights that
+/// place its vertex (systems/collision_system.h), so the two stay work-conjugate.
+void update_surface_positions(const World& world, SurfaceMesh& surface, bool curved = false);
+/// Both surfaces (the visual one curved).
 void update_surface_positions(World& world);
 
 /// The RebindSystem: before the CollisionSystem, the collision surface follows this step's splits

@@ -1,7 +1,7 @@
 // The quadratic tetrahedron (systems/kernels/quadratic_tet.h): its integrals against closed forms, its
 // rigid-motion invariance, the agreement of its force, product, blocks and diagonal, its HRZ masses;
 // in a world: the linear patch test, the assembled and matrix-free solves, a clamped beam against
-// beam theory, determinism, and the meshes it refuses.
+// beam theory, determinism, the meshes it refuses, and its visual surface's curvature.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -15,6 +15,7 @@
 #include "systems/pipeline.h"
 #include "systems/solver/linear_solver.h"
 #include "systems/solver/solver_system.h"
+#include "systems/surface/mapping_system.h"
 #include "tests/test_helpers.h"
 
 namespace xcut {
@@ -184,6 +185,39 @@ TEST(QuadraticTet, PatchTestHoldsOnAJitteredMesh) {
             worst = std::max(worst, (w.nodes.position[i] - w.nodes.rest[i] - A * w.nodes.rest[i]).norm());
         EXPECT_LT(worst, 1e-10 * (A * size).norm()) << method;
     }
+}
+
+// The visual surface of a quadratic element follows its shape functions: under a displacement
+// quadratic in x (a bent plate), every vertex of a twice-subdivided surface is exactly where the
+// field puts it, where the corners' linear interpolation misses by up to a h^2 / 4 at an edge's
+// midpoint; the collision surface stays on the corners' linear interpolation (its contacts' forces
+// go to the corners by those weights).
+TEST(QuadraticTet, TheVisualSurfaceShowsTheBendTheMidEdgeNodesCarry) {
+    const Vec3 size(0.03, 0.02, 0.004);
+    World w = testing::world_from_mesh(generate_box(grid(size, {3, 2, 1}, 0.2)), quadratic_material(0.3));
+    const double a = 20.0;  // u_z = a x^2 [m]: 18 mm at x = 30 mm, 2 mm across a 10 mm cell
+    auto bent = [&](const Vec3& X) { return Vec3(X.x(), X.y(), X.z() + a * X.x() * X.x()); };
+    for (int i = 0; i < w.nodes.count(); ++i) w.nodes.position[i] = bent(w.nodes.rest[i]);
+    build_surface(w, w.visual, 2);
+    build_surface(w, w.collision, 2);
+    update_surface_positions(w);
+    ASSERT_GT(w.visual.vertex_count(), 100);
+    double visual = 0.0, collision = 0.0;
+    for (int v = 0; v < w.visual.vertex_count(); ++v) {
+        const auto& n = w.elements.nodes[w.visual.element[v]];
+        Vec3 rest = Vec3::Zero();
+        for (int k = 0; k < 4; ++k) rest += w.visual.bary[v][k] * w.nodes.rest[n[k]];
+        visual = std::max(visual, (w.visual.position[v] - bent(rest)).norm());
+    }
+    for (int v = 0; v < w.collision.vertex_count(); ++v) {
+        const auto& n = w.elements.nodes[w.collision.element[v]];
+        Vec3 rest = Vec3::Zero();
+        for (int k = 0; k < 4; ++k) rest += w.collision.bary[v][k] * w.nodes.rest[n[k]];
+        collision = std::max(collision, (w.collision.position[v] - bent(rest)).norm());
+    }
+    EXPECT_LT(visual, 1e-12 * a * size.x() * size.x()) << "the quadratic field, reproduced exactly";
+    const double h = size.x() / 3;
+    EXPECT_NEAR(collision, a * h * h / 4, 1e-9) << "the corners' linear interpolation at an edge's midpoint";
 }
 
 /// Mean downward tip deflection of a 0.2 x 0.01 x 0.01 m beam clamped at x = 0 under gravity [m].

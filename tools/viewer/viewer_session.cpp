@@ -24,14 +24,18 @@ HandSizes sizes_of(const MeshData& mesh) {
     return s;
 }
 
-/// Whether every material of the scene can be cut (a quadratic one cannot yet: docs/elements.md).
+/// Whether a hand scalpel has tissue to cut: some material is linear (a quadratic one is not cut yet,
+/// docs/elements.md: the XFEM cutter passes it; the snapping cutter refuses a scene that has one).
 bool cuttable(const Scene& scene) {
-    auto linear = [](const Material& m, const std::vector<RegionMaterial>& regions) {
-        return !m.quadratic && std::none_of(regions.begin(), regions.end(), [](const RegionMaterial& r) { return r.material.quadratic; });
+    bool linear = false, quadratic = false;
+    auto note = [&](const Material& m) { (m.quadratic ? quadratic : linear) = true; };
+    auto body = [&](const Material& m, const std::vector<RegionMaterial>& regions) {
+        note(m);
+        for (const RegionMaterial& r : regions) note(r.material);
     };
-    bool all = linear(scene.material, scene.region_materials);
-    for (const BodySpec& b : scene.more_bodies) all = all && linear(b.material, b.region_materials);
-    return all;
+    body(scene.material, scene.region_materials);
+    for (const BodySpec& b : scene.more_bodies) body(b.material, b.region_materials);
+    return linear && !(quadratic && scene.cutter == "snap");
 }
 
 }  // namespace
@@ -73,7 +77,7 @@ ViewerSession::ViewerSession(const ViewerOptions& o) : options(o), overrides(o.o
                sim->world.nodes.count(), sim->world.elements.count(), sim->world.tools.count(),
                scalpel ? "hand scalpel on the left button"
                : cut   ? "2D: no hand scalpel"
-                       : "no hand scalpel: quadratic elements are not cut yet, docs/elements.md",
+                       : "no hand scalpel: no linear tissue to cut (quadratic elements are not cut yet, docs/elements.md)",
                o.threads);
 }
 

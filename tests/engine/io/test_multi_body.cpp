@@ -10,6 +10,7 @@
 
 #include "engine/error.h"
 #include "engine/io/scene.h"
+#include "engine/io/scene_checks.h"
 #include "systems/pipeline.h"
 
 namespace xcut {
@@ -59,6 +60,30 @@ TEST(MultiBody, OneBladeCutsEveryBodyItPassesThrough) {
     for (int e = 0; e < w.mesh_elements; ++e)
         for (int a = 0; a < 4; ++a)
             EXPECT_EQ(w.nodes.rest[w.elements.nodes[e][a]].z() > 0.0125, w.elements.body[e] == 0) << e;
+}
+
+// Skin over an organ of quadratic elements at nu 0.49 (tissue that is not cut): the blade cuts the
+// skin and passes the organ's elements uncut, and the end of the run says how many.
+TEST(MultiBody, ABladeCutsTheLinearSkinAndPassesAQuadraticOrganUncut) {
+    std::string text = kSkinOverOrgan;
+    const std::string liver = R"("poisson": 0.45, "density": 1060 })";
+    text.replace(text.find(liver), liver.size(), R"("poisson": 0.49, "density": 1060, "element": "quadratic" })");
+    const Scene scene = load_scene(write_scene("quadratic_organ.json", text).string());
+    auto sim = make_simulation(scene, false);
+    for (int i = 0; i < 30; ++i) step_simulation(*sim);
+    const World& w = sim->world;
+    ASSERT_GT(w.quadratic.count(), 0);
+    std::set<int> cut_bodies;
+    for (int c = 0; c < w.cuts.count(); ++c) cut_bodies.insert(w.elements.body[w.cuts.element[c]]);
+    EXPECT_EQ(cut_bodies, (std::set<int>{0})) << "the skin alone is cut";
+    ASSERT_EQ(w.cut_state.quadratic_ignored.size(), 1u);
+    EXPECT_GT(w.cut_state.quadratic_ignored[0], 10) << "the blade crossed the organ's elements";
+    for (int i = 0; i < w.nodes.count(); ++i) ASSERT_TRUE(w.nodes.position[i].allFinite()) << i;
+    bool said = false;
+    for (const std::string& note : end_of_run_notes(w))
+        said = said || note.find("passed through " + std::to_string(w.cut_state.quadratic_ignored[0]) +
+                                 " quadratic elements without cutting them") != std::string::npos;
+    EXPECT_TRUE(said);
 }
 
 TEST(MultiBody, BodiesAndATopLevelMeshAreRefusedTogether) {
