@@ -151,6 +151,14 @@ TEST(LinearSolver, AutoPicksCholeskyWhenSmallAndAmgBeyond) {
     World large = deformed(false, Eigen::Vector3i(24, 14, 12));  // 14,625 DOFs: past 10,000
     EXPECT_EQ(resolve_linear_method(large, &why), "amg");
     EXPECT_NE(why.find("DOFs"), std::string::npos) << why;
+    // Nearly incompressible tissue keeps the factor to 40k DOFs, as quadratic elements do: the
+    // smoothed aggregation needs 38 CG iterations a step at nu 0.49 on the 1 mm skin (22.5k DOFs),
+    // where cholesky runs 1.3x faster (systems/solver/linear_solver.cpp).
+    for (Material& m : large.materials.list) m.poisson = 0.49;
+    EXPECT_EQ(resolve_linear_method(large, &why), "cholesky");
+    EXPECT_NE(why.find("nu >= 0.48"), std::string::npos) << why;
+    for (Material& m : large.materials.list) m.poisson = 0.45;
+    EXPECT_EQ(resolve_linear_method(large, &why), "amg") << "at 0.45 the multigrid is still the faster";
 }
 
 // A cut changes the pattern: the factor is analysed and computed again; the multigrid hierarchy is
