@@ -479,6 +479,8 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
 /// the scene: it cuts the linear tissue and passes the quadratic elements uncut (the CutSystem
 /// counts them, and the end of the run says so).
 void refuse_quadratic_where_unsupported(const World& world, const Scene& scene, int dim) {
+    bool blade = false;
+    for (int i = 0; i < scene.tools.count(); ++i) blade = blade || scene.tools.has_blade[i];
     for (const Material& m : world.materials.list) {
         if (!m.quadratic) continue;
         const std::string what = fmt::format("material \"{}\" asks for quadratic elements, ", m.name);
@@ -488,9 +490,7 @@ void refuse_quadratic_where_unsupported(const World& world, const Scene& scene, 
             throw InputError(scene.file, "material.element",
                              what + "which cannot be cut yet: the scene has a scripted cut (use \"linear\" for tissue "
                                     "that is cut, docs/elements.md)");
-        bool blade = false;
-        for (int i = 0; i < scene.tools.count(); ++i) blade = blade || scene.tools.has_blade[i];
-        if (blade && scene.cutter == "snap")
+        if (blade && !cutter_passes_quadratic(scene))
             throw InputError(scene.file, "material.element",
                              what + "which the snapping cutter cannot take: it moves nodes onto the cut, off the "
                                     "mid-edge nodes' edges (use \"linear\", or the XFEM cutter, which passes quadratic "
@@ -499,6 +499,18 @@ void refuse_quadratic_where_unsupported(const World& world, const Scene& scene, 
 }
 
 }  // namespace
+
+SceneElementOrders scene_element_orders(const Scene& scene) {
+    SceneElementOrders o;
+    auto note = [&](const Material& m) { (m.quadratic ? o.quadratic : o.linear) = true; };
+    auto body = [&](const Material& m, const std::vector<RegionMaterial>& regions) {
+        note(m);
+        for (const RegionMaterial& r : regions) note(r.material);
+    };
+    body(scene.material, scene.region_materials);
+    for (const BodySpec& b : scene.more_bodies) body(b.material, b.region_materials);
+    return o;
+}
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
     const std::string text = read_input_file(path, "file", "scene", kMaxSceneBytes);

@@ -322,6 +322,15 @@ Vec3 crossing_normal(const ElementCrossings& c) {
     return sum.norm() > 0.0 ? Vec3(sum.normalized()) : sum;
 }
 
+/// Whether quad q crosses one of element e's edges.
+bool quad_crosses_element(const World& w, int e, const CutQuad& q) {
+    for (int k = 0; k < edge_count(w.elements.dim); ++k) {
+        int tri = 0;
+        if (edge_crossing(w, e, k, q, tri)) return true;
+    }
+    return false;
+}
+
 /// An element already split that the quad of `tool` crosses along another plane: counted once per
 /// tool (CutState::recut_ignored; the end of the run says so).
 void note_recut(World& w, int e, const CutQuad& q, const Vec3& quad_normal, int tool) {
@@ -329,12 +338,7 @@ void note_recut(World& w, int e, const CutQuad& q, const Vec3& quad_normal, int 
     const auto it = cs.split_normal.find(e);
     const double n = quad_normal.norm();
     if (it == cs.split_normal.end() || n == 0.0 || std::abs(it->second.dot(quad_normal)) / n > kRecutCos) return;
-    bool crosses = false;
-    for (int k = 0; k < edge_count(w.elements.dim) && !crosses; ++k) {
-        int tri = 0;
-        crosses = edge_crossing(w, e, k, q, tri).has_value();
-    }
-    if (!crosses || !cs.recut_seen.insert(int64_t(e) * 64 + tool).second) return;
+    if (!quad_crosses_element(w, e, q) || !cs.recut_seen.insert(int64_t(e) * 64 + tool).second) return;
     if (static_cast<int>(cs.recut_ignored.size()) <= tool) cs.recut_ignored.resize(tool + 1, 0);
     ++cs.recut_ignored[tool];
 }
@@ -347,11 +351,7 @@ bool pass_quadratic(World& w, int e, const std::vector<const CutQuad*>& quads, i
     CutState& cs = w.cut_state;
     if (cs.quadratic_seen.count(int64_t(e) * 64 + tool)) return true;
     bool crosses = false;
-    for (const CutQuad* q : quads)
-        for (int k = 0; k < edge_count(w.elements.dim) && !crosses; ++k) {
-            int tri = 0;
-            crosses = edge_crossing(w, e, k, *q, tri).has_value();
-        }
+    for (const CutQuad* q : quads) crosses = crosses || quad_crosses_element(w, e, *q);
     if (!crosses) return true;
     cs.quadratic_seen.insert(int64_t(e) * 64 + tool);
     if (static_cast<int>(cs.quadratic_ignored.size()) <= tool) cs.quadratic_ignored.resize(tool + 1, 0);

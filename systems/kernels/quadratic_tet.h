@@ -35,10 +35,17 @@ inline constexpr double kTet10CornerMass = 1.0 / 36.0, kTet10EdgeMass = 4.0 / 27
 
 using Tet10Vectors = std::array<Vec3, 10>;
 
-/// The shape gradients of the 10 nodes at each of the 4 quadrature points [1/m]: grad[q][j].
-struct Tet10Gradients {
-    std::array<std::array<Vec3, 10>, 4> grad;
+/// The shape gradients of the 10 nodes at each point of a quadrature rule [1/m]: grad[q][j], with
+/// the points' weights as fractions of the element's rest volume [-]. P bounds the points: 4 for
+/// Keast's rule over the whole element, more for one side of a cut element
+/// (systems/kernels/tet10_side_rule.h).
+template <size_t P>
+struct Tet10PointGradients {
+    int count = 0;
+    std::array<std::array<Vec3, 10>, P> grad;
+    std::array<double, P> weight;
 };
+using Tet10Gradients = Tet10PointGradients<4>;
 
 /// Barycentric coordinate L_i of quadrature point q (Keast's degree-2 rule).
 inline double tet10_point_coordinate(int q, int i) {
@@ -46,92 +53,122 @@ inline double tet10_point_coordinate(int q, int i) {
     return q == i ? a : b;
 }
 
-/// The gradients at the quadrature points from the linear element's Dm^-1.
-inline Tet10Gradients tet10_gradients(const Mat3& dm_inv) {
+/// The 10 shape gradients at barycentric coordinates L, from the linear element's gradients g.
+inline void tet10_gradients_at(const std::array<Vec3, 4>& g, const Eigen::Vector4d& L, std::array<Vec3, 10>& out) {
+    for (int i = 0; i < 4; ++i) out[i] = (4.0 * L[i] - 1.0) * g[i];
+    for (int k = 0; k < 6; ++k) {
+        const int a = kTet10Edges[k][0], b = kTet10Edges[k][1];
+        out[4 + k] = 4.0 * (L[a] * g[b] + L[b] * g[a]);
+    }
+}
+
+/// The linear element's shape gradients g_j from its Dm^-1 [1/m].
+inline std::array<Vec3, 4> tet4_gradients(const Mat3& dm_inv) {
     std::array<Vec3, 4> g;
     for (int j = 0; j < 4; ++j) g[j] = shape_gradient<3>(dm_inv, j);
+    return g;
+}
+
+/// The gradients at Keast's 4 points (weights 1/4) from the linear element's Dm^-1.
+inline Tet10Gradients tet10_gradients(const Mat3& dm_inv) {
+    const std::array<Vec3, 4> g = tet4_gradients(dm_inv);
     Tet10Gradients out;
+    out.count = 4;
     for (int q = 0; q < 4; ++q) {
-        for (int i = 0; i < 4; ++i) out.grad[q][i] = (4.0 * tet10_point_coordinate(q, i) - 1.0) * g[i];
-        for (int k = 0; k < 6; ++k) {
-            const int a = kTet10Edges[k][0], b = kTet10Edges[k][1];
-            out.grad[q][4 + k] = 4.0 * (tet10_point_coordinate(q, a) * g[b] + tet10_point_coordinate(q, b) * g[a]);
-        }
+        Eigen::Vector4d L;
+        for (int i = 0; i < 4; ++i) L[i] = tet10_point_coordinate(q, i);
+        tet10_gradients_at(g, L, out.grad[q]);
+        out.weight[q] = 0.25;
     }
     return out;
 }
 
+/// The 10 shape functions at barycentric coordinates L: N_i = L_i (2 L_i - 1) at the corners and
+/// N_ab = 4 L_a L_b on the edges [-].
+inline std::array<double, 10> tet10_shapes(const Eigen::Vector4d& L) {
+    std::array<double, 10> N;
+    for (int i = 0; i < 4; ++i) N[i] = L[i] * (2.0 * L[i] - 1.0);
+    for (int k = 0; k < 6; ++k) N[4 + k] = 4.0 * L[kTet10Edges[k][0]] * L[kTet10Edges[k][1]];
+    return N;
+}
+
 /// The point at barycentric coordinates L of quadratic element `ids` (node positions x):
-/// sum_j N_j(L) x_j, N_i = L_i (2 L_i - 1) at the corners and N_ab = 4 L_a L_b on the edges [m].
+/// sum_j N_j(L) x_j [m].
 inline Vec3 tet10_point(const std::array<int, 10>& ids, const Eigen::Vector4d& L, const Vec3* x) {
+    const std::array<double, 10> N = tet10_shapes(L);
     Vec3 p = Vec3::Zero();
-    for (int i = 0; i < 4; ++i) p += L[i] * (2.0 * L[i] - 1.0) * x[ids[i]];
-    for (int k = 0; k < 6; ++k) p += 4.0 * L[kTet10Edges[k][0]] * L[kTet10Edges[k][1]] * x[ids[4 + k]];
+    for (int j = 0; j < 10; ++j) p += N[j] * x[ids[j]];
     return p;
 }
 
 /// sum_j v_j grad N_j(q)^T.
-XCUT_INLINE Mat3 tet10_gradient_of(const Tet10Vectors& v, const Tet10Gradients& G, int q) {
+template <size_t P>
+XCUT_INLINE Mat3 tet10_gradient_of(const Tet10Vectors& v, const Tet10PointGradients<P>& G, int q) {
     Mat3 out = Mat3::Zero();
     for (int j = 0; j < 10; ++j) out.noalias() += v[j] * G.grad[q][j].transpose();
     return out;
 }
 
-/// out_j (+)= scale sum_q R sigma_q grad N_j(q) / 4 (the rule's weights, V in scale).
-XCUT_INLINE void tet10_scatter(const Mat3& R, const std::array<Mat3, 4>& sigma, const Tet10Gradients& G, double scale,
-                               Tet10Vectors& out) {
-    std::array<Mat3, 4> Q;
-    for (int q = 0; q < 4; ++q) Q[q] = (0.25 * scale) * R * sigma[q];
+/// out_j = scale sum_q w_q R sigma_q grad N_j(q) (the rule's weights w_q; V in scale).
+template <size_t P>
+XCUT_INLINE void tet10_scatter(const Mat3& R, const std::array<Mat3, P>& sigma, const Tet10PointGradients<P>& G,
+                               double scale, Tet10Vectors& out) {
+    std::array<Mat3, P> Q;
+    for (int q = 0; q < G.count; ++q) Q[q] = (G.weight[q] * scale) * R * sigma[q];
     for (int j = 0; j < 10; ++j) {
         Vec3 s = Vec3::Zero();
-        for (int q = 0; q < 4; ++q) s.noalias() += Q[q] * G.grad[q][j];
+        for (int q = 0; q < G.count; ++q) s.noalias() += Q[q] * G.grad[q][j];
         out[j] = s;
     }
 }
 
-/// Elastic forces f_j = -sum_q (V/4) R sigma_q grad N_j(q) at positions x [N]; returns the strain
-/// energy [J].
-inline double tet10_forces(const Tet10Vectors& x, const Tet10Gradients& G, const Mat3& R, double volume,
+/// Elastic forces f_j = -sum_q w_q V R sigma_q grad N_j(q) at positions x [N]; returns the strain
+/// energy [J]. `volume`: the element's rest volume (times its weight) [m^3].
+template <size_t P>
+inline double tet10_forces(const Tet10Vectors& x, const Tet10PointGradients<P>& G, const Mat3& R, double volume,
                            const LameParameters& lame, Tet10Vectors& force) {
-    std::array<Mat3, 4> sigma;
+    std::array<Mat3, P> sigma;
     double energy = 0.0;
-    for (int q = 0; q < 4; ++q) {
+    for (int q = 0; q < G.count; ++q) {
         const Mat3 H = R.transpose() * tet10_gradient_of(x, G, q) - Mat3::Identity();
         sigma[q] = linear_stress<3>(H, lame);
         const Mat3 eps = 0.5 * (H + H.transpose());
-        energy += 0.25 * volume * (lame.mu * eps.squaredNorm() + 0.5 * lame.lambda * eps.trace() * eps.trace());
+        energy += G.weight[q] * volume * (lame.mu * eps.squaredNorm() + 0.5 * lame.lambda * eps.trace() * eps.trace());
     }
     tet10_scatter(R, sigma, G, -volume, force);
     return energy;
 }
 
 /// Stiffness action out_j = sum_k K_jk p_k (rotation frozen) [N].
-inline void tet10_stiffness_product(const Tet10Vectors& p, const Tet10Gradients& G, const Mat3& R, double volume,
-                                    const LameParameters& lame, Tet10Vectors& out) {
-    std::array<Mat3, 4> sigma;
-    for (int q = 0; q < 4; ++q) sigma[q] = linear_stress<3>(R.transpose() * tet10_gradient_of(p, G, q), lame);
+template <size_t P>
+inline void tet10_stiffness_product(const Tet10Vectors& p, const Tet10PointGradients<P>& G, const Mat3& R,
+                                    double volume, const LameParameters& lame, Tet10Vectors& out) {
+    std::array<Mat3, P> sigma;
+    for (int q = 0; q < G.count; ++q) sigma[q] = linear_stress<3>(R.transpose() * tet10_gradient_of(p, G, q), lame);
     tet10_scatter(R, sigma, G, volume, out);
 }
 
 /// Adds block (j, k) of the element stiffness, scaled, to the row-major 3x3 `block`: per point the
 /// linear element's block (add_corotational_stiffness_block) with the rotated gradients R grad N.
-inline void tet10_add_stiffness_block(const Tet10Gradients& G, const Mat3& R, double volume, const LameParameters& lame,
-                                      int j, int k, double scale, double* block) {
-    const double w = 0.25 * volume * scale;
-    for (int q = 0; q < 4; ++q) {
+template <size_t P>
+inline void tet10_add_stiffness_block(const Tet10PointGradients<P>& G, const Mat3& R, double volume,
+                                      const LameParameters& lame, int j, int k, double scale, double* block) {
+    for (int q = 0; q < G.count; ++q) {
+        const double w = G.weight[q] * volume * scale;
         const Vec3 rj = R * G.grad[q][j], rk = R * G.grad[q][k];
         add_corotational_stiffness_block((w * lame.lambda) * rj, (w * lame.mu) * rj, rk, 3, block);
     }
 }
 
-/// Diagonal of the element stiffness: node j, axis c: sum_q (V/4) (mu |g|^2 + (lambda + mu) (R g)_c^2).
-inline void tet10_stiffness_diagonal(const Tet10Gradients& G, const Mat3& R, double volume, const LameParameters& lame,
-                                     Tet10Vectors& out) {
+/// Diagonal of the element stiffness: node j, axis c: sum_q w_q V (mu |g|^2 + (lambda + mu) (R g)_c^2).
+template <size_t P>
+inline void tet10_stiffness_diagonal(const Tet10PointGradients<P>& G, const Mat3& R, double volume,
+                                     const LameParameters& lame, Tet10Vectors& out) {
     for (int j = 0; j < 10; ++j) {
         out[j].setZero();
-        for (int q = 0; q < 4; ++q) {
+        for (int q = 0; q < G.count; ++q) {
             const Vec3 rg = R * G.grad[q][j];
-            out[j] += 0.25 * volume * (lame.mu * rg.squaredNorm() * Vec3::Ones() + (lame.lambda + lame.mu) * rg.cwiseAbs2());
+            out[j] += G.weight[q] * volume * (lame.mu * rg.squaredNorm() * Vec3::Ones() + (lame.lambda + lame.mu) * rg.cwiseAbs2());
         }
     }
 }

@@ -16,6 +16,7 @@
 #include "systems/solver/linear_solver.h"
 #include "systems/solver/solver_system.h"
 #include "systems/surface/mapping_system.h"
+#include "tests/systems/quadratic_fixtures.h"
 #include "tests/test_helpers.h"
 
 namespace xcut {
@@ -23,39 +24,12 @@ namespace {
 
 using testing::grid;
 
-/// A tetrahedron of no symmetry [m].
-std::array<Vec3, 4> corners() {
-    return {Vec3(0.01, 0.02, -0.01), Vec3(0.13, 0.01, 0.02), Vec3(0.03, 0.11, 0.01), Vec3(0.02, 0.04, 0.15)};
-}
-
-Mat3 dm_inverse(const std::array<Vec3, 4>& X) {
-    Mat3 D;
-    for (int k = 0; k < 3; ++k) D.col(k) = X[k + 1] - X[0];
-    return D.inverse();
-}
-
-double volume_of(const std::array<Vec3, 4>& X) {
-    Mat3 D;
-    for (int k = 0; k < 3; ++k) D.col(k) = X[k + 1] - X[0];
-    return D.determinant() / 6.0;
-}
-
-/// The 10 nodes' rest positions: corners, then the edges' midpoints.
-Tet10Vectors nodes_of(const std::array<Vec3, 4>& X) {
-    Tet10Vectors out;
-    for (int a = 0; a < 4; ++a) out[a] = X[a];
-    for (int k = 0; k < 6; ++k) out[4 + k] = 0.5 * (X[kTet10Edges[k][0]] + X[kTet10Edges[k][1]]);
-    return out;
-}
-
-/// Closed form of the integral of x_a x_b over a tetrahedron: V/20 (sum_i x_ia x_ib + sum x_ia sum x_ib).
-double second_moment(const std::array<Vec3, 4>& X, int a, int b) {
-    double ab = 0.0, sa = 0.0, sb = 0.0;
-    for (const Vec3& p : X) ab += p[a] * p[b], sa += p[a], sb += p[b];
-    return volume_of(X) / 20.0 * (ab + sa * sb);
-}
-
-const LameParameters kLame{3.0e4, 1.2e4};
+using testing::corners;
+using testing::dm_inverse;
+using testing::kLame;
+using testing::nodes_of;
+using testing::second_moment;
+using testing::volume_of;
 
 TEST(QuadraticTet, IntegratesTheEnergyOfQuadraticFieldsExactly) {
     const auto X = corners();
@@ -108,13 +82,7 @@ TEST(QuadraticTet, ForceProductBlocksAndDiagonalAgree) {
     for (int j = 0; j < 10; ++j) scale = std::max(scale, Kp[j].norm());
     for (int j = 0; j < 10; ++j) EXPECT_LT((f1[j] - f0[j] + Kp[j]).norm(), 1e-10 * scale) << j;
     // The 30 x 30 matrix from the blocks: its product, its diagonal, symmetry, 6 rigid modes.
-    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(30, 30);
-    for (int j = 0; j < 10; ++j)
-        for (int k = 0; k < 10; ++k) {
-            Eigen::Matrix<double, 3, 3, Eigen::RowMajor> b = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>::Zero();
-            tet10_add_stiffness_block(G, R, V, kLame, j, k, 1.0, b.data());
-            K.block<3, 3>(3 * j, 3 * k) = b;
-        }
+    const Eigen::MatrixXd K = testing::tet10_matrix(G, R, V, kLame);
     Eigen::VectorXd pv(30);
     for (int j = 0; j < 10; ++j) pv.segment<3>(3 * j) = p[j];
     const Eigen::VectorXd Kpv = K * pv;

@@ -27,15 +27,8 @@ HandSizes sizes_of(const MeshData& mesh) {
 /// Whether a hand scalpel has tissue to cut: some material is linear (a quadratic one is not cut yet,
 /// docs/elements.md: the XFEM cutter passes it; the snapping cutter refuses a scene that has one).
 bool cuttable(const Scene& scene) {
-    bool linear = false, quadratic = false;
-    auto note = [&](const Material& m) { (m.quadratic ? quadratic : linear) = true; };
-    auto body = [&](const Material& m, const std::vector<RegionMaterial>& regions) {
-        note(m);
-        for (const RegionMaterial& r : regions) note(r.material);
-    };
-    body(scene.material, scene.region_materials);
-    for (const BodySpec& b : scene.more_bodies) body(b.material, b.region_materials);
-    return linear && !(quadratic && scene.cutter == "snap");
+    const SceneElementOrders o = scene_element_orders(scene);
+    return o.linear && (!o.quadratic || cutter_passes_quadratic(scene));
 }
 
 }  // namespace

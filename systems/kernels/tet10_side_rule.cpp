@@ -1,0 +1,131 @@
+#include "systems/kernels/tet10_side_rule.h"
+
+#include <Eigen/LU>
+#include <cmath>
+
+#include "components/cut_elements.h"
+
+namespace xcut {
+namespace {
+
+using Bary = Eigen::Vector4d;
+
+Bary corner(int a) { return Bary::Unit(a); }
+
+/// The point where the cut crosses the edge from local node a to local node b.
+Bary crossing(const std::array<double, 6>& t, int a, int b) {
+    for (int k = 0; k < 6; ++k) {
+        if (kTetEdges[k][0] == a && kTetEdges[k][1] == b) return corner(a) + t[k] * (corner(b) - corner(a));
+        if (kTetEdges[k][0] == b && kTetEdges[k][1] == a) return corner(b) + t[k] * (corner(a) - corner(b));
+    }
+    return corner(a);
+}
+
+/// The prism between triangles (a0, a1, a2) and (b0, b1, b2), a_i over b_i, as three tetrahedra.
+void prism(const Bary& a0, const Bary& a1, const Bary& a2, const Bary& b0, const Bary& b1, const Bary& b2,
+           std::array<std::array<Bary, 4>, 3>& pieces) {
+    pieces[0] = {a0, a1, a2, b0};
+    pieces[1] = {a1, a2, b0, b1};
+    pieces[2] = {a2, b0, b1, b2};
+}
+
+/// |det| of the piece's barycentric vertices: its volume over the parent's.
+double piece_fraction(const std::array<Bary, 4>& piece) {
+    Eigen::Matrix4d M;
+    for (int v = 0; v < 4; ++v) M.row(v) = piece[v].transpose();
+    return std::abs(M.determinant());
+}
+
+}  // namespace
+
+int tet_side_pieces(const std::array<int8_t, 4>& H, const std::array<double, 6>& t, int side,
+                    std::array<std::array<Bary, 4>, 3>& pieces) {
+    int in[4], out[4], n_in = 0, n_out = 0;
+    for (int a = 0; a < 4; ++a) (H[a] == side ? in[n_in++] : out[n_out++]) = a;
+    if (n_in == 0) return 0;
+    if (n_out == 0) {
+        pieces[0] = {corner(0), corner(1), corner(2), corner(3)};
+        return 1;
+    }
+    if (n_in == 1) {
+        const int k = in[0];
+        pieces[0] = {corner(k), crossing(t, k, out[0]), crossing(t, k, out[1]), crossing(t, k, out[2])};
+        return 1;
+    }
+    if (n_out == 1) {  // the three nodes' triangle over the crossings toward the one across
+        const int k = out[0];
+        prism(corner(in[0]), corner(in[1]), corner(in[2]), crossing(t, in[0], k), crossing(t, in[1], k),
+              crossing(t, in[2], k), pieces);
+        return 3;
+    }
+    // Two and two: (A, p_AC, p_AD) over (B, p_BC, p_BD), as tet_side_volume splits it.
+    const int A = in[0], B = in[1], C = out[0], D = out[1];
+    prism(corner(A), crossing(t, A, C), crossing(t, A, D), corner(B), crossing(t, B, C), crossing(t, B, D), pieces);
+    return 3;
+}
+
+TetSideRule tet_side_rule(const std::array<int8_t, 4>& H, const std::array<double, 6>& t, int side) {
+    std::array<std::array<Bary, 4>, 3> pieces;
+    const int n = tet_side_pieces(H, t, side, pieces);
+    TetSideRule rule;
+    for (int p = 0; p < n; ++p) {
+        const double fraction = piece_fraction(pieces[p]);
+        for (int q = 0; q < 4; ++q) {
+            Bary L = Bary::Zero();
+            for (int v = 0; v < 4; ++v) L += tet10_point_coordinate(q, v) * pieces[p][v];
+            rule.L[rule.count] = L;
+            rule.weight[rule.count] = 0.25 * fraction;
+            ++rule.count;
+        }
+    }
+    return rule;
+}
+
+Tet10SideGradients tet10_side_gradients(const Mat3& dm_inv, const TetSideRule& rule) {
+    const std::array<Vec3, 4> g = tet4_gradients(dm_inv);
+    Tet10SideGradients out;
+    out.count = rule.count;
+    for (int q = 0; q < rule.count; ++q) {
+        tet10_gradients_at(g, rule.L[q], out.grad[q]);
+        out.weight[q] = rule.weight[q];
+    }
+    return out;
+}
+
+std::array<double, 10> tet10_side_masses(const std::array<int8_t, 4>& H, const std::array<double, 6>& t, int side) {
+    // 4-point Gauss-Legendre on [0, 1]: nodes (1 -+ sqrt(3/7 +- 2/7 sqrt(6/5))) / 2, weights (18 -+ sqrt 30) / 72.
+    const double inner = std::sqrt(3.0 / 7.0 - 2.0 / 7.0 * std::sqrt(6.0 / 5.0));
+    const double outer = std::sqrt(3.0 / 7.0 + 2.0 / 7.0 * std::sqrt(6.0 / 5.0));
+    const double w_inner = (18.0 + std::sqrt(30.0)) / 72.0, w_outer = (18.0 - std::sqrt(30.0)) / 72.0;
+    const std::array<double, 4> node{0.5 - 0.5 * outer, 0.5 - 0.5 * inner, 0.5 + 0.5 * inner, 0.5 + 0.5 * outer};
+    const std::array<double, 4> weight{w_outer, w_inner, w_inner, w_outer};
+    std::array<std::array<Bary, 4>, 3> pieces;
+    const int n = tet_side_pieces(H, t, side, pieces);
+    std::array<double, 10> diagonal{};
+    double volume = 0.0;
+    for (int p = 0; p < n; ++p) {
+        const std::array<Bary, 4>& P = pieces[p];
+        const double fraction = piece_fraction(P);
+        volume += fraction;
+        for (int a = 0; a < 4; ++a)
+            for (int b = 0; b < 4; ++b)
+                for (int c = 0; c < 4; ++c) {
+                    // The collapsed map of the unit cube onto the piece: x = u, y = v (1 - u),
+                    // z = w (1 - u)(1 - v), Jacobian (1 - u)^2 (1 - v) times 6 (the unit tetrahedron's 1/6).
+                    const double u = node[a], v = node[b], w = node[c];
+                    const double x = u, y = v * (1.0 - u), z = w * (1.0 - u) * (1.0 - v);
+                    const Bary L = P[0] + x * (P[1] - P[0]) + y * (P[2] - P[0]) + z * (P[3] - P[0]);
+                    const double dv = 6.0 * fraction * weight[a] * weight[b] * weight[c] * (1.0 - u) * (1.0 - u) * (1.0 - v);
+                    const std::array<double, 10> N = tet10_shapes(L);
+                    for (int i = 0; i < 10; ++i) diagonal[i] += dv * N[i] * N[i];
+                }
+    }
+    double sum = 0.0;
+    for (double d : diagonal) sum += d;
+    std::array<double, 10> out{};
+    if (sum > 0.0)
+        for (int i = 0; i < 10; ++i) out[i] = diagonal[i] * volume / sum;
+    return out;
+}
+
+}  // namespace xcut
