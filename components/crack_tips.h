@@ -5,6 +5,7 @@
 // holds only what the condensation needs: which force elements the enrichment reaches and the
 // integrals of its shape functions' gradients over each, at rest (SI units).
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "components/nodes.h"
@@ -47,6 +48,16 @@ struct CrackTips {
     int cuts_seen = 0;               ///< cut elements when the zones were last built
     int phantoms_seen = 0;           ///< phantoms then: later ones take the tips' field (transfer)
     int version = 0;                 ///< counts the zones built (a factor knows which it was made for)
+
+    // ---- what the volume output shows inside the tips' elements (show_crack_tips, at the steps the
+    //      output writes; engine/io/clipped_cells.cpp reads it when shown_step is the world's step):
+    //      the element as four triangles fanned from the tip, the crack's entry point once per lip
+    int shown_step = -1;
+    std::vector<int> shown_element;                   ///< per shown tip: the mesh element it lies in
+    std::vector<std::array<int, 12>> shown_cells;     ///< its 4 triangles: a mesh node, or -1 - k for point k
+    std::vector<std::array<Vec3, 3>> shown_rest;      ///< points: the entry on each lip, the tip [m]
+    std::vector<std::array<Vec3, 3>> shown_position;  ///< the same placed by the enriched field [m]
+    std::vector<std::array<Vec3, 3>> shown_velocity;  ///< the element's linear interpolation [m/s]
 
     int count() const { return static_cast<int>(point.size()); }
     int functions() const { return 4 * static_cast<int>(node.size()); }

@@ -104,6 +104,19 @@ bool add_clipped(ClippedCells& out, const World& w, int ve, int parent, int8_t s
     return true;
 }
 
+/// Mesh element e as the four triangles fanned from a crack tip inside it (CrackTips::shown_*).
+void add_tip_fan(ClippedCells& out, const CrackTips& ct, int shown, int e) {
+    const int base = static_cast<int>(out.position.size());
+    for (int p = 0; p < 3; ++p) {
+        out.position.push_back(ct.shown_position[shown][p]);
+        out.rest.push_back(ct.shown_rest[shown][p]);
+        out.velocity.push_back(ct.shown_velocity[shown][p]);
+    }
+    const std::array<int, 12>& c = ct.shown_cells[shown];
+    auto point = [&](int v) { return v >= 0 ? v : base - 1 - v; };
+    for (int t = 0; t < 4; ++t) add_cell(out, {point(c[3 * t]), point(c[3 * t + 1]), point(c[3 * t + 2]), -1}, 2, e);
+}
+
 }  // namespace
 
 ClippedCells clipped_cells(const World& w) {
@@ -114,8 +127,18 @@ ClippedCells clipped_cells(const World& w) {
     out.velocity = w.nodes.velocity;
     std::vector<int> virtual_of(el.count(), -1);
     for (int v = 0; v < w.virtual_elements.count(); ++v) virtual_of[w.virtual_elements.element[v]] = v;
+    const CrackTips& ct = w.tips;
+    std::vector<int> shown_of;  // per mesh element: the tip shown inside it, -1 none
+    if (ct.shown_step == w.step && !ct.shown_element.empty()) {
+        shown_of.assign(w.mesh_elements, -1);
+        for (size_t s = 0; s < ct.shown_element.size(); ++s) shown_of[ct.shown_element[s]] = static_cast<int>(s);
+    }
     for (int e = 0; e < el.count(); ++e) {
         if (!(el.weight[e] > 0.0)) continue;
+        if (e < static_cast<int>(shown_of.size()) && shown_of[e] >= 0) {
+            add_tip_fan(out, ct, shown_of[e], e);
+            continue;
+        }
         const int v = virtual_of[e];
         if (v >= 0 && add_clipped(out, w, e, w.virtual_elements.parent[v], w.virtual_elements.side[v])) continue;
         out.cells.push_back(el.nodes[e]);

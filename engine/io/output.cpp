@@ -102,7 +102,7 @@ void write_vtu(const World& world, const std::string& path) {
     vtu.cell_data("stress_Pa", 9, stress);
     vtu.cells(conn, offsets, types);
     vtu.field("units", "SI: lengths m, time s, displacement_m m, velocity_m_per_s m/s, von_mises_Pa and stress_Pa "
-                       "(Cauchy, row-major 3x3) Pa; each cut element is shown as its two virtual elements clipped to their sides (enriched_dof 2: a cut point); quadratic elements are VTK quadratic tetrahedra (their stress: the mean over the element); region: the mesh file's region; material: index into the scene's "
+                       "(Cauchy, row-major 3x3) Pa; each cut element is shown as its two virtual elements clipped to their sides (enriched_dof 2: a cut point, or a 2D crack tip's point: its element is four triangles fanned from the tip); quadratic elements are VTK quadratic tetrahedra (their stress: the mean over the element); region: the mesh file's region; material: index into the scene's "
                        "materials (per body: \"material\", then \"region_materials\" in order); body: index into the scene's bodies");
     vtu.write(path);
 }

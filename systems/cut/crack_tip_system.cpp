@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 #include "engine/error.h"
@@ -33,13 +34,16 @@ std::array<Vec2, 3> rest_triangle(const World& w, int e) {
     return {xy(w.nodes.rest[n[0]]), xy(w.nodes.rest[n[1]]), xy(w.nodes.rest[n[2]])};
 }
 
-/// Whether rest point T lies in the closure of triangle X (to 1e-9 of its barycentric coordinates).
-bool holds(const std::array<Vec2, 3>& X, const Vec2& T) {
+/// The barycentric coordinates of point T in triangle X.
+Vec3 barycentric(const std::array<Vec2, 3>& X, const Vec2& T) {
     Eigen::Matrix2d D;
     D << X[1] - X[0], X[2] - X[0];
     const Vec2 l = D.partialPivLu().solve(T - X[0]);
-    return std::min({1.0 - l.x() - l.y(), l.x(), l.y()}) >= -1e-9;
+    return Vec3(1.0 - l.x() - l.y(), l.x(), l.y());
 }
+
+/// Whether rest point T lies in the closure of triangle X (to 1e-9 of its barycentric coordinates).
+bool holds(const std::array<Vec2, 3>& X, const Vec2& T) { return barycentric(X, T).minCoeff() >= -1e-9; }
 
 Vec2 normal_of(const TipFrame& f) { return Vec2(-f.direction.y(), f.direction.x()); }
 
@@ -451,6 +455,104 @@ bool follow_blades(World& w) {
 SystemDesc crack_tip_system() {
     SystemDesc s{"CrackTipSystem", kNodes | kElements | kTools | kCutEvents, kNodes | kXfem,
                  [](World& w) { follow_blades(w); }, "crack tips at the blades (2D)"};
+    return s.also_reads(kXfem);
+}
+
+namespace {
+
+/// Where the crack behind tip f enters triangle X: the local edge and the point where the ray
+/// T - s d (s > 0) leaves the triangle; false when it leaves within 1e-6 of a corner.
+bool crack_entry(const std::array<Vec2, 3>& X, const TipFrame& f, int& edge, Vec2& E) {
+    double nearest = std::numeric_limits<double>::infinity(), at = -1.0;
+    for (int k = 0; k < 3; ++k) {
+        const Vec2 a = X[kTriEdges[k][0]], b = X[kTriEdges[k][1]];
+        Eigen::Matrix2d M;  // T - s d = a + u (b - a)
+        M << -f.direction, a - b;
+        if (std::abs(M.determinant()) <= 1e-14 * (b - a).norm()) continue;
+        const Vec2 su = M.partialPivLu().solve(a - f.point);
+        if (su.x() <= 0.0 || su.x() >= nearest || su.y() < -1e-9 || su.y() > 1.0 + 1e-9) continue;
+        nearest = su.x(), at = su.y(), edge = k, E = a + su.y() * (b - a);
+    }
+    return at > 1e-6 && at < 1.0 - 1e-6;
+}
+
+/// The enriched field at rest point X of uncut mesh element e, on lip `side` of tip `shown` (0: off
+/// its crack; other tips' functions take their own angle) [m].
+Vec3 enriched_point(const World& w, const Eigen::VectorXd& b, int e, const Vec2& X, int shown, int side) {
+    const Vec3 L = barycentric(rest_triangle(w, e), X);
+    const auto& n = w.elements.nodes[e];
+    Vec3 x = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) x += L[k] * w.nodes.position[n[k]];
+    const CrackTips& ct = w.tips;
+    for (int pair = 0; pair < static_cast<int>(ct.node.size()); ++pair)
+        for (int k = 0; k < 3; ++k) {
+            if (ct.node[pair] != n[k]) continue;
+            const int tip = ct.tip[pair];
+            const TipFrame f{xy(ct.point[tip]), xy(ct.direction[tip])};
+            const BranchValues F = branch_functions(f, X, tip == shown ? side : 0);
+            const BranchValues Fk = branch_functions(f, xy(w.nodes.rest[n[k]]), node_lip(w, f, n[k]));
+            for (int l = 0; l < 4; ++l) x.head<2>() += L[k] * (F.f[l] - Fk.f[l]) * b.segment<2>(2 * (4 * pair + l));
+        }
+    return x;
+}
+
+/// The uncut mesh element of the zone that holds tip f strictly inside; -1 if none.
+int tip_element(const World& w, const TipFrame& f) {
+    const CrackTips& ct = w.tips;
+    const std::vector<int>& cut_of = w.cuts.cut_of_element;
+    for (int z = 0; z < ct.zone(); ++z) {
+        const int e = ct.element[z];
+        if (e >= w.mesh_elements || (e < static_cast<int>(cut_of.size()) && cut_of[e] >= 0)) continue;
+        if (w.elements.weight[e] > 0.0 && barycentric(rest_triangle(w, e), f.point).minCoeff() > 1e-9) return e;
+    }
+    return -1;
+}
+
+}  // namespace
+
+void show_crack_tips(World& w) {
+    CrackTips& ct = w.tips;
+    ct.shown_step = w.step;
+    ct.shown_element.clear(), ct.shown_cells.clear();
+    ct.shown_rest.clear(), ct.shown_position.clear(), ct.shown_velocity.clear();
+    if (ct.count() == 0 || w.elements.dim != 2) return;
+    const Eigen::VectorXd b = crack_tip_amplitudes(w);
+    for (int tip = 0; tip < ct.count(); ++tip) {
+        const TipFrame f{xy(ct.point[tip]), xy(ct.direction[tip])};
+        const int e = tip_element(w, f);
+        int edge = -1;
+        Vec2 E = Vec2::Zero();
+        if (e < 0 || std::count(ct.shown_element.begin(), ct.shown_element.end(), e) > 0 ||
+            !crack_entry(rest_triangle(w, e), f, edge, E))
+            continue;
+        const auto& n = w.elements.nodes[e];
+        const int a = kTriEdges[edge][0], c = kTriEdges[edge][1], o = 3 - a - c;
+        const int lip_a = cross2(f.direction, xy(w.nodes.rest[n[a]]) - f.point) > 0.0 ? 1 : -1;
+        const double z = w.nodes.rest[n[a]].z();
+        const std::array<Vec2, 3> X{E, E, f.point};
+        const std::array<int, 3> lip{lip_a, -lip_a, 0};
+        std::array<Vec3, 3> rest, position, velocity;
+        for (int p = 0; p < 3; ++p) {
+            rest[p] = Vec3(X[p].x(), X[p].y(), z);
+            position[p] = enriched_point(w, b, e, X[p], tip, lip[p]);
+            const Vec3 L = barycentric(rest_triangle(w, e), X[p]);
+            velocity[p] = L[0] * w.nodes.velocity[n[0]] + L[1] * w.nodes.velocity[n[1]] + L[2] * w.nodes.velocity[n[2]];
+        }
+        // Fanned from the tip (point 2): a and the entry on a's lip (point 0), the entry on c's lip
+        // (point 1) and c, then the two whole edges.
+        ct.shown_element.push_back(e);
+        ct.shown_cells.push_back({-3, n[a], -1, -3, -2, n[c], -3, n[c], n[o], -3, n[o], n[a]});
+        ct.shown_rest.push_back(rest), ct.shown_position.push_back(position), ct.shown_velocity.push_back(velocity);
+    }
+}
+
+SystemDesc crack_tip_display_system() {
+    SystemDesc s{"CrackTipDisplaySystem", kNodes | kElements | kOutput, kXfem,
+                 [](World& w) {
+                     const OutputSettings& o = w.output;
+                     if (w.tips.count() > 0 && o.vtu && w.step % o.every == 0) show_crack_tips(w);
+                 },
+                 "the opening inside the crack tips' elements, for the volume output (2D)"};
     return s.also_reads(kXfem);
 }
 

@@ -51,6 +51,16 @@ SystemDesc crack_tip_system();
 /// positions and rotations, as the step's term condenses them: for output and tests.
 Eigen::VectorXd crack_tip_amplitudes(World& world);
 
+/// What the volume output shows inside each tip's element (CrackTips::shown_*): the mesh element
+/// the tip lies in (uncut, the tip strictly inside) as four triangles fanned from the tip, with the
+/// point where the crack behind the tip enters the element written once per lip, each placed by the
+/// enriched field x(X) = Σ_k N_k x_k + Σ_k N_k Σ_l (F_l(X) - F_l(X_k)) b_kl on its lip: the opening
+/// the branch functions carry up to the tip, which the element's nodes alone do not show. A tip on
+/// an edge or at a node, or in a cut element, is shown whole.
+void show_crack_tips(World& world);
+/// The CrackTipDisplaySystem: show_crack_tips at the steps the scene's volume output writes.
+SystemDesc crack_tip_display_system();
+
 /// The term: active when the world has tips; the assembled methods apply it beside A.
 std::shared_ptr<StepTerm> crack_tip_step_term();
 

@@ -80,6 +80,29 @@ TEST_P(OutputFiles, VtkReadsTheArraysOfACutMultiRegionScene) {
     fs::remove_all(dir);
 }
 
+// A 2D crack tip's element is written as four triangles fanned from the tip (the crack's entry once
+// per lip), made by the CrackTipDisplaySystem at the steps the output writes, and VTK reads them.
+TEST(OutputFiles, ACrackTipsElementIsWrittenAsItsFan) {
+    const fs::path dir = fs::temp_directory_path() / fmt::format("xcut_output_tip_{}", ::getpid());
+    fs::create_directories(dir);
+    Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/face_skin_2d.json", {"cutter.tip={}"});
+    scene.output.directory = dir.string();
+    auto sim = make_simulation(scene, true);
+    const World& w = sim->world;
+    for (int i = 0; i < 150; ++i) step_simulation(*sim);  // the blade stops inside the skin at 1.2 s
+    ASSERT_EQ(w.step % w.output.every, 0);
+    EXPECT_EQ(w.tips.shown_step, w.step);
+    ASSERT_EQ(w.tips.shown_element.size(), 1u);
+    const ClippedCells shown = clipped_cells(w);
+    EXPECT_EQ(std::count(shown.element.begin(), shown.element.end(), w.tips.shown_element[0]), 4);
+    write_vtu(w, (dir / "volume.vtu").string());
+    const nlohmann::json v = vtk_summary((dir / "volume.vtu").string(), dir);
+    ASSERT_FALSE(v.is_discarded());
+    EXPECT_EQ(v["cells"], shown.cells.size());
+    EXPECT_EQ(v["points"], shown.position.size());
+    fs::remove_all(dir);
+}
+
 // A quadratic material's elements are written as VTK quadratic tetrahedra over the nodes and the
 // mid-edge nodes, with the mean stress of each.
 TEST(QuadraticOutput, ElementsAreWrittenAsQuadraticCells) {
