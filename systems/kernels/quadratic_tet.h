@@ -47,6 +47,19 @@ struct Tet10PointGradients {
 };
 using Tet10Gradients = Tet10PointGradients<4>;
 
+/// The rule's point count and point q's weight: constants for the whole element's 4 points (so its
+/// loops unroll; the same values as tet10_gradients stores).
+template <size_t P>
+XCUT_INLINE int tet10_points(const Tet10PointGradients<P>& G) {
+    if constexpr (P == 4) return 4;
+    else return G.count;
+}
+template <size_t P>
+XCUT_INLINE double tet10_weight(const Tet10PointGradients<P>& G, int q) {
+    if constexpr (P == 4) return 0.25;
+    else return G.weight[q];
+}
+
 /// Barycentric coordinate L_i of quadrature point q (Keast's degree-2 rule).
 inline double tet10_point_coordinate(int q, int i) {
     constexpr double a = 0.5854101966249685, b = 0.1381966011250105;
@@ -114,10 +127,10 @@ template <size_t P>
 XCUT_INLINE void tet10_scatter(const Mat3& R, const std::array<Mat3, P>& sigma, const Tet10PointGradients<P>& G,
                                double scale, Tet10Vectors& out) {
     std::array<Mat3, P> Q;
-    for (int q = 0; q < G.count; ++q) Q[q] = (G.weight[q] * scale) * R * sigma[q];
+    for (int q = 0; q < tet10_points(G); ++q) Q[q] = (tet10_weight(G, q) * scale) * R * sigma[q];
     for (int j = 0; j < 10; ++j) {
         Vec3 s = Vec3::Zero();
-        for (int q = 0; q < G.count; ++q) s.noalias() += Q[q] * G.grad[q][j];
+        for (int q = 0; q < tet10_points(G); ++q) s.noalias() += Q[q] * G.grad[q][j];
         out[j] = s;
     }
 }
@@ -129,11 +142,11 @@ inline double tet10_forces(const Tet10Vectors& x, const Tet10PointGradients<P>& 
                            const LameParameters& lame, Tet10Vectors& force) {
     std::array<Mat3, P> sigma;
     double energy = 0.0;
-    for (int q = 0; q < G.count; ++q) {
+    for (int q = 0; q < tet10_points(G); ++q) {
         const Mat3 H = R.transpose() * tet10_gradient_of(x, G, q) - Mat3::Identity();
         sigma[q] = linear_stress<3>(H, lame);
         const Mat3 eps = 0.5 * (H + H.transpose());
-        energy += G.weight[q] * volume * (lame.mu * eps.squaredNorm() + 0.5 * lame.lambda * eps.trace() * eps.trace());
+        energy += tet10_weight(G, q) * volume * (lame.mu * eps.squaredNorm() + 0.5 * lame.lambda * eps.trace() * eps.trace());
     }
     tet10_scatter(R, sigma, G, -volume, force);
     return energy;
@@ -144,7 +157,7 @@ template <size_t P>
 inline void tet10_stiffness_product(const Tet10Vectors& p, const Tet10PointGradients<P>& G, const Mat3& R,
                                     double volume, const LameParameters& lame, Tet10Vectors& out) {
     std::array<Mat3, P> sigma;
-    for (int q = 0; q < G.count; ++q) sigma[q] = linear_stress<3>(R.transpose() * tet10_gradient_of(p, G, q), lame);
+    for (int q = 0; q < tet10_points(G); ++q) sigma[q] = linear_stress<3>(R.transpose() * tet10_gradient_of(p, G, q), lame);
     tet10_scatter(R, sigma, G, volume, out);
 }
 
@@ -153,8 +166,8 @@ inline void tet10_stiffness_product(const Tet10Vectors& p, const Tet10PointGradi
 template <size_t P>
 inline void tet10_add_stiffness_block(const Tet10PointGradients<P>& G, const Mat3& R, double volume,
                                       const LameParameters& lame, int j, int k, double scale, double* block) {
-    for (int q = 0; q < G.count; ++q) {
-        const double w = G.weight[q] * volume * scale;
+    for (int q = 0; q < tet10_points(G); ++q) {
+        const double w = tet10_weight(G, q) * volume * scale;
         const Vec3 rj = R * G.grad[q][j], rk = R * G.grad[q][k];
         add_corotational_stiffness_block((w * lame.lambda) * rj, (w * lame.mu) * rj, rk, 3, block);
     }
@@ -166,9 +179,9 @@ inline void tet10_stiffness_diagonal(const Tet10PointGradients<P>& G, const Mat3
                                      const LameParameters& lame, Tet10Vectors& out) {
     for (int j = 0; j < 10; ++j) {
         out[j].setZero();
-        for (int q = 0; q < G.count; ++q) {
+        for (int q = 0; q < tet10_points(G); ++q) {
             const Vec3 rg = R * G.grad[q][j];
-            out[j] += G.weight[q] * volume * (lame.mu * rg.squaredNorm() * Vec3::Ones() + (lame.lambda + lame.mu) * rg.cwiseAbs2());
+            out[j] += tet10_weight(G, q) * volume * (lame.mu * rg.squaredNorm() * Vec3::Ones() + (lame.lambda + lame.mu) * rg.cwiseAbs2());
         }
     }
 }
