@@ -106,6 +106,9 @@ struct OutputSettings {
     bool metrics_csv = true;
 };
 
+/// Whether the output writes a frame at `step` (every `every` steps; step 0 at start).
+inline bool output_frame_due(const OutputSettings& o, int step) { return step % o.every == 0; }
+
 struct World {
     Nodes nodes;
     Elements elements;

@@ -184,7 +184,7 @@ void OutputWriter::write_frame(const World& world) {
 }
 
 void OutputWriter::frame_if_due(const World& world) {
-    if (world.step % world.output.every == 0) write_frame(world);
+    if (output_frame_due(world.output, world.step)) write_frame(world);
 }
 
 void OutputWriter::metrics_row(const World& world) {

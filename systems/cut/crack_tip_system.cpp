@@ -476,10 +476,9 @@ bool crack_entry(const std::array<Vec2, 3>& X, const TipFrame& f, int& edge, Vec
     return at > 1e-6 && at < 1.0 - 1e-6;
 }
 
-/// The enriched field at rest point X of uncut mesh element e, on lip `side` of tip `shown` (0: off
-/// its crack; other tips' functions take their own angle) [m].
-Vec3 enriched_point(const World& w, const Eigen::VectorXd& b, int e, const Vec2& X, int shown, int side) {
-    const Vec3 L = barycentric(rest_triangle(w, e), X);
+/// The enriched field at rest point X (barycentric coordinates L) of uncut mesh element e, on lip
+/// `side` of tip `shown` (0: off its crack; other tips' functions take their own angle) [m].
+Vec3 enriched_point(const World& w, const Eigen::VectorXd& b, int e, const Vec2& X, const Vec3& L, int shown, int side) {
     const auto& n = w.elements.nodes[e];
     Vec3 x = Vec3::Zero();
     for (int k = 0; k < 3; ++k) x += L[k] * w.nodes.position[n[k]];
@@ -522,9 +521,9 @@ void show_crack_tips(World& w) {
         const int e = tip_element(w, f);
         int edge = -1;
         Vec2 E = Vec2::Zero();
-        if (e < 0 || std::count(ct.shown_element.begin(), ct.shown_element.end(), e) > 0 ||
-            !crack_entry(rest_triangle(w, e), f, edge, E))
-            continue;
+        if (e < 0 || std::count(ct.shown_element.begin(), ct.shown_element.end(), e) > 0) continue;
+        const std::array<Vec2, 3> corners = rest_triangle(w, e);
+        if (!crack_entry(corners, f, edge, E)) continue;
         const auto& n = w.elements.nodes[e];
         const int a = kTriEdges[edge][0], c = kTriEdges[edge][1], o = 3 - a - c;
         const int lip_a = cross2(f.direction, xy(w.nodes.rest[n[a]]) - f.point) > 0.0 ? 1 : -1;
@@ -534,8 +533,8 @@ void show_crack_tips(World& w) {
         std::array<Vec3, 3> rest, position, velocity;
         for (int p = 0; p < 3; ++p) {
             rest[p] = Vec3(X[p].x(), X[p].y(), z);
-            position[p] = enriched_point(w, b, e, X[p], tip, lip[p]);
-            const Vec3 L = barycentric(rest_triangle(w, e), X[p]);
+            const Vec3 L = barycentric(corners, X[p]);
+            position[p] = enriched_point(w, b, e, X[p], L, tip, lip[p]);
             velocity[p] = L[0] * w.nodes.velocity[n[0]] + L[1] * w.nodes.velocity[n[1]] + L[2] * w.nodes.velocity[n[2]];
         }
         // Fanned from the tip (point 2): a and the entry on a's lip (point 0), the entry on c's lip
@@ -550,7 +549,7 @@ SystemDesc crack_tip_display_system() {
     SystemDesc s{"CrackTipDisplaySystem", kNodes | kElements | kOutput, kXfem,
                  [](World& w) {
                      const OutputSettings& o = w.output;
-                     if (w.tips.count() > 0 && o.vtu && w.step % o.every == 0) show_crack_tips(w);
+                     if (w.tips.count() > 0 && o.vtu && output_frame_due(o, w.step)) show_crack_tips(w);
                  },
                  "the opening inside the crack tips' elements, for the volume output (2D)"};
     return s.also_reads(kXfem);

@@ -2,8 +2,10 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <vector>
 
 #include "components/cut_elements.h"
+#include "systems/kernels/branch_enrichment.h"
 
 namespace xcut {
 namespace {
@@ -93,12 +95,8 @@ Tet10SideGradients tet10_side_gradients(const Mat3& dm_inv, const TetSideRule& r
 }
 
 std::array<double, 10> tet10_side_masses(const std::array<int8_t, 4>& H, const std::array<double, 6>& t, int side) {
-    // 4-point Gauss-Legendre on [0, 1]: nodes (1 -+ sqrt(3/7 +- 2/7 sqrt(6/5))) / 2, weights (18 -+ sqrt 30) / 72.
-    const double inner = std::sqrt(3.0 / 7.0 - 2.0 / 7.0 * std::sqrt(6.0 / 5.0));
-    const double outer = std::sqrt(3.0 / 7.0 + 2.0 / 7.0 * std::sqrt(6.0 / 5.0));
-    const double w_inner = (18.0 + std::sqrt(30.0)) / 72.0, w_outer = (18.0 - std::sqrt(30.0)) / 72.0;
-    const std::array<double, 4> node{0.5 - 0.5 * outer, 0.5 - 0.5 * inner, 0.5 + 0.5 * inner, 0.5 + 0.5 * outer};
-    const std::array<double, 4> weight{w_outer, w_inner, w_inner, w_outer};
+    std::vector<double> node, weight;  // 4-point Gauss-Legendre on [0, 1]
+    gauss_legendre_unit(4, node, weight);
     std::array<std::array<Bary, 4>, 3> pieces;
     const int n = tet_side_pieces(H, t, side, pieces);
     std::array<double, 10> diagonal{};
