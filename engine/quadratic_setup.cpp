@@ -71,11 +71,17 @@ void build_quadratic_elements(World& world) {
             q.nodes[t][4 + k] = q.first_edge_node + static_cast<int>(std::lower_bound(edges.begin(), edges.end(), key) - edges.begin());
         }
     }
+    build_quadratic_incidence(world);
+}
+
+void build_quadratic_incidence(World& world) {
+    QuadraticElements& q = world.quadratic;
+    const int nodes = world.nodes.count();
     Incidence& inc = q.incidence;
-    inc.offset.assign(world.mesh_nodes + 1, 0);
+    inc.offset.assign(nodes + 1, 0);
     for (const auto& ids : q.nodes)
         for (int id : ids) ++inc.offset[id + 1];
-    for (int i = 0; i < world.mesh_nodes; ++i) inc.offset[i + 1] += inc.offset[i];
+    for (int i = 0; i < nodes; ++i) inc.offset[i + 1] += inc.offset[i];
     inc.entry.resize(inc.offset.back());
     std::vector<int> fill(inc.offset.begin(), inc.offset.end() - 1);
     for (int t = 0; t < q.count(); ++t)  // elements in increasing order per node

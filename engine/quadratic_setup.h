@@ -12,6 +12,9 @@ bool has_quadratic_material(const World& world);
 /// at the edge's midpoint) as mesh nodes, and fills world.quadratic. Called by build_bodies before
 /// the masses are lumped; a 2D mesh with a quadratic material is refused (std::invalid_argument).
 void build_quadratic_elements(World& world);
+/// The node -> quadratic element incidence, over every DOF node (phantoms included), from
+/// QuadraticElements::nodes: made again when elements are added (a cut's sides).
+void build_quadratic_incidence(World& world);
 /// HRZ mass of the mid-edge node i: 4 rho V / 27 from each quadratic element on its edge [kg].
 double quadratic_edge_mass(const World& world, int i);
 /// Holds each mid-edge node on the axes both its corners are held on, at the midpoint of their

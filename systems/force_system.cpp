@@ -310,7 +310,7 @@ public:
 
 private:
     std::vector<ElementTerms> terms_;
-    std::vector<QuadraticBlocks> quadratic_terms_;
+    QuadraticTerms quadratic_terms_;
 };
 
 }  // namespace

@@ -11,9 +11,24 @@ Tet10Vectors gather(const std::array<int, 10>& ids, const Vec3* v) {
     return out;
 }
 
+/// Element t's side rule, -1 for the whole element.
+int side_of(const QuadraticView& v, int t) {
+    return t < static_cast<int>(v.quadratic.side_rule.size()) ? v.quadratic.side_rule[t] : -1;
+}
+
+/// The volume the rule's weights scale [m^3]: the whole element's times its weight, or a side's
+/// parent volume (its rule's weights are the side's fractions).
 double volume_of(const QuadraticView& v, int t) {
     const int e = v.quadratic.element[t];
-    return v.elements.rest_volume[e] * v.elements.weight[e];
+    return side_of(v, t) >= 0 ? v.elements.rest_volume[e] : v.elements.rest_volume[e] * v.elements.weight[e];
+}
+
+/// Calls f with element t's gradients: Keast's 4 points, or its side's rule.
+template <class F>
+auto with_gradients(const QuadraticView& v, int t, F f) {
+    const int e = v.quadratic.element[t], s = side_of(v, t);
+    if (s < 0) return f(tet10_gradients(v.elements.dm_inv[e]));
+    return f(tet10_side_gradients(v.elements.dm_inv[e], v.quadratic.side_rules[s]));
 }
 
 const Material& material_of(const QuadraticView& v, int t) {
@@ -30,16 +45,20 @@ double quadratic_forces(const QuadraticView& v, const Vec3* x, std::vector<Tet10
     std::vector<double> energy(n);
     parallel_for(n, [&](int t) {
         const int e = v.quadratic.element[t];
-        energy[t] = tet10_forces(gather(v.quadratic.nodes[t], x), tet10_gradients(v.elements.dm_inv[e]),
-                                 v.elements.rotation[e], volume_of(v, t), quadratic_lame(material_of(v, t)), buffer[t]);
+        energy[t] = with_gradients(v, t, [&](const auto& G) {
+            return tet10_forces(gather(v.quadratic.nodes[t], x), G, v.elements.rotation[e], volume_of(v, t),
+                                quadratic_lame(material_of(v, t)), buffer[t]);
+        });
     });
     return deterministic_sum(n, [&](int t) { return energy[t]; });
 }
 
 void quadratic_product_element(const QuadraticView& v, const Vec3* p, int t, std::vector<Tet10Vectors>& buffer) {
     const int e = v.quadratic.element[t];
-    tet10_stiffness_product(gather(v.quadratic.nodes[t], p), tet10_gradients(v.elements.dm_inv[e]), v.elements.rotation[e],
-                            volume_of(v, t), quadratic_lame(material_of(v, t)), buffer[t]);
+    with_gradients(v, t, [&](const auto& G) {
+        tet10_stiffness_product(gather(v.quadratic.nodes[t], p), G, v.elements.rotation[e], volume_of(v, t),
+                                quadratic_lame(material_of(v, t)), buffer[t]);
+    });
 }
 
 void quadratic_products(const QuadraticView& v, const Vec3* p, std::vector<Tet10Vectors>& buffer) {
@@ -51,8 +70,9 @@ void quadratic_diagonals(const QuadraticView& v, std::vector<Tet10Vectors>& buff
     buffer.resize(v.quadratic.count());
     parallel_for(v.quadratic.count(), [&](int t) {
         const int e = v.quadratic.element[t];
-        tet10_stiffness_diagonal(tet10_gradients(v.elements.dm_inv[e]), v.elements.rotation[e], volume_of(v, t),
-                                 quadratic_lame(material_of(v, t)), buffer[t]);
+        with_gradients(v, t, [&](const auto& G) {
+            tet10_stiffness_diagonal(G, v.elements.rotation[e], volume_of(v, t), quadratic_lame(material_of(v, t)), buffer[t]);
+        });
     });
 }
 
@@ -64,30 +84,61 @@ Vec3 quadratic_gathered(const QuadraticElements& q, const std::vector<Tet10Vecto
     return s;
 }
 
-void quadratic_block_terms(const QuadraticView& v, double stiff_scale, std::vector<QuadraticBlocks>& terms) {
-    terms.resize(v.quadratic.count());
-    parallel_for(v.quadratic.count(), [&](int t) {
+void quadratic_block_terms(const QuadraticView& v, double stiff_scale, QuadraticTerms& terms) {
+    const int n = v.quadratic.count();
+    terms.whole.resize(n);
+    terms.side_of.assign(n, -1);
+    int sides = 0;
+    for (int t = 0; t < n; ++t)
+        if (side_of(v, t) >= 0) terms.side_of[t] = sides++;
+    terms.side.resize(sides);
+    parallel_for(n, [&](int t) {
         const int e = v.quadratic.element[t];
-        const Tet10Gradients G = tet10_gradients(v.elements.dm_inv[e]);
         const LameParameters lame = quadratic_lame(material_of(v, t));
+        const Mat3& R = v.elements.rotation[e];
+        if (terms.side_of[t] >= 0) {
+            const Tet10SideGradients G = tet10_side_gradients(v.elements.dm_inv[e], v.quadratic.side_rules[side_of(v, t)]);
+            QuadraticSideBlocks& b = terms.side[terms.side_of[t]];
+            b.count = G.count;
+            for (int q = 0; q < G.count; ++q) {
+                const double w = G.weight[q] * stiff_scale * volume_of(v, t);
+                b.lambda_w[q] = w * lame.lambda, b.mu_w[q] = w * lame.mu;
+                for (int j = 0; j < 10; ++j) b.r[q][j] = R * G.grad[q][j];
+            }
+            return;
+        }
+        const Tet10Gradients G = tet10_gradients(v.elements.dm_inv[e]);
         const double w = 0.25 * stiff_scale * volume_of(v, t);
-        QuadraticBlocks& b = terms[t];
+        QuadraticBlocks& b = terms.whole[t];
         b.lambda_w = w * lame.lambda, b.mu_w = w * lame.mu;
         for (int q = 0; q < 4; ++q)
-            for (int j = 0; j < 10; ++j) b.r[q][j] = v.elements.rotation[e] * G.grad[q][j];
+            for (int j = 0; j < 10; ++j) b.r[q][j] = R * G.grad[q][j];
     }, 512);
 }
 
-void add_quadratic_row(const QuadraticElements& q, const std::vector<QuadraticBlocks>& terms, int i, LinearSystem& A) {
+namespace {
+
+/// Adds local row a of one element's blocks at one point: (lambda_w r_a) r_c^T + mu_w ... per column c.
+void add_point_row(const std::array<Vec3, 10>& r, double lambda_w, double mu_w, int a, const std::array<int, 10>& slot,
+                   LinearSystem& A) {
+    const Vec3 lambda_ra = lambda_w * r[a], mu_ra = mu_w * r[a];
+    for (int c = 0; c < 10; ++c) add_corotational_stiffness_block(lambda_ra, mu_ra, r[c], 3, A.value.data() + 9 * slot[c]);
+}
+
+}  // namespace
+
+void add_quadratic_row(const QuadraticElements& q, const QuadraticTerms& terms, int i, LinearSystem& A) {
     if (i + 1 >= static_cast<int>(q.incidence.offset.size())) return;
     for (int k = q.incidence.offset[i]; k < q.incidence.offset[i + 1]; ++k) {
-        const QuadraticBlocks& b = terms[q.incidence.entry[k] >> 4];
-        const int a = q.incidence.entry[k] & 15;
+        const int t = q.incidence.entry[k] >> 4, a = q.incidence.entry[k] & 15;
         const std::array<int, 10>& slot = A.quadratic_slot[k];
-        for (int p = 0; p < 4; ++p) {
-            const Vec3 lambda_ra = b.lambda_w * b.r[p][a], mu_ra = b.mu_w * b.r[p][a];
-            for (int c = 0; c < 10; ++c) add_corotational_stiffness_block(lambda_ra, mu_ra, b.r[p][c], 3, A.value.data() + 9 * slot[c]);
+        if (terms.side_of[t] >= 0) {
+            const QuadraticSideBlocks& b = terms.side[terms.side_of[t]];
+            for (int p = 0; p < b.count; ++p) add_point_row(b.r[p], b.lambda_w[p], b.mu_w[p], a, slot, A);
+            continue;
         }
+        const QuadraticBlocks& b = terms.whole[t];
+        for (int p = 0; p < 4; ++p) add_point_row(b.r[p], b.lambda_w, b.mu_w, a, slot, A);
     }
 }
 

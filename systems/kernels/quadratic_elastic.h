@@ -10,6 +10,7 @@
 #include "components/material.h"
 #include "components/quadratic_elements.h"
 #include "systems/kernels/quadratic_tet.h"
+#include "systems/kernels/tet10_side_rule.h"
 
 namespace xcut {
 
@@ -40,9 +41,22 @@ struct QuadraticBlocks {
     std::array<std::array<Vec3, 10>, 4> r;
     double lambda_w = 0.0, mu_w = 0.0;
 };
+/// The same for one side of a cut element, per point of its rule (weights w_q V scale).
+struct QuadraticSideBlocks {
+    int count = 0;
+    std::array<std::array<Vec3, 10>, TetSideRule::kMaxPoints> r;
+    std::array<double, TetSideRule::kMaxPoints> lambda_w{}, mu_w{};
+};
+/// Every element's block makings: whole elements in `whole`, sides in `side` (side_of[t] its index,
+/// -1 for a whole element).
+struct QuadraticTerms {
+    std::vector<QuadraticBlocks> whole;
+    std::vector<QuadraticSideBlocks> side;
+    std::vector<int> side_of;
+};
 /// The blocks' makings for every element at stiff_scale (sized here).
-void quadratic_block_terms(const QuadraticView& v, double stiff_scale, std::vector<QuadraticBlocks>& terms);
+void quadratic_block_terms(const QuadraticView& v, double stiff_scale, QuadraticTerms& terms);
 /// Adds node i's block row of the quadratic elements' stiffness to A (slots: LinearSystem::quadratic_slot).
-void add_quadratic_row(const QuadraticElements& q, const std::vector<QuadraticBlocks>& terms, int i, LinearSystem& A);
+void add_quadratic_row(const QuadraticElements& q, const QuadraticTerms& terms, int i, LinearSystem& A);
 
 }  // namespace xcut

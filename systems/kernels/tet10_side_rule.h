@@ -21,13 +21,6 @@
 
 namespace xcut {
 
-/// The quadrature rule of one side: `count` points (0 for a side that holds no node).
-struct TetSideRule {
-    static constexpr int kMaxPoints = 12;
-    int count = 0;
-    std::array<Eigen::Vector4d, kMaxPoints> L;  ///< barycentric coordinates in the parent [-]
-    std::array<double, kMaxPoints> weight{};    ///< fractions of the parent's rest volume [-]
-};
 using Tet10SideGradients = Tet10PointGradients<TetSideRule::kMaxPoints>;
 
 /// The tetrahedra that make side `side` of a cut element, each by its 4 vertices in the parent's
