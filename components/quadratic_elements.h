@@ -28,7 +28,8 @@ struct TetSideRule {
 struct QuadraticElements {
     std::vector<int> element;                  ///< its corner element in Elements
     std::vector<std::array<int, 10>> nodes;    ///< VTK order: corners, then edges (01 12 02 03 13 23)
-    std::vector<int> of_element;               ///< per mesh element: its index here, -1 if linear
+    /// per element in Elements (a cut element's virtual ones too): its index here, -1 if linear
+    std::vector<int> of_element;
     /// Node -> quadratic element incidence (CSR; entry: element * 16 + local node 0..9), so each
     /// node's terms are summed in a fixed order on any thread count.
     Incidence incidence;
@@ -39,6 +40,9 @@ struct QuadraticElements {
     /// -1 (or no entry) for the whole element, Keast's 4 points.
     std::vector<int> side_rule;
     std::vector<TetSideRule> side_rules;
+    /// Per side rule: its side's HRZ masses of the 10 nodes as fractions of rho V (the parent's rest
+    /// volume), made at the split (tet10_side_masses).
+    std::vector<std::array<double, 10>> side_masses;
 
     int count() const { return static_cast<int>(element.size()); }
 };

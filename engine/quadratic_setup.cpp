@@ -88,16 +88,28 @@ void build_quadratic_incidence(World& world) {
         for (int a = 0; a < 10; ++a) inc.entry[fill[q.nodes[t][a]]++] = t * 16 + a;
 }
 
-double quadratic_edge_mass(const World& world, int i) {
+double quadratic_node_mass(const World& world, int i) {
     const QuadraticElements& q = world.quadratic;
-    if (q.count() == 0 || i < q.first_edge_node || i >= world.mesh_nodes) return 0.0;
+    if (q.count() == 0 || i + 1 >= static_cast<int>(q.incidence.offset.size())) return 0.0;
     const Elements& el = world.elements;
     double m = 0.0;
     for (int p = q.incidence.offset[i]; p < q.incidence.offset[i + 1]; ++p) {
-        const int e = q.element[q.incidence.entry[p] >> 4];
-        m += kEdgeMass * world.materials.list[el.material[e]].density * el.rest_volume[e] * el.weight[e];
+        const int t = q.incidence.entry[p] >> 4, a = q.incidence.entry[p] & 15, e = q.element[t];
+        const double rho = world.materials.list[el.material[e]].density;
+        const int s = t < static_cast<int>(q.side_rule.size()) ? q.side_rule[t] : -1;
+        if (s >= 0)
+            m += q.side_masses[s][a] * rho * el.rest_volume[e];
+        else if (a >= 4)
+            m += kEdgeMass * rho * el.rest_volume[e] * el.weight[e];
     }
     return m;
+}
+
+bool is_quadratic_side(const World& world, int e) {
+    const QuadraticElements& q = world.quadratic;
+    if (e < world.mesh_elements || e >= static_cast<int>(q.of_element.size())) return false;
+    const int t = q.of_element[e];
+    return t >= 0 && t < static_cast<int>(q.side_rule.size()) && q.side_rule[t] >= 0;
 }
 
 void constrain_edge_nodes(World& world) {

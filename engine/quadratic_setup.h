@@ -15,8 +15,12 @@ void build_quadratic_elements(World& world);
 /// The node -> quadratic element incidence, over every DOF node (phantoms included), from
 /// QuadraticElements::nodes: made again when elements are added (a cut's sides).
 void build_quadratic_incidence(World& world);
-/// HRZ mass of the mid-edge node i: 4 rho V / 27 from each quadratic element on its edge [kg].
-double quadratic_edge_mass(const World& world, int i);
+/// Node i's HRZ mass from the quadratic entries that do not go through the linear share
+/// (element_mass_share): 4 rho V w / 27 from each whole element it is a mid-edge node of, and its
+/// side's mass from each side of a cut element it is a vertex of (QuadraticElements::side_masses) [kg].
+double quadratic_node_mass(const World& world, int i);
+/// Whether force element e is one side of a cut quadratic element (its masses are its side's).
+bool is_quadratic_side(const World& world, int e);
 /// Holds each mid-edge node on the axes both its corners are held on, at the midpoint of their
 /// prescribed positions: a clamped face stays clamped along its edges.
 void constrain_edge_nodes(World& world);

@@ -70,7 +70,8 @@ double element_mass_share(const World& world, int e) {
     const Elements& el = world.elements;
     const Material& m = world.materials.list[el.material[e]];
     // A quadratic element's corners take the HRZ share (systems/kernels/quadratic_tet.h), its
-    // mid-edge nodes the rest (quadratic_edge_mass).
+    // mid-edge nodes the rest (quadratic_node_mass); a side of a cut one has all its masses there.
+    if (m.quadratic && is_quadratic_side(world, e)) return 0.0;
     const double mass = m.density * el.rest_volume[e] * el.weight[e];
     return m.quadratic ? mass / 36.0 : mass / el.nodes_per_element();
 }
@@ -83,7 +84,7 @@ void relump_nodes(World& world, const std::vector<int>& nodes) {
         if (i < world.mesh_nodes)
             for (int p = mesh.offset[i]; p < mesh.offset[i + 1]; ++p) m += element_mass_share(world, mesh.entry[p] >> 2);
         for (int p = virt.offset[i]; p < virt.offset[i + 1]; ++p) m += element_mass_share(world, virt.entry[p] >> 2);
-        world.nodes.mass[i] = m + quadratic_edge_mass(world, i);
+        world.nodes.mass[i] = m + quadratic_node_mass(world, i);
     }
 }
 
@@ -96,8 +97,8 @@ void lump_masses(World& world) {
         const double share = element_mass_share(world, e);
         for (int a = 0; a < npe; ++a) nodes.mass[el.nodes[e][a]] += share;
     }
-    for (int i = world.quadratic.first_edge_node; i < world.mesh_nodes && world.quadratic.count() > 0; ++i)
-        nodes.mass[i] = quadratic_edge_mass(world, i);
+    if (world.quadratic.count() > 0)  // mid-edge nodes, and every vertex of a cut quadratic element's sides
+        for (int i = 0; i < nodes.count(); ++i) nodes.mass[i] += quadratic_node_mass(world, i);
 }
 
 void apply_constraints(World& world) {

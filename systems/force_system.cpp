@@ -137,10 +137,7 @@ double elastic_energy_dim(const World& world) {
         parallel_for(q.count(), [&](int t) {
             const int e = q.element[t];
             const Mat3 R = extract_rotation(Mat3(edge_matrix<3>(gather_vectors(el.nodes[e], 4, x)) * el.dm_inv[e]), el.rotation[e]);
-            Tet10Vectors xs, unused;
-            for (int a = 0; a < 10; ++a) xs[a] = x[q.nodes[t][a]];
-            part[t] = tet10_forces(xs, tet10_gradients(el.dm_inv[e]), R, el.rest_volume[e] * el.weight[e],
-                                   quadratic_lame(world.materials.list[el.material[e]]), unused);
+            part[t] = quadratic_element_energy(quadratic_view(world), x, t, R);
         });
         quadratic = deterministic_sum(q.count(), [&](int t) { return part[t]; });
     }

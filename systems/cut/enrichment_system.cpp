@@ -8,6 +8,7 @@
 #include "engine/parallel.h"
 #include "engine/setup.h"
 #include "systems/cut/node_copies.h"
+#include "systems/cut/quadratic_enrichment.h"
 #include "systems/kernels/cut_geometry.h"
 #include "systems/xfem_queries.h"
 
@@ -97,6 +98,7 @@ bool record_cut(World& w, const CutEvent& ev) {
     ce.entered_time.push_back(ev.entered_time >= 0.0 ? ev.entered_time : w.time);
     ce.entered_wall.push_back(ev.entered_wall >= 0.0 ? ev.entered_wall : wall_seconds());
     ce.opened.push_back(0);
+    sign_edge_nodes(w, e);
     return true;
 }
 
@@ -115,6 +117,7 @@ void record_crossings(World& w, const CutEvent& ev, std::vector<int>& affected) 
         const int i = nodes[edge_nodes(w.elements.dim, k)[0]], j = nodes[edge_nodes(w.elements.dim, k)[1]];
         if (w.enriched.sign[i] == w.enriched.sign[j]) continue;
         affected.push_back(i), affected.push_back(j);
+        append_edge_node(w, ev.element, edge_nodes(w.elements.dim, k)[0], edge_nodes(w.elements.dim, k)[1], affected);
         w.cuts.crossed_log.push_back({i, j});
     }
 }
@@ -149,6 +152,7 @@ void create_virtual_elements(World& w, int c) {
         w.virtual_elements.element.push_back(append_element_copy(el, e, std::max(side > 0 ? fa : 1.0 - fa, kMinSideFraction)));
     }
     el.weight[e] = 0.0;
+    add_quadratic_sides(w, c);
 }
 
 }  // namespace
@@ -166,8 +170,10 @@ int apply_cut_events(World& w) {
 
     const Elements& el = w.elements;
     const int npe = el.nodes_per_element();
-    for (int c = first_new; c < w.cuts.count(); ++c)
+    for (int c = first_new; c < w.cuts.count(); ++c) {
         for (int a = 0; a < npe; ++a) affected.push_back(el.nodes[w.cuts.element[c]][a]);
+        append_edge_nodes(w, w.cuts.element[c], affected);  // a quadratic element's, after its corners
+    }
     std::sort(affected.begin(), affected.end());
     affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
 
@@ -177,6 +183,7 @@ int apply_cut_events(World& w) {
     std::sort(update.begin(), update.end());
     update.erase(std::unique(update.begin(), update.end()), update.end());
     for (int c : update) note_opening(w, c);
+    sync_quadratic_sides(w, update);
 
     build_virtual_incidence(w);
     std::vector<int> touched;  // every vertex of the updated virtual elements and of their parents
@@ -186,6 +193,7 @@ int apply_cut_events(World& w) {
             const auto& verts = el.nodes[w.virtual_elements.element[w.cuts.virtual_element[c][s]]];
             touched.insert(touched.end(), verts.begin(), verts.begin() + npe);
         }
+        append_quadratic_vertices(w, c, touched);
     }
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <stdexcept>
 
+#include "systems/cut/quadratic_enrichment.h"
 #include "systems/kernels/disjoint_sets.h"
 #include "systems/xfem_queries.h"
 
@@ -15,8 +16,15 @@ namespace {
 struct Fragment {
     int element;
     int8_t side;
-    int8_t slot;  ///< the node's local index in the element
+    int8_t slot;  ///< the node's local index in the element (a quadratic one's mid-edge node: 4..9)
 };
+
+/// The corners a node of local index `slot` lies on: itself, or a mid-edge node's two; returns how many.
+int corners_of(int slot, std::array<int, 2>& corners) {
+    if (slot < 4) return corners[0] = slot, 1;
+    corners = {kTet10Edges[slot - 4][0], kTet10Edges[slot - 4][1]};
+    return 2;
+}
 
 /// A face through the node (its nodes sorted) and the first fragment of an element holding it.
 struct FaceOf {
@@ -40,10 +48,16 @@ int virtual_of(const World& w, const Fragment& f) {
     return w.virtual_elements.element[w.cuts.virtual_element[c][f.side > 0 ? 0 : 1]];
 }
 
-/// The DOF node fragment f uses for the node now.
-int dof_of(const World& w, const Fragment& f, int j) {
-    return f.side == 0 ? j : w.elements.nodes[virtual_of(w, f)][f.slot];
+/// Where fragment f's virtual element keeps its vertex for the node: its force element's corner, or
+/// a mid-edge node in its quadratic entry (systems/cut/quadratic_enrichment.h).
+template <class W>
+auto& vertex_of(W& w, const Fragment& f) {
+    const int ve = virtual_of(w, f);
+    return f.slot < 4 ? w.elements.nodes[ve][f.slot] : w.quadratic.nodes[w.quadratic.of_element[ve]][f.slot];
 }
+
+/// The DOF node fragment f uses for the node now.
+int dof_of(const World& w, const Fragment& f, int j) { return f.side == 0 ? j : vertex_of(w, f); }
 
 /// A phantom of mesh node j, starting from DOF node `from`'s position and velocity (and its last
 /// velocity increment, the solver's warm start): the material it holds was at `from` until now.
@@ -67,12 +81,15 @@ int add_phantom(World& w, int j, int from) {
 }
 
 /// The fragments around mesh node j, in incidence order (a cut element's side +1 before -1).
+/// A mid-edge node's fragments come from the quadratic incidence (its mesh entries; entry: element
+/// * 16 + local node), a corner's from the mesh incidence (element * 4 + local node).
 std::vector<Fragment> fragments_around(const World& w, int j) {
     std::vector<Fragment> frags;
-    const Incidence& inc = w.incidence;
+    const bool mid = is_edge_node(w, j);
+    const Incidence& inc = mid ? w.quadratic.incidence : w.incidence;
     for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
-        const int e = inc.entry[p] >> 2;
-        const auto slot = static_cast<int8_t>(inc.entry[p] & 3);
+        const int e = mid ? w.quadratic.element[inc.entry[p] >> 4] : inc.entry[p] >> 2;
+        const auto slot = static_cast<int8_t>(mid ? inc.entry[p] & 15 : inc.entry[p] & 3);
         if (e >= w.mesh_elements) continue;
         if (w.cuts.cut_of_element[e] < 0) {
             frags.push_back({e, 0, slot});
@@ -94,8 +111,10 @@ std::vector<int> material_classes(const World& w, int j, const std::vector<Fragm
     for (size_t f = 0; f < frags.size(); ++f) {
         if (frags[f].side < 0) continue;  // an element's first fragment stands for it
         const auto& nodes = el.nodes[frags[f].element];
+        std::array<int, 2> on{};
+        const int n_on = corners_of(frags[f].slot, on);
         for (int skip = 0; skip < npe; ++skip) {
-            if (skip == frags[f].slot) continue;
+            if (std::find(on.begin(), on.begin() + n_on, skip) != on.begin() + n_on) continue;  // faces through the node
             FaceOf face{{-1, -1, -1}, static_cast<int>(f)};
             for (int a = 0, n = 0; a < npe && n < 3; ++a)
                 if (a != skip) face.nodes[n++] = nodes[a];
@@ -115,14 +134,20 @@ std::vector<int> material_classes(const World& w, int j, const std::vector<Fragm
                 if (on_face(w, A, faces[k].nodes) && on_face(w, B, faces[k].nodes)) sets.join(a, b);
             }
     }
+    // The progressive front's clause: material joins across an element's split edge at a corner of
+    // the node's that the blade has not crossed yet (a mid-edge node: at either of its corners).
     for (size_t f = 0; f + 1 < frags.size(); ++f) {
         if (frags[f].side != 1) continue;
         const auto& nodes = el.nodes[frags[f].element];
-        for (int a = 0; a < npe; ++a)
-            if (nodes[a] != j && w.enriched.sign[nodes[a]] != w.enriched.sign[j] && !edge_crossed(w, j, nodes[a])) {
-                sets.join(static_cast<int>(f), static_cast<int>(f + 1));
-                break;
-            }
+        std::array<int, 2> on{};
+        const int n_on = corners_of(frags[f].slot, on);
+        bool held = false;
+        for (int k = 0; k < n_on && !held; ++k) {
+            const int c = nodes[on[k]];
+            for (int a = 0; a < npe && !held; ++a)
+                held = nodes[a] != c && w.enriched.sign[nodes[a]] != w.enriched.sign[c] && !edge_crossed(w, c, nodes[a]);
+        }
+        if (held) sets.join(static_cast<int>(f), static_cast<int>(f + 1));
     }
     std::vector<int> cls(frags.size());
     for (size_t f = 0; f < frags.size(); ++f) cls[f] = sets.find(static_cast<int>(f));
@@ -170,7 +195,7 @@ void assign_node_copies(World& w, int j, std::vector<int>& changed) {
         if (frags[f].side == 0) continue;
         held |= cls[f] == real && frags[f].side != own;
         if (grew) changed.push_back(w.cuts.cut_of_element[frags[f].element]);
-        int& vertex = w.elements.nodes[virtual_of(w, frags[f])][frags[f].slot];
+        int& vertex = vertex_of(w, frags[f]);
         if (vertex == copy[cls[f]]) continue;
         vertex = copy[cls[f]];
         changed.push_back(w.cuts.cut_of_element[frags[f].element]);

@@ -53,6 +53,13 @@ double quadratic_forces(const QuadraticView& v, const Vec3* x, std::vector<Tet10
     return deterministic_sum(n, [&](int t) { return energy[t]; });
 }
 
+double quadratic_element_energy(const QuadraticView& v, const Vec3* x, int t, const Mat3& R) {
+    Tet10Vectors unused;
+    return with_gradients(v, t, [&](const auto& G) {
+        return tet10_forces(gather(v.quadratic.nodes[t], x), G, R, volume_of(v, t), quadratic_lame(material_of(v, t)), unused);
+    });
+}
+
 void quadratic_product_element(const QuadraticView& v, const Vec3* p, int t, std::vector<Tet10Vectors>& buffer) {
     const int e = v.quadratic.element[t];
     with_gradients(v, t, [&](const auto& G) {

@@ -26,6 +26,8 @@ LameParameters quadratic_lame(const Material& m);
 
 /// Forces at positions x into buffer (sized here); returns the strain energy [J] (a fixed-order sum).
 double quadratic_forces(const QuadraticView& v, const Vec3* x, std::vector<Tet10Vectors>& buffer);
+/// Element t's strain energy at positions x with rotation R [J] (its rule: whole or side).
+double quadratic_element_energy(const QuadraticView& v, const Vec3* x, int t, const Mat3& R);
 /// Element t's K p into buffer[t].
 void quadratic_product_element(const QuadraticView& v, const Vec3* p, int t, std::vector<Tet10Vectors>& buffer);
 /// Every element's K p into buffer (sized here), in parallel.

@@ -177,10 +177,11 @@ void update_surface_positions(const World& w, SurfaceMesh& s, bool curved) {
     const int npe = el.nodes_per_element();
     const Vec3* x = w.nodes.position.data();
     const QuadraticElements& q = w.quadratic;
-    curved = curved && q.count() > 0;  // quadratic elements are never cut: only mesh elements are
+    curved = curved && q.count() > 0;  // a cut quadratic element's sides are quadratic entries too
+    const int entries = static_cast<int>(q.of_element.size());
     parallel_for(s.vertex_count(), [&](int v) {
         const int e = s.element[v];
-        if (curved && e < w.mesh_elements && q.of_element[e] >= 0) {
+        if (curved && e < entries && q.of_element[e] >= 0) {
             s.position[v] = tet10_point(q.nodes[q.of_element[e]], s.bary[v], x);
             return;
         }
