@@ -78,10 +78,6 @@ struct CutState {
     /// split (no flap that thin), and the end of the run says so.
     std::vector<int> on_skin_ignored;
     std::unordered_set<int64_t> on_skin_seen;  ///< element * 64 + tool, counted once
-    /// Per tool: the quadratic elements its blade crossed (components/quadratic_elements.h). They are
-    /// not cut (no XFEM on quadratic elements yet): the blade passes them, and the end of the run says so.
-    std::vector<int> quadratic_ignored;
-    std::unordered_set<int64_t> quadratic_seen;  ///< element * 64 + tool, counted once
 };
 
 /// A cut whose every point in an element lies closer than this fraction of the element's shortest

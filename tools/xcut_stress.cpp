@@ -21,6 +21,8 @@ Command add_stress_command(CLI::App& app) {
         ->check(CLI::Range(1, 4));
     cmd->add_flag("--tip", o->tip, "Problem 8 in 2D with crack tips at the blades (a skin patch, random trajectories "
                                    "and tip radii; --front and --blades do not apply)");
+    cmd->add_option("--element", o->element, "Problem 8's tissue: linear or quadratic tetrahedra (docs/elements.md)")
+        ->check(CLI::IsMember({"linear", "quadratic"}));
     cmd->add_option("--newton", o->newton, "Problem 8's steps iterated by Newton to 1e-9, at most this many times "
                                            "(1, the default: the paper's once-linearized step)")
         ->check(CLI::Range(1, 1000));
@@ -33,7 +35,11 @@ Command add_stress_command(CLI::App& app) {
                 if (o->tip && (o->front != "semi" || o->blades > 1))
                     throw CLI::ValidationError("--tip", "crack tips follow the semi-progressive front's single blade: "
                                                         "without --front and --blades");
+                if (o->tip && o->element != "linear")
+                    throw CLI::ValidationError("--tip", "crack tips are 2D: the linear triangle, without --element");
                 if (!o->csv_given && o->tip) o->csv = "results/bench_stress_tip.csv";
+                if (!o->csv_given && o->element != "linear")
+                    o->csv = std::filesystem::path(o->csv).replace_extension().string() + "_" + o->element + ".csv";
                 if (!o->csv_given && o->newton > 1)
                     o->csv = std::filesystem::path(o->csv).replace_extension().string() + "_newton.csv";
                 if (!o->csv_given && o->blades > 1)

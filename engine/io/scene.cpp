@@ -474,10 +474,9 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
     return scene;
 }
 
-/// A quadratic material where xcut has no quadratic element yet: a 2D mesh, a scripted cut, the
-/// snapping cutter (it moves nodes onto the cut, off the mid-edge nodes' edges). A blade may share
-/// the scene: it cuts the linear tissue and passes the quadratic elements uncut (the CutSystem
-/// counts them, and the end of the run says so).
+/// A quadratic material where xcut has no quadratic element yet: a 2D mesh, the snapping cutter (it
+/// moves nodes onto the cut, off the mid-edge nodes' edges). XFEM cuts quadratic elements
+/// (docs/elements.md), by blades and scripted cuts.
 void refuse_quadratic_where_unsupported(const World& world, const Scene& scene, int dim) {
     bool blade = false;
     for (int i = 0; i < scene.tools.count(); ++i) blade = blade || scene.tools.has_blade[i];
@@ -486,15 +485,11 @@ void refuse_quadratic_where_unsupported(const World& world, const Scene& scene, 
         const std::string what = fmt::format("material \"{}\" asks for quadratic elements, ", m.name);
         if (dim != 3)
             throw InputError(scene.file, "material.element", what + "which are tetrahedra: the mesh is 2D (use \"linear\")");
-        if (!scene.cuts.empty())
-            throw InputError(scene.file, "material.element",
-                             what + "which cannot be cut yet: the scene has a scripted cut (use \"linear\" for tissue "
-                                    "that is cut, docs/elements.md)");
-        if (blade && !cutter_passes_quadratic(scene))
+        if ((blade || !scene.cuts.empty()) && !cutter_cuts_quadratic(scene))
             throw InputError(scene.file, "material.element",
                              what + "which the snapping cutter cannot take: it moves nodes onto the cut, off the "
-                                    "mid-edge nodes' edges (use \"linear\", or the XFEM cutter, which passes quadratic "
-                                    "elements uncut: docs/elements.md)");
+                                    "mid-edge nodes' edges (use \"linear\", or the XFEM cutter, which cuts quadratic "
+                                    "elements: docs/elements.md)");
     }
 }
 

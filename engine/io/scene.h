@@ -100,9 +100,9 @@ struct SceneElementOrders {
     bool linear = false, quadratic = false;
 };
 SceneElementOrders scene_element_orders(const Scene& scene);
-/// Whether the scene's cutter can cut beside quadratic elements: the XFEM cutter passes them uncut;
-/// the snapping cutter cannot (it moves nodes onto the cut, off the mid-edge nodes' edges).
-inline bool cutter_passes_quadratic(const Scene& scene) { return scene.cutter != "snap"; }
+/// Whether the scene's cutter cuts quadratic elements: the XFEM cutter does (docs/elements.md); the
+/// snapping cutter cannot (it moves nodes onto the cut, off the mid-edge nodes' edges).
+inline bool cutter_cuts_quadratic(const Scene& scene) { return scene.cutter != "snap"; }
 
 /// Reads a recorded trajectory: CSV with header time,x,y,z,qw,qx,qy,qz (SI units; quaternion
 /// tool -> world). Throws InputError naming the file and line.

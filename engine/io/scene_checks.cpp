@@ -234,11 +234,6 @@ std::vector<std::string> end_of_run_notes(const World& w) {
                            "of an element's edge from the skin, a flap thinner than that, so it made none (docs/xfem.md)",
                            tool, n, s, kThinFlapFraction);
     });
-    per_tool(w.cut_state.quadratic_ignored, [](const std::string& tool, int n, const char* s) {
-        return fmt::format("tool \"{}\" passed through {} quadratic element{} without cutting {}: XFEM on quadratic "
-                           "elements is not built yet (docs/elements.md); give tissue that is cut \"element\": "
-                           "\"linear\"", tool, n, s, n == 1 ? "it" : "them");
-    });
     return out;
 }
 

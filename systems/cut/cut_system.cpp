@@ -343,22 +343,6 @@ void note_recut(World& w, int e, const CutQuad& q, const Vec3& quad_normal, int 
     ++cs.recut_ignored[tool];
 }
 
-/// Whether element e is a quadratic one; if so and a quad of `tool` crosses one of its edges, counts
-/// it once per tool (CutState::quadratic_ignored; the end of the run says so). Quadratic elements are
-/// not cut: the CutSystem passes them.
-bool pass_quadratic(World& w, int e, const std::vector<const CutQuad*>& quads, int tool) {
-    if (w.quadratic.count() == 0 || e >= w.mesh_elements || w.quadratic.of_element[e] < 0) return false;
-    CutState& cs = w.cut_state;
-    if (cs.quadratic_seen.count(int64_t(e) * 64 + tool)) return true;
-    bool crosses = false;
-    for (const CutQuad* q : quads) crosses = crosses || quad_crosses_element(w, e, *q);
-    if (!crosses) return true;
-    cs.quadratic_seen.insert(int64_t(e) * 64 + tool);
-    if (static_cast<int>(cs.quadratic_ignored.size()) <= tool) cs.quadratic_ignored.resize(tool + 1, 0);
-    ++cs.quadratic_ignored[tool];
-    return true;
-}
-
 /// Queues the splits of the elements the last quad crossed and moves the others through the lists,
 /// in element order (deterministic): an element fully crossed is split (make_event); on a
 /// progressive front one the blade has only entered is split as a tip element (tip_event), and a
@@ -463,7 +447,6 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
                 continue;
             }
         }
-        if (pass_quadratic(w, e, quads, tool)) continue;
         ++cs.elements_tested;
         const int found = test_element(w, bc, e, quads, normals);
         cs.crossings_found += found;

@@ -101,9 +101,9 @@ std::vector<Fragment> fragments_around(const World& w, int j) {
     return frags;
 }
 
-/// The union of fragments over the faces through j their elements share, and the progressive
+/// The union of fragments over the faces through the node their elements share, and the progressive
 /// front's clause; returns each fragment's class (its smallest fragment index).
-std::vector<int> material_classes(const World& w, int j, const std::vector<Fragment>& frags) {
+std::vector<int> material_classes(const World& w, const std::vector<Fragment>& frags) {
     const Elements& el = w.elements;
     const int npe = el.nodes_per_element();
     DisjointSets sets(static_cast<int>(frags.size()));
@@ -158,7 +158,7 @@ std::vector<int> material_classes(const World& w, int j, const std::vector<Fragm
 
 void assign_node_copies(World& w, int j, std::vector<int>& changed) {
     const std::vector<Fragment> frags = fragments_around(w, j);
-    const std::vector<int> cls = material_classes(w, j, frags);
+    const std::vector<int> cls = material_classes(w, frags);
     const int own = w.enriched.sign[j];
     int real = -1;  // the class of j's own material
     for (size_t f = 0; f < frags.size() && real < 0; ++f)

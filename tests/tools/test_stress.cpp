@@ -24,12 +24,14 @@ namespace {
 /// CI's stress run: 100 trajectories of `seed` on the `front` (`blades` > 1: 2 to that many
 /// scalpels each; `tip`: the 2D patch with crack tips), every invariant asserted.
 /// `energy_known`: trajectories known to pass the energy bound (named where the test is called).
+/// `count` and `element`: fewer trajectories, on tissue of that element.
 void hundred_trajectories(unsigned seed, const std::string& front, int blades = 1, bool tip = false,
-                          int energy_known = 0) {
+                          int energy_known = 0, int count = 100, const std::string& element = "linear") {
     StressOptions o;
     o.blades = blades;
     o.tip = tip;
-    o.count = 100;
+    o.element = element;
+    o.count = count;
     o.budget_s = 1e9;  // all 100, however slow the machine
     o.seed = seed;
     o.front = front;
@@ -38,14 +40,15 @@ void hundred_trajectories(unsigned seed, const std::string& front, int blades = 
     o.csv_given = true;
     const auto summary = run_stress(o);
     const StressSummary& all = summary.at("all");
-    EXPECT_EQ(all.cases, 12 + 8 + 8 + 100) << "12 sliver cases, 8 large-step cases twice, 100 trajectories";
+    EXPECT_EQ(all.cases, 12 + 8 + 8 + count) << "12 sliver cases, 8 large-step cases twice, the trajectories";
     EXPECT_EQ(all.nan, 0);
     EXPECT_EQ(all.cg_over, 0) << "max CG " << all.max_cg;
     EXPECT_EQ(all.lost_vertices, 0) << "every surface vertex on a live element";
     EXPECT_EQ(all.open_edges, 0) << "no gap in the surfaces";
     EXPECT_EQ(all.pinched_edges, 0) << "every surface a 2-manifold: each edge in two triangles";
     EXPECT_EQ(all.zero_area, 0) << "no triangle without area";
-    EXPECT_EQ(summary.at(tip ? "8 crack tips" : blades > 1 ? "8 many blades" : "8 many cuts").cases, 100);
+    const std::string problem = tip ? "8 crack tips" : blades > 1 ? "8 many blades" : "8 many cuts";
+    EXPECT_EQ(summary.at(element == "linear" ? problem : problem + ", " + element).cases, count);
     // Backward Euler solved to convergence does not gain energy, at any dt up to 0.1 s.
     EXPECT_EQ(summary.at("9 large steps, Newton").energy_over, 0)
         << "max energy / work " << summary.at("9 large steps, Newton").max_energy_ratio;
@@ -69,6 +72,14 @@ TEST(Stress, HundredTrajectoriesKeepEveryInvariant) { hundred_trajectories(7, "s
 // The progressive front on other trajectories (seed 8): tip elements split on entry and opened edge
 // by edge keep the surfaces closed, 2-manifold and without zero-area triangles.
 TEST(Stress, HundredProgressiveTrajectoriesKeepEveryInvariant) { hundred_trajectories(8, "progressive"); }
+
+// Quadratic tissue cut (docs/elements.md, "Cutting quadratic elements"), on both fronts and with
+// several blades (seeds 12-14, 20 trajectories each): every invariant as for the linear element.
+TEST(Stress, QuadraticTrajectoriesKeepEveryInvariant) {
+    hundred_trajectories(12, "semi", 1, false, 0, 20, "quadratic");
+    hundred_trajectories(13, "progressive", 1, false, 0, 20, "quadratic");
+    hundred_trajectories(14, "semi", 4, false, 0, 20, "quadratic");
+}
 
 // Several scalpels at once (seed 9, 2-4 each): crossing one another's path in one step, through mesh
 // nodes along grid planes, stabbing with a face; the surfaces stay closed, 2-manifold, without

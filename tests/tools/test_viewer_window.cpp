@@ -160,16 +160,16 @@ TEST(ViewerWindow, StopsAtTheScenesDuration) {
     fs::remove_all(dir);
 }
 
-// Tissue of quadratic elements cannot be cut yet: the viewer opens a scene that has nothing else
-// with the hand probe and without the hand scalpel, and says so.
-TEST(ViewerWindow, QuadraticTissueOpensWithTheProbeAndNoScalpel) {
+// Tissue of quadratic elements is cut by XFEM: the viewer opens a scene that has nothing else with
+// the hand probe and the hand scalpel.
+TEST(ViewerWindow, QuadraticTissueOpensWithTheProbeAndTheScalpel) {
     const fs::path dir = testing::temp_dir("viewer_quadratic");
     std::string out;
     ASSERT_EQ(testing::run_command(std::string(XCUT_XVFB_RUN) + " -a -s '-screen 0 1280x1024x24' " + XCUT_BINARY + " view " +
                                        XCUT_SOURCE_DIR + "/scenes/flap_lift.json --size 800 --steps 5 --screenshot " +
                                        (dir / "flap.png").string(), out), 0) << out;
-    EXPECT_NE(out.find("no hand scalpel: no linear tissue to cut"), std::string::npos) << out;
-    EXPECT_NE(out.find("2 tools"), std::string::npos) << "the scene's probe and the hand probe: " << out;
+    EXPECT_NE(out.find("hand scalpel on the left button"), std::string::npos) << out;
+    EXPECT_NE(out.find("3 tools"), std::string::npos) << "the scene's probe, the hand scalpel and the hand probe: " << out;
     EXPECT_TRUE(fs::exists(dir / "flap.png"));
     fs::remove_all(dir);
 }

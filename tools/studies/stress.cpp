@@ -262,7 +262,15 @@ std::vector<CaseResult> slivers() {
 /// Problem 8's scene for the next trajectory of `rng`, as the options ask.
 Scene random_scene(std::mt19937_64& rng, const StressOptions& o) {
     if (o.tip) return random_tip_scene(rng);
-    return o.blades > 1 ? random_blades_scene(rng, o.front, o.blades) : random_cut_scene(rng, o.front);
+    Scene s = o.blades > 1 ? random_blades_scene(rng, o.front, o.blades) : random_cut_scene(rng, o.front);
+    s.material.quadratic = o.element == "quadratic";
+    return s;
+}
+
+/// Problem 8's name in the summary, as the options ask.
+std::string random_problem(const StressOptions& o) {
+    const std::string name = o.tip ? "8 crack tips" : o.blades > 1 ? "8 many blades" : "8 many cuts";
+    return o.element == "quadratic" ? name + ", quadratic" : name;
 }
 
 /// Problem 8: one random trajectory's run (several scalpels, or a 2D patch with crack tips, as the
@@ -271,8 +279,7 @@ CaseResult random_cut(std::mt19937_64& rng, int index, const StressOptions& o) {
     Scene scene = random_scene(rng, o);
     if (o.newton > 1) scene.solver.newton_iterations = o.newton, scene.solver.newton_tolerance = 1e-9;
     auto sim = make_simulation(scene, false);
-    const char* problem = o.tip ? "8 crack tips" : o.blades > 1 ? "8 many blades" : "8 many cuts";
-    CaseResult r{problem, fmt::format("trajectory {}", index)};
+    CaseResult r{random_problem(o), fmt::format("trajectory {}", index)};
     run_steps(*sim, kRandomCutSteps, [](const World& w) { return w.metrics.current.gravity_work; }, r);
     return r;
 }
@@ -386,10 +393,10 @@ std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     fmt::output_file(csv_path).print("{}", rows);
     fmt::print("every case: {}\n", csv_path);
     StressSummary all;
-    fmt::print("{:<22} {:>6} {:>5} {:>7} {:>8} {:>11} {:>7} {:>5} {:>16} {:>15} {:>9}\n", "problem", "cases", "NaN",
+    fmt::print("{:<26} {:>6} {:>5} {:>7} {:>8} {:>11} {:>7} {:>5} {:>16} {:>15} {:>9}\n", "problem", "cases", "NaN",
                "max CG", "CG>bound", "max E/work", "E>bound", "lost", "open edges (runs)", "pinched (runs)", "zero area");
     for (const auto& [name, s] : by_problem) {
-        fmt::print("{:<22} {:>6} {:>5} {:>7} {:>8} {:>11.6f} {:>7} {:>5} {:>16} {:>15} {:>9}\n", name, s.cases, s.nan,
+        fmt::print("{:<26} {:>6} {:>5} {:>7} {:>8} {:>11.6f} {:>7} {:>5} {:>16} {:>15} {:>9}\n", name, s.cases, s.nan,
                    s.max_cg, s.cg_over, s.max_energy_ratio, s.energy_over, s.lost_vertices,
                    fmt::format("{} ({})", s.open_edges, s.runs_with_open),
                    fmt::format("{} ({})", s.pinched_edges, s.runs_with_pinched), s.zero_area);

@@ -56,6 +56,8 @@ struct StressOptions {
     std::string front = "semi";  ///< problem 8's cutter.front
     int blades = 1;           ///< problem 8's scalpels per trajectory: 1, or 2 to this many (random_blades_scene)
     bool tip = false;         ///< problem 8 on the 2D patch with crack tips (random_tip_scene)
+    /// problem 8's tissue: "linear" or "quadratic" tetrahedra (docs/elements.md; 3D, not with `tip`)
+    std::string element = "linear";
     /// > 1: problem 8's steps iterated by Newton to 1e-9, at most this many times (1: the paper's
     /// once-linearized step), to tell the scheme's energy gain at large rotations from a defect
     int newton = 1;

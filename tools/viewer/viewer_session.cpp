@@ -24,11 +24,11 @@ HandSizes sizes_of(const MeshData& mesh) {
     return s;
 }
 
-/// Whether a hand scalpel has tissue to cut: some material is linear (a quadratic one is not cut yet,
-/// docs/elements.md: the XFEM cutter passes it; the snapping cutter refuses a scene that has one).
+/// Whether a hand scalpel has tissue to cut: the XFEM cutter cuts both elements; the snapping
+/// cutter, linear ones alone (it refuses a scene with a quadratic material, docs/elements.md).
 bool cuttable(const Scene& scene) {
     const SceneElementOrders o = scene_element_orders(scene);
-    return o.linear && (!o.quadratic || cutter_passes_quadratic(scene));
+    return !o.quadratic || cutter_cuts_quadratic(scene);
 }
 
 }  // namespace
@@ -70,7 +70,7 @@ ViewerSession::ViewerSession(const ViewerOptions& o) : options(o), overrides(o.o
                sim->world.nodes.count(), sim->world.elements.count(), sim->world.tools.count(),
                scalpel ? "hand scalpel on the left button"
                : cut   ? "2D: no hand scalpel"
-                       : "no hand scalpel: no linear tissue to cut (quadratic elements are not cut yet, docs/elements.md)",
+                       : "no hand scalpel: the scene's cutter cannot cut its quadratic elements",
                o.threads);
 }
 
