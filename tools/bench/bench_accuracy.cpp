@@ -257,7 +257,9 @@ bool wants(const AccuracyBenchOptions& o, int problem) {
 }  // namespace
 
 AccuracyRow cut_block_run(const CutBlockSpec& spec, int n, const char* cutter, const std::vector<Vec3>& reference) {
-    World w = cut_block_world(spec, n);
+    CutBlockSpec on = spec;
+    on.quadratic = on.quadratic || std::string(cutter) == "xfem-quadratic";
+    World w = cut_block_world(on, n);
     w.snap.enabled = std::string(cutter) == "snap";
     const RunTimer t;
     const int split = cut_with_polygon(w, cut_block_polygon(spec));

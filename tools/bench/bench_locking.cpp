@@ -116,7 +116,7 @@ std::vector<std::string> locking_summary(const std::vector<LockingBenchRow>& row
                                         100 * first->error, first->dofs <= 10000 ? "met" : "NOT met")
                           : "never within 2 %: 10k-DOF target NOT met";
         const std::map<std::string, std::string> partner{
-            {"linear", "quadratic"}, {"quadratic", "linear"}, {"xfem", "snap"}, {"snap", "xfem"}};
+            {"linear", "quadratic"}, {"quadratic", "linear"}, {"xfem", "snap"}, {"snap", "xfem"}, {"xfem-quadratic", "xfem"}};
         const auto other = runs.find({problem, nu, partner.at(element)});
         if (other != runs.end())
             for (const LockingBenchRow* r : v) {

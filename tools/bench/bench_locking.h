@@ -22,7 +22,7 @@ struct LockingBenchOptions {
 
 struct LockingBenchRow {
     std::string problem = "beam";  ///< "beam" (problem 3), "cook" (Cook's membrane, problem 14) or "block" (problem 5)
-    std::string element;   ///< "linear" or "quadratic"; for "block" the cutter on linear tetrahedra: "xfem" or "snap"
+    std::string element;   ///< "linear" or "quadratic"; for "block" the cutter: "xfem" or "snap" on linear tetrahedra, "xfem-quadratic"
     double poisson = 0;    ///< nu [-]
     int n = 0;             ///< cells across the beam (block: along its length)
     int dofs = 0;

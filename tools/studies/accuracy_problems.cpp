@@ -13,6 +13,7 @@
 #include "systems/pipeline.h"
 #include "systems/cut/scripted_cut_system.h"
 #include "systems/cut/snap_cut_system.h"
+#include "systems/kernels/quadratic_tet.h"
 
 namespace xcut {
 namespace {
@@ -124,7 +125,12 @@ std::vector<Probe> locate_points(const World& w, const std::vector<Vec3>& points
     return out;
 }
 
-Vec3 probe_displacement(const World& w, const Probe& p) { return bound_position(w, p.element, p.bary) - p.rest; }
+Vec3 probe_displacement(const World& w, const Probe& p) {
+    const QuadraticElements& q = w.quadratic;  // a quadratic element, or a cut one's side: its 10 nodes
+    const int t = p.element < static_cast<int>(q.of_element.size()) ? q.of_element[p.element] : -1;
+    const Vec3 x = t >= 0 ? tet10_point(q.nodes[t], p.bary, w.nodes.position.data()) : bound_position(w, p.element, p.bary);
+    return x - p.rest;
+}
 
 int cut_with_polygon(World& w, const std::vector<Vec3>& polygon, bool progressive) {
     if (w.snap.enabled) {
@@ -152,6 +158,7 @@ World cut_block_world(const CutBlockSpec& s, int n) {
     m.young = s.young;
     m.poisson = s.poisson;
     m.density = s.density;
+    m.quadratic = s.quadratic;
     return world_with(generate_box(grid_of(s.size, cut_block_cells(s, n))), m);
 }
 

@@ -75,6 +75,7 @@ struct CutBlockSpec {
     double depth = 0.01;                   ///< d [m]: the crack front z = H - d is a grid plane
     double pull = 2e-5;                    ///< end displacement [m] (strain 1e-3: small deformation)
     double young = 1e4, poisson = 0.3, density = 1000.0;  ///< skin (docs/scene-format.md, material) [Pa, -, kg/m^3]
+    bool quadratic = false;  ///< the mesh's element (not a parameter of the reference): 10-node tetrahedra
 };
 /// Cells of the coarse mesh with `n` cells along L: (n, n B / L, n H / L) rounded, at least one;
 /// n must make n H / L an even integer so the crack front lies on a grid plane.
