@@ -117,7 +117,7 @@ void record_crossings(World& w, const CutEvent& ev, std::vector<int>& affected) 
         const int i = nodes[edge_nodes(w.elements.dim, k)[0]], j = nodes[edge_nodes(w.elements.dim, k)[1]];
         if (w.enriched.sign[i] == w.enriched.sign[j]) continue;
         affected.push_back(i), affected.push_back(j);
-        append_edge_node(w, ev.element, edge_nodes(w.elements.dim, k)[0], edge_nodes(w.elements.dim, k)[1], affected);
+        append_edge_nodes_around(w, i, affected), append_edge_nodes_around(w, j, affected);
         w.cuts.crossed_log.push_back({i, j});
     }
 }
@@ -170,10 +170,12 @@ int apply_cut_events(World& w) {
 
     const Elements& el = w.elements;
     const int npe = el.nodes_per_element();
-    for (int c = first_new; c < w.cuts.count(); ++c) {
-        for (int a = 0; a < npe; ++a) affected.push_back(el.nodes[w.cuts.element[c]][a]);
-        append_edge_nodes(w, w.cuts.element[c], affected);  // a quadratic element's, after its corners
-    }
+    for (int c = first_new; c < w.cuts.count(); ++c)
+        for (int a = 0; a < npe; ++a) {
+            affected.push_back(el.nodes[w.cuts.element[c]][a]);
+            // the mid-edge nodes around it (its own, and those the front's clause holds by its edges)
+            append_edge_nodes_around(w, el.nodes[w.cuts.element[c]][a], affected);
+        }
     std::sort(affected.begin(), affected.end());
     affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
 

@@ -97,16 +97,13 @@ void add_quadratic_sides(World& w, int c) {
     }
 }
 
-void append_edge_nodes(const World& w, int e, std::vector<int>& out) {
-    const int t0 = quadratic_entry(w, e);
-    if (t0 >= 0) out.insert(out.end(), w.quadratic.nodes[t0].begin() + 4, w.quadratic.nodes[t0].end());
-}
-
-void append_edge_node(const World& w, int e, int a, int b, std::vector<int>& out) {
-    const int t0 = quadratic_entry(w, e);
-    if (t0 < 0) return;
-    for (int k = 0; k < 6; ++k)
-        if (std::minmax(kTet10Edges[k][0], kTet10Edges[k][1]) == std::minmax(a, b)) out.push_back(w.quadratic.nodes[t0][4 + k]);
+void append_edge_nodes_around(const World& w, int i, std::vector<int>& out) {
+    const QuadraticElements& q = w.quadratic;
+    if (q.count() == 0 || i + 1 >= static_cast<int>(q.incidence.offset.size())) return;
+    for (int p = q.incidence.offset[i]; p < q.incidence.offset[i + 1]; ++p) {
+        const int t = q.incidence.entry[p] >> 4;
+        if (q.element[t] < w.mesh_elements) out.insert(out.end(), q.nodes[t].begin() + 4, q.nodes[t].end());
+    }
 }
 
 void sync_quadratic_sides(World& w, const std::vector<int>& cuts) {

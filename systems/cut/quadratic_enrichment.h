@@ -27,12 +27,9 @@ void sign_edge_nodes(World& w, int e);
 /// element's weight is.
 void add_quadratic_sides(World& w, int c);
 
-/// Appends to `out` the mid-edge nodes of mesh element e (none for a linear one).
-void append_edge_nodes(const World& w, int e, std::vector<int>& out);
-
-/// Appends the mid-edge node of the edge between local corners a and b of mesh element e (none for
-/// a linear element).
-void append_edge_node(const World& w, int e, int a, int b, std::vector<int>& out);
+/// Appends the mid-edge nodes of the quadratic mesh elements around corner node i: those whose
+/// progressive-front clause reads i's edges (a crossing of one of them releases them).
+void append_edge_nodes_around(const World& w, int i, std::vector<int>& out);
 
 /// Copies the corners of cut elements `cuts`' virtual elements (written by the node copies in
 /// Elements) into their quadratic entries, and makes the quadratic incidence again.

@@ -41,6 +41,33 @@ int side_of_dof(const World& w, int d, const Vec3& n, double c) {
 /// Cuts the bar through by the plane n . X = c.
 int cut_bar(World& w, const Vec3& n, double c) { return cut_now(w, square_on_plane(c * n + Vec3(kL, kH, kH) / 2 - n * n.dot(Vec3(kL, kH, kH) / 2), n, 0.1)); }
 
+/// The bar held at x = 0 under gravity, solved tightly (CG to 1e-12), for the fall tests.
+World held_bar() {
+    World w = quadratic_bar(0.3, {6, 2, 2});
+    w.gravity = Vec3(0.0, 0.0, -9.81);
+    w.solver.dt = 2e-3;
+    w.solver.cg_tolerance = 1e-12;
+    w.solver.cg_max_iterations = 2000;
+    w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
+    apply_constraints(w);
+    return w;
+}
+const Vec3 kFallNormal = Vec3(1.0, 0.1, -0.15).normalized();  // the oblique cut of the fall tests
+const Vec3 kFallPoint(0.0171, kH / 2, kH / 2);                 // a point on it [m]
+constexpr int kFallSteps = 20;
+
+/// Steps the cut bar kFallSteps times; returns the free fall x_n - X = g dt^2 n (n + 1) / 2 [m]
+/// and the largest distance of a DOF node on the side n . X > c from it (`worst`).
+double fall_and_worst(World& w, const Vec3& n, double c, double& worst) {
+    for (int s = 0; s < kFallSteps; ++s) step_world(w);
+    const double fall = 9.81 * w.solver.dt * w.solver.dt * kFallSteps * (kFallSteps + 1) / 2.0;
+    worst = 0.0;
+    for (int d = 0; d < w.nodes.count(); ++d)
+        if (side_of_dof(w, d, n, c) > 0)
+            worst = std::max(worst, (w.nodes.position[d] - w.nodes.rest[d] - Vec3(0.0, 0.0, -fall)).norm());
+    return fall;
+}
+
 // A bar cut through at x = c: each piece's DOF nodes carry rho times its volume, every mid-edge
 // node the cut met lies on the side its rest point is on, and the mid-edge nodes of split edges
 // have a phantom.
@@ -74,36 +101,53 @@ TEST(QuadraticCut, EachPieceWeighsRhoTimesItsVolumeAndMidEdgeNodesTakeTheirPoint
 // every DOF node of it (phantoms and mid-edge nodes included) falls as implicit Euler moves a free
 // body, x_n - X = g dt^2 n (n + 1) / 2; the held piece sags far less.
 TEST(QuadraticCut, ThePieceCutOffFallsFreelyAndTheHeldOneStays) {
-    World w = quadratic_bar(0.3, {6, 2, 2});
-    w.gravity = Vec3(0.0, 0.0, -9.81);
-    w.solver.dt = 2e-3;
-    w.solver.cg_tolerance = 1e-12;
-    w.solver.cg_max_iterations = 2000;
-    w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
-    apply_constraints(w);
-    const Vec3 n = Vec3(1.0, 0.1, -0.15).normalized();
-    const double c = n.dot(Vec3(0.0171, kH / 2, kH / 2));
+    World w = held_bar();
+    const Vec3 n = kFallNormal;
+    const double c = n.dot(kFallPoint);
     ASSERT_GT(cut_bar(w, n, c), 0);
-    const int steps = 20;
-    for (int s = 0; s < steps; ++s) step_world(w);
-    const double fall = 9.81 * w.solver.dt * w.solver.dt * steps * (steps + 1) / 2.0;
     double worst = 0.0, held = 0.0;
+    const double fall = fall_and_worst(w, n, c, worst);
     int free_dofs = 0;
     for (int d = 0; d < w.nodes.count(); ++d) {
-        const Vec3 u = w.nodes.position[d] - w.nodes.rest[d];
-        if (side_of_dof(w, d, n, c) > 0) {
-            worst = std::max(worst, (u - Vec3(0.0, 0.0, -fall)).norm());
+        if (side_of_dof(w, d, n, c) > 0)
             ++free_dofs;
-        } else {
-            held = std::max(held, u.norm());
-        }
+        else
+            held = std::max(held, (w.nodes.position[d] - w.nodes.rest[d]).norm());
     }
     EXPECT_GT(free_dofs, 20);
     EXPECT_LT(worst, 1e-6 * fall) << "fall " << fall;
     // The held piece, a cantilever of about c, sags at most twice its static rho g A c^4 / (8 E I).
-    const double sag = 1000.0 * 9.81 * kH * kH * std::pow(0.0171, 4) / (8.0 * kYoung * std::pow(kH, 4) / 12.0);
+    const double sag = 1000.0 * 9.81 * kH * kH * std::pow(kFallPoint.x(), 4) / (8.0 * kYoung * std::pow(kH, 4) / 12.0);
     EXPECT_LT(held, 2.5 * sag) << "sag " << sag;
     EXPECT_LT(2.5 * sag, 0.2 * fall);
+}
+
+// The same cut made on the progressive front in two stages: first as far as y = kH / 2 (the elements
+// it enters split as tip elements, their other split edges held), then through. Once the blade has
+// crossed every edge, no node, corner or mid-edge, is held: the piece falls freely as above.
+TEST(QuadraticCut, APieceCutOffInTwoStagesOnTheProgressiveFrontFallsFreely) {
+    World w = held_bar();
+    const Vec3 n = kFallNormal;
+    const double c = n.dot(kFallPoint);
+    const Vec3 centre = c * n + Vec3(kL, kH, kH) / 2 - n * n.dot(Vec3(kL, kH, kH) / 2);
+    // A band of the plane from y = -1 to y = kH / 2 (the plane is nearly x = c: its y extent is y's).
+    const Vec3 u = (Vec3::UnitY() - n * n.y()).normalized(), v = n.cross(u);
+    const double low = u.dot(Vec3(0.0, -1.0, 0.0) - centre), high = u.dot(Vec3(0.0, kH / 2, 0.0) - centre);
+    queue_polygon_cut(w, {centre + low * u - v, centre + high * u - v, centre + high * u + v, centre + low * u + v}, true);
+    ASSERT_GT(apply_cut_events(w), 0);
+    int held = 0;
+    for (int c0 = 0; c0 < w.cuts.count(); ++c0) held += w.cuts.crossed[c0] != 0xFF;
+    ASSERT_GT(held, 0) << "the first stage leaves tip elements";
+    for (int c0 = 0; c0 < w.cuts.count(); ++c0) {  // the blade crosses the rest of every tip element
+        CutEvent ev;
+        ev.element = w.cuts.element[c0];
+        w.pending_cuts.push_back(ev);
+    }
+    queue_polygon_cut(w, square_on_plane(centre, n, 0.1));
+    apply_cut_events(w);
+    double worst = 0.0;
+    const double fall = fall_and_worst(w, n, c, worst);
+    EXPECT_LT(worst, 1e-6 * fall) << "fall " << fall;
 }
 
 // A bar clamped at both ends and stretched by delta, cut along its whole length by the plane
