@@ -16,15 +16,14 @@ int quadratic_entry(const World& w, int e) {
 }
 
 /// The crossing parameter of every split edge of cut element c (kTetEdges order, from the edge's
-/// first node), from its edge points as crack_edge_param reads them.
+/// first node): the crack's shared edge point (crack_edge_param), as its neighbours read it.
 std::array<double, 6> edge_params(const World& w, int c) {
     const CutElements& ce = w.cuts;
     const auto& nodes = w.elements.nodes[ce.element[c]];
     std::array<double, 6> t{};
     for (int k = 0; k < 4 && ce.point_edge[c][k] >= 0; ++k) {
         const int edge = ce.point_edge[c][k];
-        const Vec3 &Xa = w.nodes.rest[nodes[kTetEdges[edge][0]]], &Xb = w.nodes.rest[nodes[kTetEdges[edge][1]]];
-        t[edge] = std::clamp((ce.points[c][k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm(), 0.0, 1.0);
+        t[edge] = crack_edge_param(w, nodes[kTetEdges[edge][0]], nodes[kTetEdges[edge][1]]);
     }
     return t;
 }

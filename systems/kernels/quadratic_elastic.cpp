@@ -35,6 +35,13 @@ const Material& material_of(const QuadraticView& v, int t) {
     return v.materials.list[v.elements.material[v.quadratic.element[t]]];
 }
 
+/// Element t's forces at positions x with rotation R into f; returns its strain energy [J].
+double element_forces(const QuadraticView& v, const Vec3* x, int t, const Mat3& R, Tet10Vectors& f) {
+    return with_gradients(v, t, [&](const auto& G) {
+        return tet10_forces(gather(v.quadratic.nodes[t], x), G, R, volume_of(v, t), quadratic_lame(material_of(v, t)), f);
+    });
+}
+
 }  // namespace
 
 LameParameters quadratic_lame(const Material& m) { return {m.lambda(), m.mu()}; }
@@ -43,21 +50,13 @@ double quadratic_forces(const QuadraticView& v, const Vec3* x, std::vector<Tet10
     const int n = v.quadratic.count();
     buffer.resize(n);
     std::vector<double> energy(n);
-    parallel_for(n, [&](int t) {
-        const int e = v.quadratic.element[t];
-        energy[t] = with_gradients(v, t, [&](const auto& G) {
-            return tet10_forces(gather(v.quadratic.nodes[t], x), G, v.elements.rotation[e], volume_of(v, t),
-                                quadratic_lame(material_of(v, t)), buffer[t]);
-        });
-    });
+    parallel_for(n, [&](int t) { energy[t] = element_forces(v, x, t, v.elements.rotation[v.quadratic.element[t]], buffer[t]); });
     return deterministic_sum(n, [&](int t) { return energy[t]; });
 }
 
 double quadratic_element_energy(const QuadraticView& v, const Vec3* x, int t, const Mat3& R) {
     Tet10Vectors unused;
-    return with_gradients(v, t, [&](const auto& G) {
-        return tet10_forces(gather(v.quadratic.nodes[t], x), G, R, volume_of(v, t), quadratic_lame(material_of(v, t)), unused);
-    });
+    return element_forces(v, x, t, R, unused);
 }
 
 void quadratic_product_element(const QuadraticView& v, const Vec3* p, int t, std::vector<Tet10Vectors>& buffer) {
