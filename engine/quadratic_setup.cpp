@@ -105,6 +105,11 @@ double quadratic_node_mass(const World& world, int i) {
     return m;
 }
 
+int quadratic_entry(const World& world, int e) {
+    const QuadraticElements& q = world.quadratic;
+    return q.count() > 0 && e >= 0 && e < static_cast<int>(q.of_element.size()) ? q.of_element[e] : -1;
+}
+
 bool is_quadratic_side(const World& world, int e) {
     const QuadraticElements& q = world.quadratic;
     if (e < world.mesh_elements || e >= static_cast<int>(q.of_element.size())) return false;

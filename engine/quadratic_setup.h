@@ -19,6 +19,9 @@ void build_quadratic_incidence(World& world);
 /// (element_mass_share): 4 rho V w / 27 from each whole element it is a mid-edge node of, and its
 /// side's mass from each side of a cut element it is a vertex of (QuadraticElements::side_masses) [kg].
 double quadratic_node_mass(const World& world, int i);
+/// Force element e's quadratic entry (a mesh element's, or one side's of a cut quadratic element),
+/// -1 for a linear element.
+int quadratic_entry(const World& world, int e);
 /// Whether force element e is one side of a cut quadratic element (its masses are its side's).
 bool is_quadratic_side(const World& world, int e);
 /// Holds each mid-edge node on the axes both its corners are held on, at the midpoint of their

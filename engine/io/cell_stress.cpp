@@ -2,6 +2,9 @@
 
 #include <Eigen/SVD>
 
+#include "engine/quadratic_setup.h"
+#include "engine/tet10_shapes.h"
+
 namespace xcut {
 
 namespace {
@@ -24,16 +27,28 @@ Mat3 cell_cauchy_stress(const World& w, int e) {
     for (int k = 0; k < el.dim; ++k) Ds.col(k) = x[c[k + 1]] - x[c[0]];
     Mat3 F = Ds * el.dm_inv[e];
     const Mat3 R = polar_rotation(F);  // a quadratic element's too: the corners', as the ForceSystem's
-    const int t = w.quadratic.count() > 0 && e < w.mesh_elements ? w.quadratic.of_element[e] : -1;
+    const int t = quadratic_entry(w, e);
     if (t >= 0) {
-        // A quadratic element's strain is linear: its mean is the value at the centroid, where the
-        // corners' gradients vanish and each mid-edge node's is g_a + g_b (components/quadratic_elements.h).
-        const auto& q = w.quadratic.nodes[t];
-        auto g = [&](int a) -> Vec3 {
-            return a == 0 ? Vec3(-el.dm_inv[e].colwise().sum().transpose()) : Vec3(el.dm_inv[e].row(a - 1).transpose());
-        };
+        // A quadratic element's strain is linear: its mean over the element is its value at the
+        // centroid, and over one side of a cut element its value at the side's centroid (its rule
+        // integrates L exactly: L_c = sum_q w_q L_q / sum_q w_q).
+        const QuadraticElements& q = w.quadratic;
+        const int r = t < static_cast<int>(q.side_rule.size()) ? q.side_rule[t] : -1;
+        Eigen::Vector4d L = Eigen::Vector4d::Constant(0.25);
+        if (r >= 0 && q.side_rules[r].count > 0) {
+            const TetSideRule& rule = q.side_rules[r];
+            double sum = 0.0;
+            L.setZero();
+            for (int k = 0; k < rule.count; ++k) L += rule.weight[k] * rule.L[k], sum += rule.weight[k];
+            if (sum > 0.0) L /= sum;
+        }
+        std::array<Vec3, 4> g;  // the linear element's shape gradients: rows of Dm^-1, g_0 = -sum
+        for (int a = 0; a < 4; ++a)
+            g[a] = a == 0 ? Vec3(-el.dm_inv[e].colwise().sum().transpose()) : Vec3(el.dm_inv[e].row(a - 1).transpose());
+        std::array<Vec3, 10> grad;
+        tet10_gradients_at(g, L, grad);
         F.setZero();
-        for (int k = 0; k < 6; ++k) F += x[q[4 + k]] * (g(kTet10Edges[k][0]) + g(kTet10Edges[k][1])).transpose();
+        for (int j = 0; j < 10; ++j) F += x[q.nodes[t][j]] * grad[j].transpose();
     }
     const Mat3 eps = 0.5 * (R.transpose() * F + F.transpose() * R) - Mat3::Identity();
     const Material& m = w.materials.list[el.material[e]];

@@ -3,21 +3,97 @@
 #include <Eigen/Dense>
 #include <algorithm>
 
+#include "engine/quadratic_setup.h"
+#include "engine/tet10_shapes.h"
+
 namespace xcut {
 
 namespace {
 
-/// Appends a cut point of virtual element `ve` on local edge (i, j) at rest position X.
-int add_cut_point(ClippedCells& out, const World& w, int ve, int i, int j, const Vec3& X) {
-    const Elements& el = w.elements;
-    const auto& v = el.nodes[ve];
+/// The force element a cell is cut from, and what places its points: its own nodes (linear), or
+/// its quadratic entry's 10 nodes. `made`: the points made for it, with their barycentric
+/// coordinates in it (its nodes' are the unit vectors).
+struct Source {
+    int element = -1;
+    const std::array<int, 10>* quadratic = nullptr;
+    std::vector<std::pair<int, Eigen::Vector4d>> made;
+};
+
+Source source_of(const World& w, int e) {
+    Source s;
+    s.element = e;
+    const int t = quadratic_entry(w, e);
+    if (t >= 0) s.quadratic = &w.quadratic.nodes[t];
+    return s;
+}
+
+/// sum_a N_a(L) f_a over the source's nodes: linear (N_a = L_a) or quadratic shape functions.
+Vec3 interpolate(const World& w, const Source& s, const std::vector<Vec3>& f, const Eigen::Vector4d& L) {
+    if (s.quadratic) return tet10_point(*s.quadratic, L, f.data());
+    const auto& v = w.elements.nodes[s.element];
+    Vec3 p = Vec3::Zero();
+    for (int a = 0; a < w.elements.nodes_per_element(); ++a)
+        if (L[a] != 0.0) p += L[a] * f[v[a]];
+    return p;
+}
+
+/// Appends a point of source s at barycentric coordinates L, resting at X [m].
+int add_point(ClippedCells& out, const World& w, Source& s, const Eigen::Vector4d& L, const Vec3& X) {
+    out.position.push_back(interpolate(w, s, w.nodes.position, L));
+    out.rest.push_back(X);
+    out.velocity.push_back(interpolate(w, s, w.nodes.velocity, L));
+    const int p = static_cast<int>(out.position.size()) - 1;
+    s.made.push_back({p, L});
+    return p;
+}
+
+/// Appends a cut point of source s on local edge (i, j) at rest position X.
+int add_cut_point(ClippedCells& out, const World& w, Source& s, int i, int j, const Vec3& X) {
+    const auto& v = w.elements.nodes[s.element];
     const Vec3 Xi = w.nodes.rest[v[i]], Xj = w.nodes.rest[v[j]];
     const double len2 = (Xj - Xi).squaredNorm();
     const double t = len2 > 0.0 ? std::clamp((X - Xi).dot(Xj - Xi) / len2, 0.0, 1.0) : 0.5;
-    out.position.push_back((1.0 - t) * w.nodes.position[v[i]] + t * w.nodes.position[v[j]]);
-    out.rest.push_back(X);
-    out.velocity.push_back((1.0 - t) * w.nodes.velocity[v[i]] + t * w.nodes.velocity[v[j]]);
-    return static_cast<int>(out.position.size()) - 1;
+    Eigen::Vector4d L = Eigen::Vector4d::Zero();
+    L[i] = 1.0 - t, L[j] = t;
+    return add_point(out, w, s, L, X);
+}
+
+/// Barycentric coordinates in source s of point p (one of its nodes, or one made for it).
+Eigen::Vector4d coordinates_of(const World& w, const Source& s, int p) {
+    const auto& v = w.elements.nodes[s.element];
+    for (int a = 0; a < w.elements.nodes_per_element(); ++a)
+        if (v[a] == p) return Eigen::Vector4d::Unit(a);
+    for (const auto& [q, L] : s.made)
+        if (q == p) return L;
+    return Eigen::Vector4d::Constant(0.25);  // not reached: every corner is a node or a made point
+}
+
+/// Gives the cells [first, end) of a quadratic source their mid-edge points (an edge two cells
+/// share gets one point); a linear source's cells stay linear.
+void add_edge_points(ClippedCells& out, const World& w, Source& s, size_t first) {
+    out.quadratic.resize(out.cells.size(), -1);
+    if (!s.quadratic) return;
+    const auto& v = w.elements.nodes[s.element];
+    std::vector<std::pair<std::pair<int, int>, int>> made;
+    for (size_t c = first; c < out.cells.size(); ++c) {
+        std::array<int, 6> mid;
+        for (int k = 0; k < 6; ++k) {
+            const int a = out.cells[c][kTet10Edges[k][0]], b = out.cells[c][kTet10Edges[k][1]];
+            const std::pair<int, int> key(std::min(a, b), std::max(a, b));
+            const auto it = std::find_if(made.begin(), made.end(), [&](const auto& m) { return m.first == key; });
+            if (it != made.end()) {
+                mid[k] = it->second;
+                continue;
+            }
+            const Eigen::Vector4d L = 0.5 * (coordinates_of(w, s, a) + coordinates_of(w, s, b));
+            Vec3 X = Vec3::Zero();
+            for (int i = 0; i < 4; ++i) X += L[i] * w.nodes.rest[v[i]];
+            mid[k] = add_point(out, w, s, L, X);
+            made.push_back({key, mid[k]});
+        }
+        out.quadratic[c] = static_cast<int>(out.edge_points.size());
+        out.edge_points.push_back(mid);
+    }
 }
 
 double signed_measure(const ClippedCells& out, const std::array<int, 4>& c, int dim) {
@@ -46,7 +122,8 @@ void edge_nodes(int dim, int edge, int& i, int& j) {
 
 /// Writes virtual element `ve` clipped to its side; false (nothing written) if its cut is not a
 /// full crossing: every edge between the two sides crossed, and only those.
-bool add_clipped(ClippedCells& out, const World& w, int ve, int parent, int8_t side) {
+bool add_clipped(ClippedCells& out, const World& w, Source& src, int parent, int8_t side) {
+    const int ve = src.element;
     const Elements& el = w.elements;
     const int dim = el.dim, npe = el.nodes_per_element();
     const int c = w.cuts.cut_of_element.empty() ? -1 : w.cuts.cut_of_element[parent];
@@ -77,7 +154,7 @@ bool add_clipped(ClippedCells& out, const World& w, int ve, int parent, int8_t s
         if (point_of_edge[e] < 0) {
             int i, j;
             edge_nodes(dim, e, i, j);
-            point_of_edge[e] = add_cut_point(out, w, ve, i, j, w.cuts.points[c][slot_of_edge[e]]);
+            point_of_edge[e] = add_cut_point(out, w, src, i, j, w.cuts.points[c][slot_of_edge[e]]);
         }
         return point_of_edge[e];
     };
@@ -137,12 +214,24 @@ ClippedCells clipped_cells(const World& w) {
         if (!(el.weight[e] > 0.0)) continue;
         if (e < static_cast<int>(shown_of.size()) && shown_of[e] >= 0) {
             add_tip_fan(out, ct, shown_of[e], e);
+            out.quadratic.resize(out.cells.size(), -1);
             continue;
         }
         const int v = virtual_of[e];
-        if (v >= 0 && add_clipped(out, w, e, w.virtual_elements.parent[v], w.virtual_elements.side[v])) continue;
+        Source src = source_of(w, e);
+        const size_t first = out.cells.size();
+        if (v >= 0 && add_clipped(out, w, src, w.virtual_elements.parent[v], w.virtual_elements.side[v])) {
+            add_edge_points(out, w, src, first);
+            continue;
+        }
         out.cells.push_back(el.nodes[e]);
         out.element.push_back(e);
+        out.quadratic.push_back(-1);
+        if (src.quadratic) {  // whole: its own mid-edge nodes
+            out.quadratic.back() = static_cast<int>(out.edge_points.size());
+            out.edge_points.push_back({});
+            std::copy(src.quadratic->begin() + 4, src.quadratic->end(), out.edge_points.back().begin());
+        }
     }
     return out;
 }

@@ -21,11 +21,6 @@ namespace {
 
 int vtk_cell_type(int dim) { return dim == 3 ? 10 : 5; }  // VTK_TETRA, VTK_TRIANGLE
 
-/// Mesh element e's quadratic element, -1 if it is linear (or a virtual element).
-int quadratic_of(const World& w, int e) {
-    return w.quadratic.count() > 0 && e < w.mesh_elements ? w.quadratic.of_element[e] : -1;
-}
-
 }  // namespace
 
 void write_vtu(const World& world, const std::string& path) {
@@ -82,13 +77,10 @@ void write_vtu(const World& world, const std::string& path) {
         mises.push_back(von_mises(sigma));
         for (int r = 0; r < 3; ++r)
             for (int k = 0; k < 3; ++k) stress.push_back(sigma(r, k));
-        // A quadratic element is written as one (VTK_QUADRATIC_TETRA: corners, then mid-edge nodes).
-        const int t = quadratic_of(world, e);
-        if (t >= 0) {
-            conn.insert(conn.end(), world.quadratic.nodes[t].begin(), world.quadratic.nodes[t].end());
-        } else {
-            for (int a = 0; a < el.nodes_per_element(); ++a) conn.push_back(shown.cells[c][a]);
-        }
+        // A quadratic piece is written as one (VTK_QUADRATIC_TETRA: corners, then mid-edge points).
+        const int t = shown.quadratic[c];
+        for (int a = 0; a < el.nodes_per_element(); ++a) conn.push_back(shown.cells[c][a]);
+        if (t >= 0) conn.insert(conn.end(), shown.edge_points[t].begin(), shown.edge_points[t].end());
         types.push_back(static_cast<uint8_t>(t >= 0 ? 24 : vtk_cell_type(el.dim)));
         offsets.push_back(static_cast<int32_t>(conn.size()));
     }
@@ -102,7 +94,7 @@ void write_vtu(const World& world, const std::string& path) {
     vtu.cell_data("stress_Pa", 9, stress);
     vtu.cells(conn, offsets, types);
     vtu.field("units", "SI: lengths m, time s, displacement_m m, velocity_m_per_s m/s, von_mises_Pa and stress_Pa "
-                       "(Cauchy, row-major 3x3) Pa; each cut element is shown as its two virtual elements clipped to their sides (enriched_dof 2: a cut point, or a 2D crack tip's point: its element is four triangles fanned from the tip); quadratic elements are VTK quadratic tetrahedra (their stress: the mean over the element); region: the mesh file's region; material: index into the scene's "
+                       "(Cauchy, row-major 3x3) Pa; each cut element is shown as its two virtual elements clipped to their sides (enriched_dof 2: a point of a clipped piece: a cut point, a mid-edge point of a cut quadratic element's piece, or a 2D crack tip's point: its element is four triangles fanned from the tip); quadratic elements and the pieces of cut ones are VTK quadratic tetrahedra (their stress: the mean over the element, or over its side); region: the mesh file's region; material: index into the scene's "
                        "materials (per body: \"material\", then \"region_materials\" in order); body: index into the scene's bodies");
     vtu.write(path);
 }

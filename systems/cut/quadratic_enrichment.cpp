@@ -9,12 +9,6 @@
 namespace xcut {
 namespace {
 
-/// Mesh element e's quadratic entry, -1 for a linear element.
-int quadratic_entry(const World& w, int e) {
-    const QuadraticElements& q = w.quadratic;
-    return q.count() > 0 && e >= 0 && e < static_cast<int>(q.of_element.size()) ? q.of_element[e] : -1;
-}
-
 /// The crossing parameter of every split edge of cut element c (kTetEdges order, from the edge's
 /// first node): the crack's shared edge point (crack_edge_param), as its neighbours read it.
 std::array<double, 6> edge_params(const World& w, int c) {
