@@ -110,6 +110,15 @@ int quadratic_entry(const World& world, int e) {
     return q.count() > 0 && e >= 0 && e < static_cast<int>(q.of_element.size()) ? q.of_element[e] : -1;
 }
 
+int mid_edge_node(const World& world, int e, int i, int j) {
+    const int t = quadratic_entry(world, e);
+    if (t < 0) return -1;
+    for (int k = 0; k < 6; ++k)
+        if ((kTet10Edges[k][0] == i && kTet10Edges[k][1] == j) || (kTet10Edges[k][0] == j && kTet10Edges[k][1] == i))
+            return world.quadratic.nodes[t][4 + k];
+    return -1;
+}
+
 bool is_quadratic_side(const World& world, int e) {
     const QuadraticElements& q = world.quadratic;
     if (e < world.mesh_elements || e >= static_cast<int>(q.of_element.size())) return false;

@@ -22,6 +22,9 @@ double quadratic_node_mass(const World& world, int i);
 /// Force element e's quadratic entry (a mesh element's, or one side's of a cut quadratic element),
 /// -1 for a linear element.
 int quadratic_entry(const World& world, int e);
+/// The mid-edge node of force element e's edge between its local corners i and j, -1 if e is
+/// linear.
+int mid_edge_node(const World& world, int e, int i, int j);
 /// Whether force element e is one side of a cut quadratic element (its masses are its side's).
 bool is_quadratic_side(const World& world, int e);
 /// Holds each mid-edge node on the axes both its corners are held on, at the midpoint of their

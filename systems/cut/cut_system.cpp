@@ -5,6 +5,7 @@
 
 #include "components/cut_elements.h"
 #include "engine/parallel.h"
+#include "engine/quadratic_setup.h"
 #include "systems/kernels/intersection.h"
 #include "systems/kernels/blade_pose.h"
 #include "systems/kernels/mesh_measures.h"
@@ -24,13 +25,23 @@ struct QuadReach {
 };
 
 /// Whether element e's box at current positions meets the quad's box and straddles the plane of one
-/// of its triangles: a necessary condition for the quad to cross it.
+/// of its triangles: a necessary condition for the quad to cross it. A quadratic element's edge
+/// p(s) = chord(s) + 4 s (1 - s) d (d: its mid-edge node's offset from the chord's midpoint) lies
+/// within the corners' box grown by the largest |d|.
 bool may_reach(const World& w, int e, const QuadReach& q) {
     const auto& n = w.elements.nodes[e];
-    Vec3 elo = w.nodes.position[n[0]], ehi = elo;
+    const Vec3* x = w.nodes.position.data();
+    Vec3 elo = x[n[0]], ehi = elo;
     for (int a = 1; a < w.elements.nodes_per_element(); ++a) {
-        elo = elo.cwiseMin(w.nodes.position[n[a]]);
-        ehi = ehi.cwiseMax(w.nodes.position[n[a]]);
+        elo = elo.cwiseMin(x[n[a]]);
+        ehi = ehi.cwiseMax(x[n[a]]);
+    }
+    if (const int t = quadratic_entry(w, e); t >= 0) {
+        const auto& qn = w.quadratic.nodes[t];
+        double bulge = 0.0;
+        for (int k = 0; k < 6; ++k)
+            bulge = std::max(bulge, (x[qn[4 + k]] - 0.5 * (x[qn[kTet10Edges[k][0]]] + x[qn[kTet10Edges[k][1]]])).norm());
+        elo.array() -= bulge, ehi.array() += bulge;
     }
     if (!((elo.array() <= q.hi.array()).all() && (ehi.array() >= q.lo.array()).all())) return false;
     const Vec3 centre = 0.5 * (elo + ehi), half = 0.5 * (ehi - elo);
@@ -77,6 +88,27 @@ int side_of(const Vec3& x, const Vec3& point, const Vec3& normal) {
     return (x - point).dot(normal) >= 0.0 ? 1 : -1;
 }
 
+/// The point at parameter t of local edge k of element e (current positions): on the chord between
+/// its corners, or on a quadratic element's curve through its mid-edge node.
+Vec3 edge_point(const World& w, int e, int k, double t) {
+    const int* ed = edge_nodes(w.elements.dim, k);
+    const Vec3* x = w.nodes.position.data();
+    const Vec3 &a = x[w.elements.nodes[e][ed[0]]], &b = x[w.elements.nodes[e][ed[1]]];
+    const int m = w.elements.dim == 3 ? mid_edge_node(w, e, ed[0], ed[1]) : -1;
+    return m >= 0 ? quadratic_edge_point(a, x[m], b, t) : Vec3(a + t * (b - a));
+}
+
+/// The parameter where local edge k of element e (chord or curve, as edge_point) meets the plane
+/// through o with normal n; 0.5 for a chord in the plane's direction.
+double plane_edge_param(const World& w, int e, int k, const Vec3& o, const Vec3& n) {
+    const int* ed = edge_nodes(w.elements.dim, k);
+    const Vec3* x = w.nodes.position.data();
+    const double li = (x[w.elements.nodes[e][ed[0]]] - o).dot(n), lj = (x[w.elements.nodes[e][ed[1]]] - o).dot(n);
+    const int m = w.elements.dim == 3 ? mid_edge_node(w, e, ed[0], ed[1]) : -1;
+    if (m >= 0) return quadratic_edge_root(li, (x[m] - o).dot(n), lj);
+    return li != lj ? std::clamp(li / (li - lj), 0.0, 1.0) : 0.5;
+}
+
 /// Builds the split of an element from its crossed edges: node signs (the 2-colouring whose
 /// differing edges contain the crossed ones with the fewest extra, oriented by the quad's normal or
 /// by signs already fixed) and the crossing parameter of every differing edge. False if no
@@ -113,7 +145,7 @@ bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) 
     int first = 0;
     while (!(c.mask >> first & 1)) ++first;
     const int* fe = edge_nodes(dim, first);
-    const Vec3 p = x[el.nodes[e][fe[0]]] + c.t[first] * (x[el.nodes[e][fe[1]]] - x[el.nodes[e][fe[0]]]);
+    const Vec3 p = edge_point(w, e, first, c.t[first]);
     if (colour0_sign == 0) {
         const int s = side_of(x[el.nodes[e][fe[0]]], p, c.normal[first]);
         colour0_sign = colour(fe[0]) == 0 ? s : -s;
@@ -126,10 +158,9 @@ bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) 
     std::vector<Vec3> pts;
     for (int k = 0; k < ne; ++k) {
         if (!(c.mask >> k & 1)) continue;
-        const int* ed = edge_nodes(dim, k);
         ev.edge_t[k] = c.t[k];
         ev.edge_has_t[k] = 1;
-        pts.push_back(x[el.nodes[e][ed[0]]] + c.t[k] * (x[el.nodes[e][ed[1]]] - x[el.nodes[e][ed[0]]]));
+        pts.push_back(edge_point(w, e, k, c.t[k]));
     }
     Vec3 n = c.normal[first];
     if (dim == 3 && pts.size() >= 3) {
@@ -139,8 +170,7 @@ bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) 
     for (int k = 0; k < ne; ++k) {
         const int* ed = edge_nodes(dim, k);
         if ((c.mask >> k & 1) || colour(ed[0]) == colour(ed[1])) continue;
-        const double li = (x[el.nodes[e][ed[0]]] - pts[0]).dot(n), lj = (x[el.nodes[e][ed[1]]] - pts[0]).dot(n);
-        ev.edge_t[k] = li != lj ? std::clamp(li / (li - lj), 0.0, 1.0) : 0.5;
+        ev.edge_t[k] = plane_edge_param(w, e, k, pts[0], n);
         ev.edge_has_t[k] = 1;
     }
     return true;
@@ -167,8 +197,7 @@ bool tip_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) {
     for (int k = 0; k < ne; ++k) {
         if (!(c.mask >> k & 1)) continue;
         if (first < 0) first = k;
-        const int* ed = edge_nodes(dim, k);
-        pts.push_back(x[el.nodes[e][ed[0]]] + c.t[k] * (x[el.nodes[e][ed[1]]] - x[el.nodes[e][ed[0]]]));
+        pts.push_back(edge_point(w, e, k, c.t[k]));
     }
     if (first < 0) return false;
     Vec3 n = c.normal[first];
@@ -223,7 +252,7 @@ bool lies_on_skin(const World& w, int e, const CutEvent& ev) {
         // change sign (a progressive front's edges ahead of the blade).
         const double t = ev.edge_has_t[k] ? ev.edge_t[k] : li / (li - lj);
         const Vec3 &a = x[n[ed[0]]], &b = x[n[ed[1]]];
-        points.push_back(a + t * (b - a));
+        points.push_back(edge_point(w, e, k, t));
         off_nodes = off_nodes || std::min(t, 1.0 - t) * (b - a).norm() > tolerance;
     }
     if (!off_nodes) return false;
@@ -258,7 +287,8 @@ void remove_from_list(BladeCut& bc, int e, int list) {
 }
 
 /// Where local edge k of element e crosses the quad (its parameter along the edge), and which of
-/// the quad's triangles it crosses (`tri`).
+/// the quad's triangles it crosses (`tri`). A quadratic element's edge is the curve through its
+/// mid-edge node; its parameter is the rest edge's, as a straight edge's is.
 std::optional<double> edge_crossing(const World& w, int e, int k, const CutQuad& q, int& tri) {
     const int dim = w.elements.dim;
     const int* ed = edge_nodes(dim, k);
@@ -266,6 +296,12 @@ std::optional<double> edge_crossing(const World& w, int e, int k, const CutQuad&
     const Vec3& b = w.nodes.position[w.elements.nodes[e][ed[1]]];
     tri = 0;
     if (dim != 3) return segment_segment_2d(a, b, q.corner[0], q.corner[3]);
+    if (const int m = mid_edge_node(w, e, ed[0], ed[1]); m >= 0) {
+        const Vec3& pm = w.nodes.position[m];
+        std::optional<double> s = quadratic_edge_triangle(a, pm, b, q.corner[0], q.corner[1], q.corner[2]);
+        if (!s) s = quadratic_edge_triangle(a, pm, b, q.corner[0], q.corner[2], q.corner[3]), tri = 1;
+        return s;
+    }
     std::optional<double> t = segment_triangle(a, b, q.corner[0], q.corner[1], q.corner[2]);
     if (!t) t = segment_triangle(a, b, q.corner[0], q.corner[2], q.corner[3]), tri = 1;
     return t;
