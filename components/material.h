@@ -21,6 +21,10 @@ struct Material {
     /// "element": "quadratic": its tetrahedra are 10-node quadratic ones (components/quadratic_elements.h),
     /// which neither lock in bending nor, as much, as nu nears 0.5; false: the linear element.
     bool quadratic = false;
+    /// "element": "quadratic-p0": quadratic, with the volumetric strain's mean over the element (a
+    /// constant pressure per element, P2-P0) in place of its value at each point: no volumetric
+    /// locking as nu nears 0.5 (systems/kernels/quadratic_tet.h).
+    bool mean_dilatation = false;
 
     double mu() const { return young / (2.0 * (1.0 + poisson)); }
     double lambda() const { return young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson)); }

@@ -122,7 +122,10 @@ Material read_material(const JsonFields& mat, const Material& base) {
     m.thickness = mat.number("thickness", base.thickness, 1e-12);
     m.toughness = mat.number("toughness", base.toughness, 0.0, 1e6);
     m.blade_friction = mat.number("blade_friction", base.blade_friction, 0.0, 1e6);
-    m.quadratic = mat.choice("element", base.quadratic ? "quadratic" : "linear", {"linear", "quadratic"}) == "quadratic";
+    const std::string element = mat.choice("element", base.mean_dilatation ? "quadratic-p0" : base.quadratic ? "quadratic" : "linear",
+                                           {"linear", "quadratic", "quadratic-p0"});
+    m.quadratic = element != "linear";
+    m.mean_dilatation = element == "quadratic-p0";
     return m;
 }
 

@@ -27,8 +27,12 @@ template <int D>
 using VecD = Eigen::Matrix<double, D, 1>;
 
 struct LameParameters {
-    double lambda;  ///< [Pa]
+    double lambda;  ///< [Pa], at every quadrature point
     double mu;      ///< [Pa]
+    /// [Pa]: lambda on the element's mean volumetric strain instead (a quadratic element with a
+    /// constant pressure, systems/kernels/quadratic_tet.h); the linear element's strain is constant,
+    /// so it has no use for it.
+    double lambda_mean = 0.0;
 };
 
 /// Edge matrix [x1-x0, x2-x0(, x3-x0)] of an element's nodes.

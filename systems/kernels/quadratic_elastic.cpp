@@ -44,7 +44,10 @@ double element_forces(const QuadraticView& v, const Vec3* x, int t, const Mat3& 
 
 }  // namespace
 
-LameParameters quadratic_lame(const Material& m) { return {m.lambda(), m.mu()}; }
+LameParameters quadratic_lame(const Material& m) {
+    if (m.mean_dilatation) return {0.0, m.mu(), m.lambda()};
+    return {m.lambda(), m.mu()};
+}
 
 double quadratic_forces(const QuadraticView& v, const Vec3* x, std::vector<Tet10Vectors>& buffer) {
     const int n = v.quadratic.count();
@@ -90,6 +93,19 @@ Vec3 quadratic_gathered(const QuadraticElements& q, const std::vector<Tet10Vecto
     return s;
 }
 
+namespace {
+
+/// A constant-pressure element's rbar (tet10_mean_gradients) and its block scale lambda_mean V / W
+/// (`volume`: V times the stiffness scale); 0 for any other element.
+template <size_t P>
+double mean_pressure_terms(const Tet10PointGradients<P>& G, const Mat3& R, const LameParameters& lame, double volume,
+                           std::array<Vec3, 10>& rbar) {
+    if (lame.lambda_mean == 0.0) return 0.0;
+    return lame.lambda_mean * volume / tet10_mean_gradients(G, R, rbar);
+}
+
+}  // namespace
+
 void quadratic_block_terms(const QuadraticView& v, double stiff_scale, QuadraticTerms& terms) {
     const int n = v.quadratic.count();
     terms.whole.resize(n);
@@ -111,6 +127,7 @@ void quadratic_block_terms(const QuadraticView& v, double stiff_scale, Quadratic
                 b.lambda_w[q] = w * lame.lambda, b.mu_w[q] = w * lame.mu;
                 for (int j = 0; j < 10; ++j) b.r[q][j] = R * G.grad[q][j];
             }
+            b.lambda_mean_w = mean_pressure_terms(G, R, lame, stiff_scale * volume_of(v, t), b.rbar);
             return;
         }
         const Tet10Gradients G = tet10_gradients(v.elements.dm_inv[e]);
@@ -119,6 +136,7 @@ void quadratic_block_terms(const QuadraticView& v, double stiff_scale, Quadratic
         b.lambda_w = w * lame.lambda, b.mu_w = w * lame.mu;
         for (int q = 0; q < 4; ++q)
             for (int j = 0; j < 10; ++j) b.r[q][j] = R * G.grad[q][j];
+        b.lambda_mean_w = mean_pressure_terms(G, R, lame, stiff_scale * volume_of(v, t), b.rbar);
     }, 512);
 }
 
@@ -141,10 +159,12 @@ void add_quadratic_row(const QuadraticElements& q, const QuadraticTerms& terms, 
         if (terms.side_of[t] >= 0) {
             const QuadraticSideBlocks& b = terms.side[terms.side_of[t]];
             for (int p = 0; p < b.count; ++p) add_point_row(b.r[p], b.lambda_w[p], b.mu_w[p], a, slot, A);
+            if (b.lambda_mean_w != 0.0) add_point_row(b.rbar, b.lambda_mean_w, 0.0, a, slot, A);
             continue;
         }
         const QuadraticBlocks& b = terms.whole[t];
         for (int p = 0; p < 4; ++p) add_point_row(b.r[p], b.lambda_w, b.mu_w, a, slot, A);
+        if (b.lambda_mean_w != 0.0) add_point_row(b.rbar, b.lambda_mean_w, 0.0, a, slot, A);
     }
 }
 

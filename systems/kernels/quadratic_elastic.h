@@ -42,12 +42,18 @@ Vec3 quadratic_gathered(const QuadraticElements& q, const std::vector<Tet10Vecto
 struct QuadraticBlocks {
     std::array<std::array<Vec3, 10>, 4> r;
     double lambda_w = 0.0, mu_w = 0.0;
+    /// A constant-pressure element's (LameParameters::lambda_mean): rbar_j = sum_q w_q R grad N_j(q)
+    /// and scale V lambda_mean / W (tet10_mean_gradients); 0 otherwise.
+    std::array<Vec3, 10> rbar;
+    double lambda_mean_w = 0.0;
 };
 /// The same for one side of a cut element, per point of its rule (weights w_q V scale).
 struct QuadraticSideBlocks {
     int count = 0;
     std::array<std::array<Vec3, 10>, TetSideRule::kMaxPoints> r;
     std::array<double, TetSideRule::kMaxPoints> lambda_w{}, mu_w{};
+    std::array<Vec3, 10> rbar;
+    double lambda_mean_w = 0.0;
 };
 /// Every element's block makings: whole elements in `whole`, sides in `side` (side_of[t] its index,
 /// -1 for a whole element).

@@ -112,19 +112,54 @@ XCUT_INLINE void tet10_scatter(const Mat3& R, const std::array<Mat3, P>& sigma, 
     }
 }
 
+/// The rule's weight sum W [-] (1 for the whole element; a side's fraction) and
+/// rbar_j = sum_q w_q R grad N_j(q) [1/m]: the mean volumetric strain is theta = sum_j rbar_j . u_j / W.
+template <size_t P>
+inline double tet10_mean_gradients(const Tet10PointGradients<P>& G, const Mat3& R, std::array<Vec3, 10>& rbar) {
+    double W = 0.0;
+    for (int j = 0; j < 10; ++j) rbar[j].setZero();
+    for (int q = 0; q < tet10_points(G); ++q) {
+        W += tet10_weight(G, q);
+        for (int j = 0; j < 10; ++j) rbar[j] += tet10_weight(G, q) * (R * G.grad[q][j]);
+    }
+    return W;
+}
+
+/// Adds lame.lambda_mean theta I to every point's stress, theta = sum_q w_q tr(H_q) / W the mean of
+/// tr(H) over the rule (the constant pressure of P2-P0: the volumetric strain projected onto
+/// constants, Hughes's B-bar (1980), equivalent to the mixed element with its pressure condensed,
+/// Malkus & Hughes 1978); returns theta [-]. Nothing when lambda_mean is 0 (the bits stay).
+template <size_t P>
+XCUT_INLINE double tet10_add_mean_pressure(const std::array<double, P>& trace, const Tet10PointGradients<P>& G,
+                                           const LameParameters& lame, std::array<Mat3, P>& sigma, double& W) {
+    W = 0.0;
+    if (lame.lambda_mean == 0.0) return 0.0;
+    double theta = 0.0;
+    for (int q = 0; q < tet10_points(G); ++q) theta += tet10_weight(G, q) * trace[q], W += tet10_weight(G, q);
+    theta /= W;
+    for (int q = 0; q < tet10_points(G); ++q) sigma[q].diagonal().array() += lame.lambda_mean * theta;
+    return theta;
+}
+
 /// Elastic forces f_j = -sum_q w_q V R sigma_q grad N_j(q) at positions x [N]; returns the strain
-/// energy [J]. `volume`: the element's rest volume (times its weight) [m^3].
+/// energy [J]. `volume`: the element's rest volume (times its weight) [m^3]. With lambda_mean, the
+/// volumetric energy is lambda_mean V W theta^2 / 2 on the mean theta.
 template <size_t P>
 inline double tet10_forces(const Tet10Vectors& x, const Tet10PointGradients<P>& G, const Mat3& R, double volume,
                            const LameParameters& lame, Tet10Vectors& force) {
     std::array<Mat3, P> sigma;
+    std::array<double, P> trace;
     double energy = 0.0;
     for (int q = 0; q < tet10_points(G); ++q) {
         const Mat3 H = R.transpose() * tet10_gradient_of(x, G, q) - Mat3::Identity();
         sigma[q] = linear_stress<3>(H, lame);
+        trace[q] = H.trace();
         const Mat3 eps = 0.5 * (H + H.transpose());
         energy += tet10_weight(G, q) * volume * (lame.mu * eps.squaredNorm() + 0.5 * lame.lambda * eps.trace() * eps.trace());
     }
+    double W = 0.0;
+    const double theta = tet10_add_mean_pressure(trace, G, lame, sigma, W);
+    if (lame.lambda_mean != 0.0) energy += 0.5 * lame.lambda_mean * volume * W * theta * theta;
     tet10_scatter(R, sigma, G, -volume, force);
     return energy;
 }
@@ -134,12 +169,20 @@ template <size_t P>
 inline void tet10_stiffness_product(const Tet10Vectors& p, const Tet10PointGradients<P>& G, const Mat3& R,
                                     double volume, const LameParameters& lame, Tet10Vectors& out) {
     std::array<Mat3, P> sigma;
-    for (int q = 0; q < tet10_points(G); ++q) sigma[q] = linear_stress<3>(R.transpose() * tet10_gradient_of(p, G, q), lame);
+    std::array<double, P> trace;
+    for (int q = 0; q < tet10_points(G); ++q) {
+        const Mat3 H = R.transpose() * tet10_gradient_of(p, G, q);
+        sigma[q] = linear_stress<3>(H, lame);
+        trace[q] = H.trace();
+    }
+    double W = 0.0;
+    tet10_add_mean_pressure(trace, G, lame, sigma, W);
     tet10_scatter(R, sigma, G, volume, out);
 }
 
 /// Adds block (j, k) of the element stiffness, scaled, to the row-major 3x3 `block`: per point the
-/// linear element's block (add_corotational_stiffness_block) with the rotated gradients R grad N.
+/// linear element's block (add_corotational_stiffness_block) with the rotated gradients R grad N;
+/// with lambda_mean, (lambda_mean V / W) rbar_j rbar_k^T besides.
 template <size_t P>
 inline void tet10_add_stiffness_block(const Tet10PointGradients<P>& G, const Mat3& R, double volume,
                                       const LameParameters& lame, int j, int k, double scale, double* block) {
@@ -148,9 +191,14 @@ inline void tet10_add_stiffness_block(const Tet10PointGradients<P>& G, const Mat
         const Vec3 rj = R * G.grad[q][j], rk = R * G.grad[q][k];
         add_corotational_stiffness_block((w * lame.lambda) * rj, (w * lame.mu) * rj, rk, 3, block);
     }
+    if (lame.lambda_mean == 0.0) return;
+    std::array<Vec3, 10> rbar;
+    const double W = tet10_mean_gradients(G, R, rbar);
+    add_corotational_stiffness_block((lame.lambda_mean * volume * scale / W) * rbar[j], Vec3::Zero(), rbar[k], 3, block);
 }
 
-/// Diagonal of the element stiffness: node j, axis c: sum_q w_q V (mu |g|^2 + (lambda + mu) (R g)_c^2).
+/// Diagonal of the element stiffness: node j, axis c: sum_q w_q V (mu |g|^2 + (lambda + mu) (R g)_c^2),
+/// and (lambda_mean V / W) (rbar_j)_c^2.
 template <size_t P>
 inline void tet10_stiffness_diagonal(const Tet10PointGradients<P>& G, const Mat3& R, double volume,
                                      const LameParameters& lame, Tet10Vectors& out) {
@@ -161,6 +209,10 @@ inline void tet10_stiffness_diagonal(const Tet10PointGradients<P>& G, const Mat3
             out[j] += tet10_weight(G, q) * volume * (lame.mu * rg.squaredNorm() * Vec3::Ones() + (lame.lambda + lame.mu) * rg.cwiseAbs2());
         }
     }
+    if (lame.lambda_mean == 0.0) return;
+    std::array<Vec3, 10> rbar;
+    const double W = tet10_mean_gradients(G, R, rbar);
+    for (int j = 0; j < 10; ++j) out[j] += (lame.lambda_mean * volume / W) * rbar[j].cwiseAbs2();
 }
 
 }  // namespace xcut

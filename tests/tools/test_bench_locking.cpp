@@ -4,6 +4,8 @@
 // what the record says.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cstdlib>
 #include <map>
 #include <tuple>
@@ -25,7 +27,8 @@ TEST(LockingBench, TinyRunScoresBothElementsAgainstCalculix) {
     o.cache_dir = std::string(XCUT_BUILD_DIR) + "/accuracy_cache";
     std::vector<std::string> notes;
     const std::vector<LockingBenchRow> rows = run_locking_bench(o, &notes);
-    ASSERT_EQ(rows.size(), 20u) << "the beam: two ratios, two elements, two levels; Cook's membrane: nu 0.49; "
+    ASSERT_EQ(rows.size(), 24u) << "the beam: two ratios, three elements (linear, quadratic, quadratic-p0), two "
+                                   "levels; Cook's membrane: nu 0.49; "
                                    "the block: two ratios, two cutters, two levels; notes:\n"
                                 << fmt::format("{}", fmt::join(notes, "\n"));
     double cook_linear = 0.0, cook_quadratic = 0.0;
@@ -48,7 +51,9 @@ TEST(LockingBench, TinyRunScoresBothElementsAgainstCalculix) {
             EXPECT_LT(r.error, -0.4) << "the linear element locks on 1-2 cells through the beam";
         } else {
             EXPECT_TRUE(r.poisson != 0.0 || std::abs(r.error) < 0.005) << r.error;
-            EXPECT_TRUE(r.n != 2 || std::abs(r.error) < 0.02) << "the 10k-DOF target: " << r.error;
+            // the 10k-DOF target; the constant pressure bends too softly (+2.5 % at nu 0.49 in the full
+            // suite, +4 % against this run's coarser reference: docs/elements.md)
+            EXPECT_TRUE(r.n != 2 || std::abs(r.error) < (r.element == "quadratic" ? 0.02 : 0.05)) << r.error;
         }
         EXPECT_LE(r.dofs, 10000);
     }
@@ -86,6 +91,12 @@ TEST(LockingBench, TinyRunScoresBothElementsAgainstCalculix) {
         const double quadratic = cut_block_run(spec, 4, "xfem-quadratic", reference_points(ref)).error;
         const double linear = block[{"xfem", nu, 8}];
         EXPECT_LT(quadratic, (nu < 0.4 ? 0.7 : 0.5) * linear);
+        // With a constant pressure per element (quadratic-p0): at nu 0.49 the full suite measured
+        // 8.0 % against 12.9 % at 4 cells; here against the coarser reference, the margin above its error.
+        const double constant_pressure = cut_block_run(spec, 4, "xfem-quadratic-p0", reference_points(ref)).error;
+        std::printf("block nu %.2f, 4 cells: quadratic %.3g %%, with a constant pressure %.3g %%\n", nu, 100 * quadratic,
+                    100 * constant_pressure);
+        if (nu > 0.4) EXPECT_LT(constant_pressure, 0.85 * quadratic);
     }
     bool met = false;
     for (const std::string& line : locking_summary(rows))

@@ -258,7 +258,8 @@ bool wants(const AccuracyBenchOptions& o, int problem) {
 
 AccuracyRow cut_block_run(const CutBlockSpec& spec, int n, const char* cutter, const std::vector<Vec3>& reference) {
     CutBlockSpec on = spec;
-    on.quadratic = on.quadratic || std::string(cutter) == "xfem-quadratic";
+    on.quadratic = on.quadratic || std::string(cutter).rfind("xfem-quadratic", 0) == 0;
+    on.mean_dilatation = on.mean_dilatation || std::string(cutter) == "xfem-quadratic-p0";
     World w = cut_block_world(on, n);
     w.snap.enabled = std::string(cutter) == "snap";
     const RunTimer t;

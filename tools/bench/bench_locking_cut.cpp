@@ -40,6 +40,7 @@ void cut_block_rows(const LockingBenchOptions& o, const std::string& cache, std:
         for (int n : levels)
             for (const char* cutter : {"xfem", "snap"}) runs.emplace_back(cutter, n);
         for (int n : quadratic_levels) runs.emplace_back("xfem-quadratic", n);
+        for (int n : quadratic_levels) runs.emplace_back("xfem-quadratic-p0", n);
         for (const auto& [cutter, n] : runs) {
             const AccuracyRow a = median_if_short([&] { return cut_block_run(spec, n, cutter, reference); });
             LockingBenchRow row;

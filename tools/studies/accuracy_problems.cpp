@@ -71,6 +71,7 @@ World cantilever_world(const CantileverSpec& s, int n) {
     m.poisson = s.poisson;
     m.density = s.density;
     m.quadratic = s.quadratic;
+    m.mean_dilatation = s.mean_dilatation;
     World w;
     w.materials.list = {m};
     w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
@@ -159,6 +160,7 @@ World cut_block_world(const CutBlockSpec& s, int n) {
     m.poisson = s.poisson;
     m.density = s.density;
     m.quadratic = s.quadratic;
+    m.mean_dilatation = s.mean_dilatation;
     return world_with(generate_box(grid_of(s.size, cut_block_cells(s, n))), m);
 }
 

@@ -35,6 +35,7 @@ struct CantileverSpec {
     double gravity = 9.81;                              ///< g [m/s^2]
     double poisson = 0.0;                               ///< nu [-] (the closed form below is for 0)
     bool quadratic = false;                             ///< 10-node tetrahedra (components/quadratic_elements.h)
+    bool mean_dilatation = false;                       ///< with a constant pressure each ("quadratic-p0")
 };
 /// Euler-Bernoulli with Timoshenko's shear term (Timoshenko & Gere, Mechanics of Materials):
 ///   delta = q L^4 / (8 E I) + q L^2 / (2 kappa G A),  q = rho g b h,  I = b h^3 / 12,  kappa = 5/6.
@@ -76,6 +77,7 @@ struct CutBlockSpec {
     double pull = 2e-5;                    ///< end displacement [m] (strain 1e-3: small deformation)
     double young = 1e4, poisson = 0.3, density = 1000.0;  ///< skin (docs/scene-format.md, material) [Pa, -, kg/m^3]
     bool quadratic = false;  ///< the mesh's element (not a parameter of the reference): 10-node tetrahedra
+    bool mean_dilatation = false;  ///< with a constant pressure each ("quadratic-p0"; not a reference parameter)
 };
 /// Cells of the coarse mesh with `n` cells along L: (n, n B / L, n H / L) rounded, at least one;
 /// n must make n H / L an even integer so the crack front lies on a grid plane.
