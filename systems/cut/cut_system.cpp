@@ -6,6 +6,7 @@
 #include "components/cut_elements.h"
 #include "engine/parallel.h"
 #include "engine/quadratic_setup.h"
+#include "systems/cut/edge_geometry.h"
 #include "systems/kernels/intersection.h"
 #include "systems/kernels/blade_pose.h"
 #include "systems/kernels/mesh_measures.h"
@@ -86,27 +87,6 @@ std::vector<int> neighbourhood(const World& w, const std::vector<int>& seeds, in
 /// Side of x relative to the crossing surface: +1 or -1 (0 counts as +1, the fixed tie-break).
 int side_of(const Vec3& x, const Vec3& point, const Vec3& normal) {
     return (x - point).dot(normal) >= 0.0 ? 1 : -1;
-}
-
-/// The point at parameter t of local edge k of element e (current positions): on the chord between
-/// its corners, or on a quadratic element's curve through its mid-edge node.
-Vec3 edge_point(const World& w, int e, int k, double t) {
-    const int* ed = edge_nodes(w.elements.dim, k);
-    const Vec3* x = w.nodes.position.data();
-    const Vec3 &a = x[w.elements.nodes[e][ed[0]]], &b = x[w.elements.nodes[e][ed[1]]];
-    const int m = w.elements.dim == 3 ? mid_edge_node(w, e, ed[0], ed[1]) : -1;
-    return m >= 0 ? quadratic_edge_point(a, x[m], b, t) : Vec3(a + t * (b - a));
-}
-
-/// The parameter where local edge k of element e (chord or curve, as edge_point) meets the plane
-/// through o with normal n; 0.5 for a chord in the plane's direction.
-double plane_edge_param(const World& w, int e, int k, const Vec3& o, const Vec3& n) {
-    const int* ed = edge_nodes(w.elements.dim, k);
-    const Vec3* x = w.nodes.position.data();
-    const double li = (x[w.elements.nodes[e][ed[0]]] - o).dot(n), lj = (x[w.elements.nodes[e][ed[1]]] - o).dot(n);
-    const int m = w.elements.dim == 3 ? mid_edge_node(w, e, ed[0], ed[1]) : -1;
-    if (m >= 0) return quadratic_edge_root(li, (x[m] - o).dot(n), lj);
-    return li != lj ? std::clamp(li / (li - lj), 0.0, 1.0) : 0.5;
 }
 
 /// Builds the split of an element from its crossed edges: node signs (the 2-colouring whose

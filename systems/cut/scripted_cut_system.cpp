@@ -4,8 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/quadratic_setup.h"
-#include "systems/kernels/intersection.h"
+#include "systems/cut/edge_geometry.h"
 
 namespace xcut {
 namespace {
@@ -83,18 +82,8 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressi
         for (int k = 0; k < edges && (complete || progressive); ++k) {
             const int* ed = dim == 3 ? kTetEdges[k] : kTriEdges[k];
             if (H[ed[0]] == H[ed[1]]) continue;
-            const double li = ev.level[ed[0]], lj = ev.level[ed[1]];
-            const Vec3& xi = w.nodes.position[el.nodes[e][ed[0]]];
-            const Vec3& xj = w.nodes.position[el.nodes[e][ed[1]]];
-            double t = li != lj ? std::clamp(li / (li - lj), 0.0, 1.0) : 0.5;
-            Vec3 q = xi + t * (xj - xi);
-            if (const int m = dim == 3 ? mid_edge_node(w, e, ed[0], ed[1]) : -1; m >= 0) {
-                // A quadratic element's edge is the curve through its mid-edge node: where it meets
-                // the plane, its parameter the rest edge's.
-                const Vec3& xm = w.nodes.position[m];
-                t = quadratic_edge_root(li, (xm - pl.origin).dot(pl.normal), lj);
-                q = quadratic_edge_point(xi, xm, xj, t);
-            }
+            const double t = plane_edge_param(w, e, k, pl.origin, pl.normal);
+            const Vec3 q = edge_point(w, e, k, t);
             const bool in = dim == 3 ? inside_polygon(pl, polygon, q) : inside_segment(pl, q);
             complete = complete && in;
             inside |= static_cast<uint8_t>(in) << k;
