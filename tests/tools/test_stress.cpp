@@ -75,9 +75,13 @@ TEST(Stress, HundredProgressiveTrajectoriesKeepEveryInvariant) { hundred_traject
 
 // Quadratic tissue cut (docs/elements.md, "Cutting quadratic elements"), on both fronts and with
 // several blades (seeds 12-14, 20 trajectories each): every invariant as for the linear element.
-TEST(Stress, QuadraticTrajectoriesKeepEveryInvariant) {
-    hundred_trajectories(12, "semi", 1, false, 0, 20, "quadratic");
+// Three tests, so that ctest runs them side by side (each takes about as long as a hundred linear
+// trajectories).
+TEST(Stress, QuadraticTrajectoriesKeepEveryInvariant) { hundred_trajectories(12, "semi", 1, false, 0, 20, "quadratic"); }
+TEST(Stress, QuadraticProgressiveTrajectoriesKeepEveryInvariant) {
     hundred_trajectories(13, "progressive", 1, false, 0, 20, "quadratic");
+}
+TEST(Stress, QuadraticMultiBladeTrajectoriesKeepEveryInvariant) {
     hundred_trajectories(14, "semi", 4, false, 0, 20, "quadratic");
 }
 
