@@ -44,4 +44,11 @@ struct Hasher {
     void all(const T&... v) { (add(v), ...); }
 };
 
+/// FNV-1a of a text's bytes, from `seed` (a hash to go on from): stable file names for cached results.
+inline uint64_t fnv1a(const std::string& text, uint64_t seed = Hasher{}.h) {
+    Hasher h{seed};
+    h.bytes(text.data(), text.size());
+    return h.h;
+}
+
 }  // namespace xcut

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <string>
 
+#include "engine/fnv_hash.h"
 #include "engine/io/generators.h"
 #include "engine/setup.h"
 #include "engine/world.h"
@@ -21,6 +22,15 @@
 #include "systems/solver/solver_system.h"
 
 namespace xcut::testing {
+
+/// FNV-1a over every DOF node's position and velocity (and the visual vertices when asked): two runs
+/// that should agree bit for bit have the same hash.
+inline uint64_t state_hash(const World& w, bool with_visual = false) {
+    Hasher h;
+    h.all(w.nodes.position, w.nodes.velocity);
+    if (with_visual) h.add(w.visual.position);
+    return h.h;
+}
 
 /// Runs a shell command line; its exit code (-1 if it did not exit), stdout and stderr in `out`.
 inline int run_command(const std::string& cmd, std::string& out) {

@@ -3,25 +3,15 @@
 // blocks and forces gathered per node in element order, so no result depends on the thread count.
 #include <gtest/gtest.h>
 
-#include <cstring>
 
 #include "engine/parallel.h"
 #include "systems/pipeline.h"
+#include "tests/test_helpers.h"
 
 namespace xcut {
 namespace {
 
-/// FNV-1a over the bytes of every position and velocity.
-uint64_t state_hash(const World& w) {
-    uint64_t h = 1469598103934665603ull;
-    auto mix = [&](const std::vector<Vec3>& v) {
-        const auto* p = reinterpret_cast<const unsigned char*>(v.data());
-        for (size_t i = 0; i < v.size() * sizeof(Vec3); ++i) h = (h ^ p[i]) * 1099511628211ull;
-    };
-    mix(w.nodes.position);
-    mix(w.nodes.velocity);
-    return h;
-}
+using testing::state_hash;
 
 /// The default scene (a scalpel incision in the skin patch), large enough that every parallel loop
 /// really splits (3600 tets > the 2048-item serial cut-off), run for 30 steps.

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "engine/fnv_hash.h"
 #include "tools/studies/plot_script.h"
 
 namespace xcut {
@@ -15,11 +16,6 @@ namespace xcut {
 namespace {
 
 namespace fs = std::filesystem;
-
-uint64_t fnv1a(const std::string& text, uint64_t h = 1469598103934665603ull) {
-    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-    return h;
-}
 
 bool on_path(const std::string& program) {
     const char* path = std::getenv("PATH");

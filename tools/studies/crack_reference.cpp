@@ -15,6 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "engine/fnv_hash.h"
 #include "engine/io/generators.h"
 #include "engine/setup.h"
 
@@ -36,13 +37,6 @@ std::vector<double> lines_through(std::vector<double> stops, double h) {
 std::string key_line(const CutBlockSpec& s, int n) {
     return fmt::format("L={:.17g} B={:.17g} H={:.17g} cut_x={:.17g} depth={:.17g} pull={:.17g} E={:.17g} nu={:.17g} n={}",
                        s.size.x(), s.size.y(), s.size.z(), s.cut_x, s.depth, s.pull, s.young, s.poisson, n);
-}
-
-/// FNV-1a of the key: a stable file name on every platform.
-uint64_t fnv1a(const std::string& text) {
-    uint64_t h = 1469598103934665603ull;
-    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-    return h;
 }
 
 bool read_cache(const std::string& path, const std::string& key, size_t count, ReferenceField& out) {

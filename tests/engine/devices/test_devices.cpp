@@ -5,30 +5,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <thread>
 
 #include "engine/error.h"
 #include "systems/pipeline.h"
+#include "tests/test_helpers.h"
 
 namespace xcut {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// FNV-1a over the bytes of every DOF position and velocity and every visual vertex.
-uint64_t state_hash(const World& w) {
-    uint64_t h = 1469598103934665603ull;
-    auto mix = [&h](const Vec3& v) {
-        unsigned char bytes[sizeof(double) * 3];
-        std::memcpy(bytes, v.data(), sizeof(bytes));
-        for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
-    };
-    for (int i = 0; i < w.nodes.count(); ++i) mix(w.nodes.position[i]), mix(w.nodes.velocity[i]);
-    for (const Vec3& x : w.visual.position) mix(x);
-    return h;
-}
 
 /// The default scene at dt 0.03 s on 4 mm elements and the coarsest skin: a replay is about the
 /// tool, not the resolution.
@@ -52,13 +39,13 @@ TEST(Devices, RecordedCutSessionReplaysBitForBit) {
         sim->recorder = std::make_unique<SessionRecorder>(sim->world, dir.string());
         for (int i = 0; i < 45; ++i) step_simulation(*sim);
         ASSERT_GT(sim->world.cuts.count(), 20) << "the session cuts";
-        recorded = state_hash(sim->world);
+        recorded = testing::state_hash(sim->world, true);
     }
     ASSERT_TRUE(fs::exists(dir / "scalpel.csv"));
     auto replay = make_simulation(scene, false, dir.string());
     EXPECT_STREQ(replay->devices[0]->kind(), "replay");
     for (int i = 0; i < 45; ++i) step_simulation(*replay);
-    EXPECT_EQ(state_hash(replay->world), recorded);
+    EXPECT_EQ(testing::state_hash(replay->world, true), recorded);
     // A session for another scene is refused with the file named.
     EXPECT_THROW(make_simulation(scene, false, (dir / "missing").string()), InputError);
 }
@@ -82,7 +69,7 @@ TEST(Devices, RealTimeSessionReplaysBitForBit) {
         sim->recorder = std::make_unique<SessionRecorder>(sim->world, dir.string());
         while (sim->world.time < 0.5 && steps < 5000) step_simulation(*sim), ++steps;
         ASSERT_GT(sim->world.cuts.count(), 5) << "the session cuts";
-        recorded = state_hash(sim->world);
+        recorded = testing::state_hash(sim->world, true);
         recorded_time = sim->world.time;
         recorded_cuts = sim->world.cuts.element;
     }
@@ -96,7 +83,7 @@ TEST(Devices, RealTimeSessionReplaysBitForBit) {
     for (int i = 0; i < steps; ++i) step_simulation(*replay);
     EXPECT_EQ(replay->world.time, recorded_time);
     EXPECT_EQ(replay->world.cuts.element, recorded_cuts);
-    EXPECT_EQ(state_hash(replay->world), recorded);
+    EXPECT_EQ(testing::state_hash(replay->world, true), recorded);
     // One step more than the session holds is an error naming the session's file.
     try {
         step_simulation(*replay);

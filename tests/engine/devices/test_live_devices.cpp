@@ -3,7 +3,6 @@
 // the tools it added (session.json); a scene's "device" field and the override that appends tools.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -16,6 +15,7 @@ namespace xcut {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::state_hash;
 
 Keyframe at(double t, const Vec3& p) {
     Keyframe k;
@@ -71,17 +71,6 @@ std::vector<std::string> live_scalpel_overrides() {
     return {"solver.dt=0.03", "solver.cg_tolerance=1e-4", "mesh.element_size=0.004", "visual.subdivisions=0",
             R"(tools+={"name": "hand", "blade": {"tip": [0, 0, -0.003], "heel": [0, 0, 0.004]},
                 "trajectory": [{"time": 0, "position": [0.01, -0.02, 0]}], "device": {"type": "viewer"}})"};
-}
-
-uint64_t state_hash(const World& w) {
-    uint64_t h = 1469598103934665603ull;
-    for (int i = 0; i < w.nodes.count(); ++i)
-        for (const Vec3* v : {&w.nodes.position[i], &w.nodes.velocity[i]}) {
-            unsigned char bytes[sizeof(double) * 3];
-            std::memcpy(bytes, v->data(), sizeof(bytes));
-            for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
-        }
-    return h;
 }
 
 /// Registers the "viewer" device type as live devices collected in `hands`.
