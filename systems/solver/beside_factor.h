@@ -17,13 +17,17 @@
 // Used while the block stands still: renewed when it changes, and kept as A's own factor is (aged
 // by solves and CG iterations). A block that changed at this step and at one of the two before (a
 // blade that carries its tip rebuilds the zone every step it moves, and its old M preconditions no
-// better than A's own factor) is left to A's factor with the term beside it: a factor every step
-// cost that scene more than the CG iterations it saved. A static solve's block is built once.
+// better than A's own factor) gets no factor of M: a factor every step cost that scene more than
+// the CG iterations it saved. The cholesky method then solves it with the factor in use and the
+// block beside it (systems/solver/beside_augment.h: sparse solves for the amplitudes' columns,
+// no factorization); the direct method, with A's factor and the term left to CG. A static solve's
+// block is built once.
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 #include <cstdint>
 
 #include "components/linear_system.h"
+#include "systems/solver/beside_augment.h"
 #include "systems/step_term.h"
 
 namespace xcut {
@@ -43,6 +47,9 @@ struct BesideFactor {
     int age = 0;                ///< solves since it was computed
     int last_iterations = 0;    ///< CG iterations of the last solve with it
     double lnz = 0.0;           ///< non-zeros of its L
+    /// While the block moves: no factor of M, but the factor in use with the block beside it
+    /// (systems/solver/beside_augment.h), made again as the block moves.
+    BesideAugment moving;
 
     /// z = the first `base` entries of M^-1 [r; 0] (takes the CHOLMOD lock).
     void solve(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;

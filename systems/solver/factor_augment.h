@@ -20,6 +20,7 @@
 // their columns of Y (one reach per node for its three axes) and their rows of S.
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -27,6 +28,53 @@
 #include "systems/solver/lower_factor.h"
 
 namespace xcut {
+
+/// x = L^-1 P b for a right-hand side b with few entries (`width` of them side by side, stored row
+/// by row), visiting only the rows their solves reach up the elimination tree (Gilbert & Peierls
+/// 1988: the pattern of L's column j lies on j's path): add b's entries, solve, read x over reach(),
+/// clear.
+template <int width>
+class SparseForward {
+public:
+    explicit SparseForward(const LowerFactor& lf) : lf_(lf), where_(lf.rows()), x_(width * lf.rows(), 0.0), marked_(lf.rows(), 0) {
+        for (int k = 0; k < lf.rows(); ++k) where_[lf.perm[k]] = k;
+    }
+    /// b's entries on row `row` of A: v[c] for each of its `width` sides.
+    void add(int row, const double* v) {
+        const int at = where_[row];
+        for (int c = 0; c < width; ++c) x_[width * at + c] += v[c];
+        for (int j = at; j != -1 && !marked_[j]; j = lf_.etree_parent(j)) marked_[j] = 1, reach_.push_back(j);
+    }
+    void solve() {
+        std::sort(reach_.begin(), reach_.end());  // a child before its parent: a topological order
+        for (int j : reach_) lf_.eliminate_column<width>(j, x_.data());
+    }
+    /// The rows of P A P^T the solve reached, increasing, and x there (x(j)[c]).
+    const std::vector<int>& reach() const { return reach_; }
+    const double* x(int j) const { return x_.data() + width * j; }
+    void clear() {
+        for (int j : reach_) {
+            for (int c = 0; c < width; ++c) x_[width * j + c] = 0.0;
+            marked_[j] = 0;
+        }
+        reach_.clear();
+    }
+
+private:
+    const LowerFactor& lf_;
+    std::vector<int> where_;  ///< row of A -> row of P A P^T
+    std::vector<double> x_;
+    std::vector<char> marked_;
+    std::vector<int> reach_;
+};
+
+/// Column q . v of a matrix stored by sparse columns ([start[q], start[q + 1]) of row, value; v dense).
+inline double sparse_column_dot(const std::vector<int>& start, const std::vector<int>& row, const std::vector<double>& value,
+                                int q, const Eigen::VectorXd& v) {
+    double s = 0.0;
+    for (int p = start[q]; p < start[q + 1]; ++p) s += value[p] * v[row[p]];
+    return s;
+}
 
 struct FactorAugment {
     uint64_t topology = 0;            ///< the pattern of A it was last extended for
@@ -41,6 +89,8 @@ struct FactorAugment {
     bool ok = false;                  ///< S was positive definite
 
     int columns() const { return static_cast<int>(parent.size()); }
+    /// Y_q . v over column q's entries (v dense, in the factor's order).
+    double column_dot(int q, const Eigen::VectorXd& v) const { return sparse_column_dot(y_start, y_row, y_value, q, v); }
 };
 
 /// Extends the augmented block to A's new DOFs (block rows [base/3, A.rows()) over the factor

@@ -12,6 +12,7 @@
 #include "systems/kernels/solver/projected_guess.h"
 #include "systems/kernels/solver/team_cg.h"
 #include "systems/solver/amg_background.h"
+#include "systems/solver/beside_augment.h"
 #include "systems/solver/beside_factor.h"
 #include "systems/solver/cholesky_factor.h"
 #include "systems/solver/factor_background.h"
@@ -312,7 +313,31 @@ public:
                            (f->topology != A_.topology && !augmented) || (aged && !off_step) || spent;
         if (A_.pending_factor) A_.step_preconditioner = std::max(A_.step_preconditioner, 1);
         if (augmented) ++A_.augmented_steps;
+        // A term's block that moves (a blade carrying its tip): one more augmented block on the
+        // factor in use, made again for each factor, augmented block and zone
+        // (systems/solver/beside_augment.h).
+        BesideAugment* tips = nullptr;
+        const auto prepare_tips = [&] {
+            tips = nullptr;
+            if (!moving_term_ || !f || !f->ok || !f->lower || (f->topology != A_.topology && !augmented)) return;
+            BesideFactor& bf = *A_.beside_factor;
+            const FactorAugment* g = augmented ? &f->augment : nullptr;
+            const uint64_t version = moving_term_->beside_version(w_);
+            BesideAugment& t = bf.moving;
+            const bool same = t.factor == f && t.factor_id == A_.factorizations && t.version == version &&
+                              t.topology == A_.topology && t.phantom_columns == (g ? g->columns() : 0) &&
+                              t.stiff_scale == stiff_scale_;
+            if (!same) {
+                BesideBlock block;
+                if (!moving_term_->beside_block(w_, block)) return;
+                t.factor = f, t.factor_id = A_.factorizations, t.version = version, t.topology = A_.topology;
+                build_beside_augment(A_, *f->lower, g, block, stiff_scale_, mask_, t);
+                t.phantom_columns = g ? g->columns() : 0, t.stiff_scale = stiff_scale_;
+            }
+            if (t.ok) tips = &t, ++t.solves;
+        };
         const auto solve_factor = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+            if (tips) return apply_beside_augment(*f->lower, augmented ? &f->augment : nullptr, *tips, r, z);
             if (f->lower) return solve_with_factor(*f, augmented, r, z);  // no BLAS
             with_cholmod_blas([&] { f->solve(r, z); });
         };
@@ -327,7 +352,11 @@ public:
             ++A_.factor_age;
         };
         with_kept(stale, renew, [&] { return f && f->ok; },
-                  [&] { return cg(Preconditioning::kSingle, no_rows, solve_factor); }, solved);
+                  [&] {
+                      prepare_tips();
+                      return cg(Preconditioning::kSingle, no_rows, solve_factor);
+                  },
+                  solved);
     }
 
     /// cholesky / direct beside a term that gives its block (the crack tips): CG preconditioned by
@@ -337,6 +366,7 @@ public:
     /// than refactor_iterations with it, and every solve for direct. False if no term gives a block,
     /// or while the block moves from step to step (systems/solver/beside_factor.h says why).
     bool beside_cholesky(double mass_scale) {
+        moving_term_ = nullptr;
         StepTerm* term = op_.block_term(w_);
         if (!term) return false;
         const SolverSettings& s = w_.solver;
@@ -344,7 +374,7 @@ public:
         if (!f) f = std::make_shared<BesideFactor>();
         const uint64_t version = term->beside_version(w_);
         if (version != f->seen_version) f->changed_before = f->changed_step, f->changed_step = w_.step, f->seen_version = version;
-        if (f->changed_step == w_.step && w_.step - f->changed_before <= 2) return false;  // a moving block
+        if (f->changed_step == w_.step && w_.step - f->changed_before <= 2) return moving_term_ = term, false;  // a moving block
         const double ratio = mass_scale > 0.0 ? stiff_scale_ / mass_scale : -stiff_scale_;  // static solves: -s
         const bool stale = !f->ok || f->version != version || f->topology != A_.topology ||
                            f->base != 3 * A_.rows() || f->ratio != ratio || f->age >= s.refactor_every ||
@@ -410,6 +440,7 @@ private:
     Eigen::VectorXd& x_;
     const Eigen::VectorXd x0_;
     LinearSolve& out_;
+    StepTerm* moving_term_ = nullptr;  ///< a term whose block moves from step to step (cholesky)
 };
 
 }  // namespace

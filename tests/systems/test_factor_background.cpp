@@ -7,6 +7,8 @@
 #include <random>
 
 #include "systems/kernels/solver/block_sparse.h"
+#include "systems/solver/beside_augment.h"
+#include "systems/solver/beside_factor.h"
 #include "systems/solver/cholesky_factor.h"
 #include "systems/solver/factor_augment.h"
 #include "systems/solver/factor_background.h"
@@ -126,6 +128,58 @@ TEST(FactorAugment, ExtendingKeepsTheColumnsAlreadySolved) {
     EXPECT_TRUE(std::equal(y_value.begin(), y_value.end(), g.y_value.begin())) << "the first six columns were kept";
     EXPECT_EQ(g.y_start.size(), y_start.size() + 3);
 }
+
+// A term's block beside the kept factor (systems/solver/beside_augment.h): its preconditioner is the
+// exact inverse of the whole system's Schur complement M - s C^T H'^-1 C (H' = H + 1e-8 diag H; held
+// axes out of C), computed densely here, over a factor with phantoms (its augmented block) and
+// without.
+void expect_beside_exact(int old_nodes, const std::vector<int>& parent_node, const Eigen::VectorXd& mask) {
+    const int nodes = old_nodes + static_cast<int>(parent_node.size()), n = 3 * nodes, k = 7;
+    const Eigen::MatrixXd M = dense_spd(nodes, mask);
+    JumpFactor jf;
+    make_jump_factor(M, old_nodes, parent_node, mask, jf);
+    FactorAugment g;
+    const LinearSystem A = block_system(M, nodes);
+    if (!parent_node.empty()) {
+        ASSERT_TRUE(extend_augment(A, jf.lf, jf.parent, g));
+    }
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    BesideBlock block;
+    block.rows = k;
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(k, n), G(k, k);
+    for (int i = 0; i < k; ++i)
+        for (int d = 0; d < n; d += 2 + i % 3) {  // a few DOFs each, phantoms among them
+            C(i, d) = u(rng);
+            block.coupling.emplace_back(i, d, C(i, d));
+        }
+    for (int i = 0; i < G.size(); ++i) G.data()[i] = u(rng);
+    Eigen::MatrixXd H = G * G.transpose() + 0.5 * Eigen::MatrixXd::Identity(k, k);
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) block.stiffness.emplace_back(i, j, H(i, j));
+    const double s = 0.4;
+    BesideAugment b;
+    ASSERT_TRUE(build_beside_augment(A, jf.lf, parent_node.empty() ? nullptr : &g, block, s, mask, b));
+    for (int d = 0; d < n; ++d)
+        if (mask[d] == 0.0) C.col(d).setZero();
+    H.diagonal() *= 1.0 + kBesideRegularization;
+    const Eigen::MatrixXd K = M - s * C.transpose() * H.llt().solve(C);
+    const Eigen::VectorXd r = Eigen::VectorXd::Random(n).cwiseProduct(mask);
+    Eigen::VectorXd z;
+    apply_beside_augment(jf.lf, parent_node.empty() ? nullptr : &g, b, r, z);
+    const Eigen::VectorXd expected = K.llt().solve(r);
+    EXPECT_GT((expected - M.llt().solve(r)).norm(), 1e-3 * expected.norm()) << "the block changes the solve";
+    EXPECT_LE((z - expected).norm(), 1e-10 * expected.norm()) << "largest difference " << (z - expected).cwiseAbs().maxCoeff();
+}
+
+TEST(BesideAugment, ExactOverAFactorWithPhantomsAndHeldAxes) {
+    Eigen::VectorXd mask = Eigen::VectorXd::Ones(33);
+    mask[0] = mask[1] = 0.0;
+    mask[3 * 8 + 6 + 2] = 0.0;
+    expect_beside_exact(8, {0, 5, 2}, mask);
+}
+
+TEST(BesideAugment, ExactOverAFactorAlone) { expect_beside_exact(9, {}, Eigen::VectorXd::Ones(27)); }
 
 // The step's solve through views of CHOLMOD's supernodes (Eigen's dense kernels, no BLAS) is
 // CHOLMOD's own solve, on a 3D grid Laplacian large enough for supernodes of many columns.

@@ -1,0 +1,151 @@
+#include "systems/solver/beside_augment.h"
+
+#include <algorithm>
+#include <array>
+#include <utility>
+
+#include "systems/solver/beside_factor.h"
+
+namespace xcut {
+namespace {
+
+/// Right-hand sides a sparse forward solve carries side by side.
+constexpr int kSolveWidth = 8;
+
+/// X_S's column c . v (v dense, in the factor's order).
+double column_dot(const BesideAugment& b, int c, const Eigen::VectorXd& v) { return sparse_column_dot(b.x_start, b.x_row, b.x_value, c, v); }
+
+/// X_S = L^-1 P I_S (kSolveWidth columns a sparse solve: each column of L on their joint reach is
+/// read once for all of them) and G = X_S^T X_S.
+void solve_rows(const LowerFactor& lf, BesideAugment& b) {
+    const int n = static_cast<int>(b.s_rows.size());
+    b.x_start.assign(1, 0), b.x_row.clear(), b.x_value.clear();
+    SparseForward<kSolveWidth> solver(lf);
+    for (int first = 0; first < n; first += kSolveWidth) {
+        const int width = std::min(kSolveWidth, n - first);
+        for (int c = 0; c < width; ++c) {
+            double entry[kSolveWidth] = {};
+            entry[c] = 1.0;
+            solver.add(b.s_rows[first + c], entry);
+        }
+        solver.solve();
+        for (int c = 0; c < width; ++c) {
+            for (int j : solver.reach())
+                if (solver.x(j)[c] != 0.0) b.x_row.push_back(j), b.x_value.push_back(solver.x(j)[c]);
+            b.x_start.push_back(static_cast<int>(b.x_row.size()));
+        }
+        solver.clear();
+    }
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(lf.rows());
+    b.G.resize(n, n);
+    for (int c = 0; c < n; ++c) {
+        for (int p = b.x_start[c]; p < b.x_start[c + 1]; ++p) w[b.x_row[p]] = b.x_value[p];
+        for (int d = 0; d <= c; ++d) b.G(c, d) = b.G(d, c) = column_dot(b, d, w);
+        for (int p = b.x_start[c]; p < b.x_start[c + 1]; ++p) w[b.x_row[p]] = 0.0;
+    }
+    b.f_columns = -1;
+    ++b.s_builds;
+}
+
+/// F = Y_g^T X_S for the phantoms' block g.
+void phantom_products(const FactorAugment& g, int base, BesideAugment& b) {
+    const int n = static_cast<int>(b.s_rows.size()), m = g.columns();
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(base);
+    b.F.resize(m, n);
+    for (int c = 0; c < n; ++c) {
+        for (int p = b.x_start[c]; p < b.x_start[c + 1]; ++p) w[b.x_row[p]] = b.x_value[p];
+        for (int q = 0; q < m; ++q) b.F(q, c) = g.column_dot(q, w);
+        for (int p = b.x_start[c]; p < b.x_start[c + 1]; ++p) w[b.x_row[p]] = 0.0;
+    }
+    b.f_columns = m;
+}
+
+}  // namespace
+
+bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, const FactorAugment* g, const BesideBlock& block,
+                          double stiff_scale, const Eigen::VectorXd& mask, BesideAugment& b) {
+    const int base = lf.rows(), m = g ? g->columns() : 0, k = block.rows;
+    b.ok = false;
+    if (base + m != 3 * A.rows()) return false;
+    // E = T^T (s C^T) by columns: its base rows (a phantom's entry also on its mesh node's row, the
+    // jump basis) and its phantom rows.
+    std::vector<std::array<double, 3>> e_base;  // (row, amplitude, value)
+    Eigen::MatrixXd Z = Eigen::MatrixXd::Zero(m, k);  // E_p, then E_p - Y_g^T Y_E
+    std::vector<int> rows;
+    const auto on_base = [&](int row, int i, double v) { e_base.push_back({double(row), double(i), v}), rows.push_back(row); };
+    for (const Eigen::Triplet<double>& t : block.coupling) {
+        const int col = t.col(), i = t.row();
+        if (mask[col] == 0.0) continue;
+        const double v = stiff_scale * t.value();
+        if (col < base) {
+            on_base(col, i, v);
+            continue;
+        }
+        const int q = col - base;
+        Z(q, i) += v;
+        if (g->parent[q] >= 0) on_base(g->parent[q], i, v);
+    }
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    if (rows != b.s_rows || b.s_factor != &lf || b.s_factor_id != b.factor_id) {
+        b.s_rows = rows, b.s_factor = &lf, b.s_factor_id = b.factor_id;
+        solve_rows(lf, b);
+    }
+    const int n = static_cast<int>(rows.size());
+    b.E = Eigen::MatrixXd::Zero(n, k);
+    for (const auto& [row, i, v] : e_base)
+        b.E(std::lower_bound(rows.begin(), rows.end(), int(row)) - rows.begin(), int(i)) += v;
+    // D = s H' - Y_E^T Y_E = s H' - E^T G E (H' as the whole system's factor regularizes it:
+    // beside_factor.h).
+    Eigen::MatrixXd D = Eigen::MatrixXd::Zero(k, k);
+    Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(k);
+    for (const Eigen::Triplet<double>& t : block.stiffness) {
+        D(t.row(), t.col()) += stiff_scale * t.value();
+        if (t.row() == t.col()) diagonal[t.row()] += t.value();
+    }
+    for (int i = 0; i < k; ++i) D(i, i) += diagonal[i] > 0.0 ? stiff_scale * kBesideRegularization * diagonal[i] : 1.0;
+    D.noalias() -= b.E.transpose() * (b.G * b.E);
+    if (m > 0) {
+        if (b.f_columns != m) phantom_products(*g, base, b);
+        Z.noalias() -= b.F * b.E;
+        b.V = g->schur.matrixL().solve(Z);
+        D.noalias() -= b.V.transpose() * b.V;
+    } else {
+        b.V.resize(0, k);
+    }
+    b.schur.compute(D);
+    return b.ok = b.schur.info() == Eigen::Success;
+}
+
+void apply_beside_augment(const LowerFactor& lf, const FactorAugment* g, const BesideAugment& b, const Eigen::VectorXd& r,
+                          Eigen::VectorXd& z) {
+    const int base = lf.rows(), m = g ? g->columns() : 0, n = static_cast<int>(b.s_rows.size());
+    Eigen::VectorXd g1 = r.head(base);  // T^T r
+    for (int q = 0; q < m; ++q)
+        if (g->parent[q] >= 0) g1[g->parent[q]] += r[base + q];
+    Eigen::VectorXd t(base);
+    for (int j = 0; j < base; ++j) t[j] = g1[lf.perm[j]];
+    lf.forward(t);
+    Eigen::VectorXd p(m), xs(n), a;
+    for (int q = 0; q < m; ++q) p[q] = r[base + q] - g->column_dot(q, t);
+    if (m > 0) g->schur.matrixL().solveInPlace(p);
+    for (int c = 0; c < n; ++c) xs[c] = column_dot(b, c, t);
+    Eigen::VectorXd y = -(b.E.transpose() * xs);  // -Y_E^T v: the amplitudes' residual is 0
+    if (m > 0) y.noalias() -= b.V.transpose() * p;
+    y = b.schur.solve(y);
+    if (m > 0) {
+        a = p - b.V * y;
+        g->schur.matrixU().solveInPlace(a);
+        for (int q = 0; q < m; ++q)
+            for (int e = g->y_start[q]; e < g->y_start[q + 1]; ++e) t[g->y_row[e]] -= g->y_value[e] * a[q];
+    }
+    const Eigen::VectorXd ey = b.E * y;  // Y_E y = X_S (E y)
+    for (int c = 0; c < n; ++c)
+        for (int e = b.x_start[c]; e < b.x_start[c + 1]; ++e) t[b.x_row[e]] -= b.x_value[e] * ey[c];
+    lf.backward(t);
+    z.resize(r.size());
+    for (int j = 0; j < base; ++j) z[lf.perm[j]] = t[j];
+    for (int q = 0; q < m; ++q) z[base + q] = a[q] + (g->parent[q] >= 0 ? z[g->parent[q]] : 0.0);
+}
+
+}  // namespace xcut

@@ -1,0 +1,75 @@
+#pragma once
+// The kept Cholesky factor with a moving term's block beside it: the cholesky method's
+// preconditioner while a blade carries its crack tip (the zone is built again every step it moves,
+// systems/cut/crack_tip_system.h), where a factor of the whole system each step costs more than it
+// saves (systems/solver/beside_factor.h) and A's factor alone leaves the tips' term to CG.
+//
+// The term is the Schur complement of [A, s C^T; s C, s H'] (BesideBlock; H' = H + eps diag H as in
+// beside_factor.h). The factor in use solves A's part, through its augmented block when A has grown
+// by phantoms since (systems/solver/factor_augment.h, jump basis T); the amplitudes are one more
+// block on it, eliminated as the phantoms are (Yeung, Crouch & Pothen 2016's augmented matrices):
+//   E = T^T (s C^T), its base rows E_b and its phantom rows E_p;
+//   Y_E = L^-1 P E_b = X_S E_S, with S the factor's rows E_b touches (the DOFs of the zone's
+//   elements), X_S = L^-1 P I_S and E_S the block's values on them;
+//   Z = E_p - Y_g^T Y_E,  D = s H' - Y_E^T Y_E,  with Y_g, S_g = L_g L_g^T the phantoms' block;
+//   V = L_g^-1 Z,  S_E = D - V^T V = L_E L_E^T (dense, one row per amplitude).
+// Applied to [r; 0]: v = L^-1 P g1; p = L_g^-1 (g2 - Y_g^T v); y = L_E^-T L_E^-1 (-Y_E^T v - V^T p);
+// a = L_g^-T (p - V y); u = P^T L^-T (v - Y_g a - Y_E y); z = T (u, a). The exact inverse of the
+// whole system's Schur complement A_kept - s C^T H'^-1 C, for one solve with the kept factor and
+// products with sparse X_S, Y_g and small dense blocks.
+//
+// What is kept: X_S (sparse forward solves, 8 columns side by side), G = X_S^T X_S and
+// F = Y_g^T X_S stay while the factor and S stay: a tip moving inside one cell changes E_S's values,
+// not S, so most moving steps pay only the small dense products (E^T G E, F E, V, S_E's Cholesky).
+// Solving the amplitudes' columns every step instead took 0.3-0.44 ms a step on the face skin and
+// saved nothing (docs/xfem.md, Solvers).
+#include <Eigen/Dense>
+#include <cstdint>
+#include <vector>
+
+#include "components/linear_system.h"
+#include "systems/solver/factor_augment.h"
+#include "systems/solver/lower_factor.h"
+#include "systems/step_term.h"
+
+namespace xcut {
+
+struct BesideAugment {
+    const void* factor = nullptr;  ///< the factor it was built on (with its count of factorizations:
+    int factor_id = 0;             ///< LinearSystem::factorizations then, so a new one at the same address differs)
+    uint64_t version = 0;          ///< the term's beside_version it was built for
+    uint64_t topology = 0;         ///< A's pattern it was built for
+    int phantom_columns = 0;       ///< the factor's augmented columns it was built over
+    double stiff_scale = 0.0;      ///< s it was built for
+    // Kept while the factor and the set S of the factor's rows E_b touches stay (a tip moving inside
+    // one cell): X_S = L^-1 P I_S by sparse columns (rows in the factor's order), G = X_S^T X_S,
+    // F = Y_g^T X_S (for `f_columns` phantom columns).
+    const void* s_factor = nullptr;
+    int s_factor_id = -1;
+    std::vector<int> s_rows;
+    std::vector<int> x_start{0}, x_row;
+    std::vector<double> x_value;
+    Eigen::MatrixXd G, F;
+    int f_columns = -1;
+    // Per block: E_b restricted to S (|S| x amplitudes), so Y_E = X_S E_S.
+    Eigen::MatrixXd E;
+    Eigen::MatrixXd V;             ///< L_g^-1 Z (phantom columns x amplitudes)
+    Eigen::LLT<Eigen::MatrixXd> schur;  ///< of S_E = D - V^T V
+    bool ok = false;
+    int solves = 0;                ///< CG solves it preconditioned
+    int s_builds = 0;              ///< times X_S was solved for
+
+    int amplitudes() const { return static_cast<int>(E.cols()); }
+};
+
+/// Builds b for `block` at stiff_scale s beside the factor `lf` (its augmented block g when A has
+/// grown, else null), the held axes of `mask` (0) dropped from C. False (b.ok false) if S_E is not
+/// positive definite: the caller keeps the factor with the term beside it.
+bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, const FactorAugment* g, const BesideBlock& block,
+                          double stiff_scale, const Eigen::VectorXd& mask, BesideAugment& b);
+
+/// z = the first A-sized part of M^-1 [r; 0] (see above); r and z of A's size.
+void apply_beside_augment(const LowerFactor& lf, const FactorAugment* g, const BesideAugment& b, const Eigen::VectorXd& r,
+                          Eigen::VectorXd& z);
+
+}  // namespace xcut
