@@ -133,6 +133,28 @@ TEST(FactorAugment, ExtendingKeepsTheColumnsAlreadySolved) {
 // exact inverse of the whole system's Schur complement M - s C^T H'^-1 C (H' = H + 1e-8 diag H; held
 // axes out of C), computed densely here, over a factor with phantoms (its augmented block) and
 // without.
+/// A block of k amplitudes coupled to every `stride`-th DOF from `first` (phantoms among them), C
+/// dense beside it; H SPD.
+BesideBlock random_block(int k, int n, int first, int stride, std::mt19937& rng, Eigen::MatrixXd& C, Eigen::MatrixXd& H) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    BesideBlock block;
+    block.rows = k;
+    C = Eigen::MatrixXd::Zero(k, n);
+    Eigen::MatrixXd G(k, k);
+    for (int i = 0; i < k; ++i)
+        for (int d = first + i % 2; d < n; d += stride + i % 3) {
+            C(i, d) = u(rng);
+            block.coupling.emplace_back(i, d, C(i, d));
+        }
+    for (int i = 0; i < G.size(); ++i) G.data()[i] = u(rng);
+    H = G * G.transpose() + 0.5 * Eigen::MatrixXd::Identity(k, k);
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) block.stiffness.emplace_back(i, j, H(i, j));
+    return block;
+}
+
+/// Three blocks in turn over one factor, as a moving tip gives them: new DOFs, then the same DOFs
+/// with new values (X_S kept), then other DOFs (X_S solved again); each solve exact.
 void expect_beside_exact(int old_nodes, const std::vector<int>& parent_node, const Eigen::VectorXd& mask) {
     const int nodes = old_nodes + static_cast<int>(parent_node.size()), n = 3 * nodes, k = 7;
     const Eigen::MatrixXd M = dense_spd(nodes, mask);
@@ -144,32 +166,27 @@ void expect_beside_exact(int old_nodes, const std::vector<int>& parent_node, con
         ASSERT_TRUE(extend_augment(A, jf.lf, jf.parent, g));
     }
     std::mt19937 rng(11);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    BesideBlock block;
-    block.rows = k;
-    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(k, n), G(k, k);
-    for (int i = 0; i < k; ++i)
-        for (int d = 0; d < n; d += 2 + i % 3) {  // a few DOFs each, phantoms among them
-            C(i, d) = u(rng);
-            block.coupling.emplace_back(i, d, C(i, d));
-        }
-    for (int i = 0; i < G.size(); ++i) G.data()[i] = u(rng);
-    Eigen::MatrixXd H = G * G.transpose() + 0.5 * Eigen::MatrixXd::Identity(k, k);
-    for (int i = 0; i < k; ++i)
-        for (int j = 0; j < k; ++j) block.stiffness.emplace_back(i, j, H(i, j));
     const double s = 0.4;
     BesideAugment b;
-    ASSERT_TRUE(build_beside_augment(A, jf.lf, parent_node.empty() ? nullptr : &g, block, s, mask, b));
-    for (int d = 0; d < n; ++d)
-        if (mask[d] == 0.0) C.col(d).setZero();
-    H.diagonal() *= 1.0 + kBesideRegularization;
-    const Eigen::MatrixXd K = M - s * C.transpose() * H.llt().solve(C);
-    const Eigen::VectorXd r = Eigen::VectorXd::Random(n).cwiseProduct(mask);
-    Eigen::VectorXd z;
-    apply_beside_augment(jf.lf, parent_node.empty() ? nullptr : &g, b, r, z);
-    const Eigen::VectorXd expected = K.llt().solve(r);
-    EXPECT_GT((expected - M.llt().solve(r)).norm(), 1e-3 * expected.norm()) << "the block changes the solve";
-    EXPECT_LE((z - expected).norm(), 1e-10 * expected.norm()) << "largest difference " << (z - expected).cwiseAbs().maxCoeff();
+    int kept = 0;
+    for (const auto& [first, stride] : {std::pair{0, 2}, std::pair{0, 2}, std::pair{1, 4}}) {
+        Eigen::MatrixXd C, H;
+        const BesideBlock block = random_block(k, n, first, stride, rng, C, H);
+        const int builds = b.s_builds;
+        ASSERT_TRUE(build_beside_augment(A, jf.lf, parent_node.empty() ? nullptr : &g, block, s, mask, b));
+        kept += b.s_builds == builds;
+        for (int d = 0; d < n; ++d)
+            if (mask[d] == 0.0) C.col(d).setZero();
+        H.diagonal() *= 1.0 + kBesideRegularization;
+        const Eigen::MatrixXd K = M - s * C.transpose() * H.llt().solve(C);
+        const Eigen::VectorXd r = Eigen::VectorXd::Random(n).cwiseProduct(mask);
+        Eigen::VectorXd z;
+        apply_beside_augment(jf.lf, parent_node.empty() ? nullptr : &g, b, r, z);
+        const Eigen::VectorXd expected = K.llt().solve(r);
+        EXPECT_GT((expected - M.llt().solve(r)).norm(), 1e-3 * expected.norm()) << "the block changes the solve";
+        EXPECT_LE((z - expected).norm(), 1e-10 * expected.norm()) << "largest difference " << (z - expected).cwiseAbs().maxCoeff();
+    }
+    EXPECT_EQ(kept, 1) << "the second block's DOFs were the first's: X_S kept once";
 }
 
 TEST(BesideAugment, ExactOverAFactorWithPhantomsAndHeldAxes) {
