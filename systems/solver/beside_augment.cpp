@@ -62,8 +62,8 @@ void phantom_products(const FactorAugment& g, int base, BesideAugment& b) {
 
 }  // namespace
 
-bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, const FactorAugment* g, const BesideBlock& block,
-                          double stiff_scale, const Eigen::VectorXd& mask, BesideAugment& b) {
+bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, uint64_t factor, const FactorAugment* g,
+                          const BesideBlock& block, double stiff_scale, const Eigen::VectorXd& mask, BesideAugment& b) {
     const int base = lf.rows(), m = g ? g->columns() : 0, k = block.rows;
     b.ok = false;
     if (base + m != 3 * A.rows()) return false;
@@ -87,8 +87,8 @@ bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, const Fa
     }
     std::sort(rows.begin(), rows.end());
     rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-    if (rows != b.s_rows || b.s_factor != &lf || b.s_factor_id != b.factor_id) {
-        b.s_rows = rows, b.s_factor = &lf, b.s_factor_id = b.factor_id;
+    if (rows != b.s_rows || factor != b.factor) {
+        b.s_rows = rows, b.factor = factor;
         solve_rows(lf, b);
     }
     const int n = static_cast<int>(rows.size());
@@ -117,35 +117,40 @@ bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, const Fa
     return b.ok = b.schur.info() == Eigen::Success;
 }
 
-void apply_beside_augment(const LowerFactor& lf, const FactorAugment* g, const BesideAugment& b, const Eigen::VectorXd& r,
-                          Eigen::VectorXd& z) {
-    const int base = lf.rows(), m = g ? g->columns() : 0, n = static_cast<int>(b.s_rows.size());
-    Eigen::VectorXd g1 = r.head(base);  // T^T r
+void apply_augmented(const LowerFactor& lf, const FactorAugment* g, const BesideAugment* b, const Eigen::VectorXd& r,
+                     Eigen::VectorXd& z) {
+    const int base = lf.rows(), m = g ? g->columns() : 0, n = b ? static_cast<int>(b->s_rows.size()) : 0;
+    Eigen::VectorXd g1 = r.head(base);  // T^T r: each new DOF's residual also on its mesh node's
     for (int q = 0; q < m; ++q)
         if (g->parent[q] >= 0) g1[g->parent[q]] += r[base + q];
     Eigen::VectorXd t(base);
     for (int j = 0; j < base; ++j) t[j] = g1[lf.perm[j]];
     lf.forward(t);
-    Eigen::VectorXd p(m), xs(n), a;
+    Eigen::VectorXd p(m), y;
     for (int q = 0; q < m; ++q) p[q] = r[base + q] - g->column_dot(q, t);
     if (m > 0) g->schur.matrixL().solveInPlace(p);
-    for (int c = 0; c < n; ++c) xs[c] = column_dot(b, c, t);
-    Eigen::VectorXd y = -(b.E.transpose() * xs);  // -Y_E^T v: the amplitudes' residual is 0
-    if (m > 0) y.noalias() -= b.V.transpose() * p;
-    y = b.schur.solve(y);
-    if (m > 0) {
-        a = p - b.V * y;
-        g->schur.matrixU().solveInPlace(a);
-        for (int q = 0; q < m; ++q)
-            for (int e = g->y_start[q]; e < g->y_start[q + 1]; ++e) t[g->y_row[e]] -= g->y_value[e] * a[q];
+    if (b) {
+        Eigen::VectorXd xs(n);
+        for (int c = 0; c < n; ++c) xs[c] = column_dot(*b, c, t);
+        y = -(b->E.transpose() * xs);  // -Y_E^T v: the amplitudes' residual is 0
+        if (m > 0) y.noalias() -= b->V.transpose() * p;
+        y = b->schur.solve(y);
+        if (m > 0) p -= b->V * y;
     }
-    const Eigen::VectorXd ey = b.E * y;  // Y_E y = X_S (E y)
-    for (int c = 0; c < n; ++c)
-        for (int e = b.x_start[c]; e < b.x_start[c + 1]; ++e) t[b.x_row[e]] -= b.x_value[e] * ey[c];
+    if (m > 0) {  // a = L_g^-T (p - V y)
+        g->schur.matrixU().solveInPlace(p);
+        for (int q = 0; q < m; ++q)
+            for (int e = g->y_start[q]; e < g->y_start[q + 1]; ++e) t[g->y_row[e]] -= g->y_value[e] * p[q];
+    }
+    if (b) {
+        const Eigen::VectorXd ey = b->E * y;  // Y_E y = X_S (E y)
+        for (int c = 0; c < n; ++c)
+            for (int e = b->x_start[c]; e < b->x_start[c + 1]; ++e) t[b->x_row[e]] -= b->x_value[e] * ey[c];
+    }
     lf.backward(t);
     z.resize(r.size());
     for (int j = 0; j < base; ++j) z[lf.perm[j]] = t[j];
-    for (int q = 0; q < m; ++q) z[base + q] = a[q] + (g->parent[q] >= 0 ? z[g->parent[q]] : 0.0);
+    for (int q = 0; q < m; ++q) z[base + q] = p[q] + (g->parent[q] >= 0 ? z[g->parent[q]] : 0.0);
 }
 
 }  // namespace xcut

@@ -35,8 +35,7 @@
 namespace xcut {
 
 struct BesideAugment {
-    const void* factor = nullptr;  ///< the factor it was built on (with its count of factorizations:
-    int factor_id = 0;             ///< LinearSystem::factorizations then, so a new one at the same address differs)
+    uint64_t factor = 0;           ///< LinearFactor::serial it was built on (X_S with it)
     uint64_t version = 0;          ///< the term's beside_version it was built for
     uint64_t topology = 0;         ///< A's pattern it was built for
     int phantom_columns = 0;       ///< the factor's augmented columns it was built over
@@ -44,8 +43,6 @@ struct BesideAugment {
     // Kept while the factor and the set S of the factor's rows E_b touches stay (a tip moving inside
     // one cell): X_S = L^-1 P I_S by sparse columns (rows in the factor's order), G = X_S^T X_S,
     // F = Y_g^T X_S (for `f_columns` phantom columns).
-    const void* s_factor = nullptr;
-    int s_factor_id = -1;
     std::vector<int> s_rows;
     std::vector<int> x_start{0}, x_row;
     std::vector<double> x_value;
@@ -62,14 +59,17 @@ struct BesideAugment {
     int amplitudes() const { return static_cast<int>(E.cols()); }
 };
 
-/// Builds b for `block` at stiff_scale s beside the factor `lf` (its augmented block g when A has
-/// grown, else null), the held axes of `mask` (0) dropped from C. False (b.ok false) if S_E is not
-/// positive definite: the caller keeps the factor with the term beside it.
-bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, const FactorAugment* g, const BesideBlock& block,
-                          double stiff_scale, const Eigen::VectorXd& mask, BesideAugment& b);
+/// Builds b for `block` at stiff_scale s beside the factor `lf` (LinearFactor::serial `factor`; its
+/// augmented block g when A has grown, else null), the held axes of `mask` (0) dropped from C.
+/// False (b.ok false) if S_E is not positive definite: the caller keeps the factor with the term
+/// beside it.
+bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, uint64_t factor, const FactorAugment* g,
+                          const BesideBlock& block, double stiff_scale, const Eigen::VectorXd& mask, BesideAugment& b);
 
-/// z = the first A-sized part of M^-1 [r; 0] (see above); r and z of A's size.
-void apply_beside_augment(const LowerFactor& lf, const FactorAugment* g, const BesideAugment& b, const Eigen::VectorXd& r,
-                          Eigen::VectorXd& z);
+/// z = T M^-1 T^T r through the kept factor `lf`, its phantoms' block g (null: none) and the
+/// amplitudes' block b (null: none; else the first A-sized part of M^-1 [r; 0], see above); r and z
+/// of A's size. With neither block, the factor's own solve.
+void apply_augmented(const LowerFactor& lf, const FactorAugment* g, const BesideAugment* b, const Eigen::VectorXd& r,
+                     Eigen::VectorXd& z);
 
 }  // namespace xcut

@@ -1,5 +1,7 @@
 #include "systems/solver/cholesky_factor.h"
 
+#include <atomic>
+
 #include "systems/solver/cholmod_pages.h"
 
 namespace xcut {
@@ -21,6 +23,8 @@ void LinearFactor::solve(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
 }
 
 bool compute_factor(LinearFactor& f, bool analyse) {
+    static std::atomic<uint64_t> factorizations{0};
+    f.serial = ++factorizations;
     f.lower.reset();
     f.augment.ok = false, f.augment.topology = 0;
     with_cholmod_blas([&] {

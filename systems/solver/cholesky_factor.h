@@ -58,6 +58,10 @@ struct LinearFactor {
     int last_iterations = 0;   ///< CG iterations of the last solve with this factor
     int computed_step = 0;     ///< World::step of the matrix it was computed from
     double lnz = 0.0;          ///< non-zeros of L
+    /// Set by compute_factor from a process-wide count, so no two factorizations share one (a
+    /// factor is computed again in place, and a new one may take a freed one's address): what a
+    /// block built on the factor is keyed by (systems/solver/beside_augment.h).
+    uint64_t serial = 0;
 
     /// Views of L's supernodes (systems/solver/lower_factor.h) when is_viewed: the step's solves
     /// and the augmented block use them.

@@ -61,23 +61,4 @@ bool extend_augment(const LinearSystem& A, const LowerFactor& lf, std::vector<in
     return g.ok = g.schur.info() == Eigen::Success;
 }
 
-void apply_augment(const LowerFactor& lf, const FactorAugment& g, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-    const int base = g.base, m = g.columns();
-    Eigen::VectorXd g1 = r.head(base);  // T^T r: each new DOF's residual also on its mesh node's
-    for (int q = 0; q < m; ++q)
-        if (g.parent[q] >= 0) g1[g.parent[q]] += r[base + q];
-    Eigen::VectorXd t(base);
-    for (int k = 0; k < base; ++k) t[k] = g1[lf.perm[k]];
-    lf.forward(t);
-    Eigen::VectorXd a(m);
-    for (int q = 0; q < m; ++q) a[q] = r[base + q] - g.column_dot(q, t);
-    if (m > 0) a = g.schur.solve(a);
-    for (int q = 0; q < m; ++q)
-        for (int p = g.y_start[q]; p < g.y_start[q + 1]; ++p) t[g.y_row[p]] -= g.y_value[p] * a[q];
-    lf.backward(t);
-    z.resize(r.size());
-    for (int k = 0; k < base; ++k) z[lf.perm[k]] = t[k];
-    for (int q = 0; q < m; ++q) z[base + q] = a[q] + (g.parent[q] >= 0 ? z[g.parent[q]] : 0.0);
-}
-
 }  // namespace xcut

@@ -100,7 +100,7 @@ struct FactorAugment {
 /// factor is too far from the grown system's old block): the caller factors A anew.
 bool extend_augment(const LinearSystem& A, const LowerFactor& lf, std::vector<int> parent, FactorAugment& g);
 
-/// z = T M^-1 T^T r, M = [[L L^T, B], [B^T, C]] (the augmented preconditioner); r and z of A's size.
-void apply_augment(const LowerFactor& lf, const FactorAugment& g, const Eigen::VectorXd& r, Eigen::VectorXd& z);
+// z = T M^-1 T^T r, M = [[L L^T, B], [B^T, C]] (the augmented preconditioner), is applied with a
+// moving term's block or without: apply_augmented, systems/solver/beside_augment.h.
 
 }  // namespace xcut

@@ -1,6 +1,7 @@
 #include "systems/solver/factor_background.h"
 
 #include "engine/background_threads.h"
+#include "systems/solver/beside_augment.h"
 #include "systems/kernels/solver/block_sparse.h"
 
 namespace xcut {
@@ -53,7 +54,7 @@ bool augment_for_grown_system(const World& w, LinearFactor& f, const Eigen::Vect
 
 void solve_with_factor(const LinearFactor& f, bool augmented, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
     if (!augmented) return f.solve(r, z);
-    apply_augment(*f.lower, f.augment, r, z);
+    apply_augmented(*f.lower, &f.augment, nullptr, r, z);
 }
 
 }  // namespace xcut

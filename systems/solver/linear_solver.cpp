@@ -324,20 +324,20 @@ public:
             const FactorAugment* g = augmented ? &f->augment : nullptr;
             const uint64_t version = moving_term_->beside_version(w_);
             BesideAugment& t = bf.moving;
-            const bool same = t.factor == f && t.factor_id == A_.factorizations && t.version == version &&
+            const bool same = t.factor == f->serial && t.version == version &&
                               t.topology == A_.topology && t.phantom_columns == (g ? g->columns() : 0) &&
                               t.stiff_scale == stiff_scale_;
             if (!same) {
                 BesideBlock block;
                 if (!moving_term_->beside_block(w_, block)) return;
-                t.factor = f, t.factor_id = A_.factorizations, t.version = version, t.topology = A_.topology;
-                build_beside_augment(A_, *f->lower, g, block, stiff_scale_, mask_, t);
+                t.version = version, t.topology = A_.topology;
+                build_beside_augment(A_, *f->lower, f->serial, g, block, stiff_scale_, mask_, t);
                 t.phantom_columns = g ? g->columns() : 0, t.stiff_scale = stiff_scale_;
             }
             if (t.ok) tips = &t, ++t.solves;
         };
         const auto solve_factor = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-            if (tips) return apply_beside_augment(*f->lower, augmented ? &f->augment : nullptr, *tips, r, z);
+            if (tips) return apply_augmented(*f->lower, augmented ? &f->augment : nullptr, tips, r, z);
             if (f->lower) return solve_with_factor(*f, augmented, r, z);  // no BLAS
             with_cholmod_blas([&] { f->solve(r, z); });
         };
