@@ -10,13 +10,18 @@ namespace xcut {
 BranchValues branch_functions(const TipFrame& tip, const Vec2& X, int side) {
     const Vec2 d = tip.direction, n(-d.y(), d.x());
     const Vec2 rel = X - tip.point;
-    const double x1 = rel.dot(d), x2 = rel.dot(n), r = std::hypot(x1, x2);
+    const double x1 = rel.dot(d), x2 = rel.dot(n), r = std::sqrt(x1 * x1 + x2 * x2);  // not hypot: no overflow at mesh scales, and 3-5x cheaper
     BranchValues out;
     if (r == 0.0) return out;
-    double theta = std::atan2(x2, x1);
-    if (side != 0 && x1 < 0.0) theta = side * std::abs(theta);  // behind the tip: the lip it lies on
-    const double sr = std::sqrt(r), s2 = std::sin(0.5 * theta), c2 = std::cos(0.5 * theta);
-    const double s = std::sin(theta), c = std::cos(theta);
+    // θ = atan2(x2, x1) in (-π, π], taken without trigonometry: cos θ and sin θ are x1 / r and
+    // x2 / r, and the half angle's cosine and sine (1 ± cos θ) / 2 as (r ± x1) / 2r, each written
+    // without cancellation (r + x1 = x2^2 / (r - x1) behind the tip, and the other way ahead).
+    // Behind the tip a point of a cut element's side takes its lip's sign (θ = side |θ|); else the
+    // sign of x2 decides, a signed zero as atan2 takes it.
+    const double sign = side != 0 && x1 < 0.0 ? side : std::copysign(1.0, x2);
+    const double r_plus = x1 >= 0.0 ? r + x1 : x2 * x2 / (r - x1), r_minus = x1 <= 0.0 ? r - x1 : x2 * x2 / (r + x1);
+    const double sr = std::sqrt(r), c2 = std::sqrt(0.5 * r_plus / r), s2 = sign * std::sqrt(0.5 * r_minus / r);
+    const double s = sign * std::abs(x2) / r, c = x1 / r;
     out.f = {sr * s2, sr * c2, sr * s2 * s, sr * c2 * s};
     // dF/dr and dF/dθ, then the local Cartesian gradient (along d, along n) by the polar chain rule.
     const std::array<double, 4> dr = {0.5 * s2 / sr, 0.5 * c2 / sr, 0.5 * s2 * s / sr, 0.5 * c2 * s / sr};
@@ -120,8 +125,10 @@ std::vector<QuadraturePoint> tip_polygon_rule(const std::vector<Vec2>& polygon, 
             }
         }
     }
-    std::vector<double> gx, gw;
-    gauss_legendre_unit(order, gx, gw);
+    // The Gauss-Legendre points, made once per thread and order (a zone is built every step a
+    // blade carries its tip, a dozen rules each time).
+    thread_local std::vector<double> gx, gw;
+    if (static_cast<int>(gx.size()) != order) gauss_legendre_unit(order, gx, gw);
     const int m = static_cast<int>(loop.size());
     for (int i = 0; i < m; ++i) add_duffy(apex, loop[i], loop[(i + 1) % m], gx, gw, 1e-14 * h * h, out);
     return out;
@@ -147,29 +154,36 @@ BranchIntegrals branch_integrals(const std::array<Vec2, 3>& X, const std::vector
     const Eigen::Matrix2d Dinv = D.inverse();
     const std::array<Vec2, 3> gradN = {Vec2(-Dinv.row(0).transpose() - Dinv.row(1).transpose()),
                                        Vec2(Dinv.row(0).transpose()), Vec2(Dinv.row(1).transpose())};
-    const int m = 4 * static_cast<int>(slots.size());
+    const int m = 4 * static_cast<int>(slots.size()), points = static_cast<int>(rule.size());
     std::vector<std::array<double, 4>> shift(slots.size());
     for (size_t s = 0; s < slots.size(); ++s) shift[s] = branch_functions(tip, X[slots[s]], node_side[slots[s]]).f;
-    BranchIntegrals out;
-    out.G.assign(m, Vec2::Zero());
-    out.M.assign(static_cast<size_t>(m) * m, Eigen::Matrix2d::Zero());
-    std::vector<Vec2> grad(m);
-    for (const QuadraturePoint& q : rule) {
-        const Vec2 lambda = Dinv * (q.X - X[0]);
+    // Column q: sqrt(w_q) ∇φ_a (rows 2a, 2a + 1), so M is one symmetric rank-k update (the weights
+    // are areas, >= 0) and G a product with sqrt(w).
+    Eigen::MatrixXd A(2 * m, points);
+    Eigen::VectorXd root(points);
+    for (int q = 0; q < points; ++q) {
+        const QuadraturePoint& p = rule[q];
+        root[q] = std::sqrt(p.weight);
+        const Vec2 lambda = Dinv * (p.X - X[0]);
         const std::array<double, 3> N = {1.0 - lambda.x() - lambda.y(), lambda.x(), lambda.y()};
-        const BranchValues F = branch_functions(tip, q.X, side);
+        const BranchValues F = branch_functions(tip, p.X, side);
         for (size_t s = 0; s < slots.size(); ++s)
             for (int l = 0; l < 4; ++l) {
                 const int k = slots[s];
-                grad[4 * s + l] = gradN[k] * (F.f[l] - shift[s][l]) + N[k] * F.grad[l];
+                A.col(q).segment<2>(2 * (4 * s + l)) = root[q] * (gradN[k] * (F.f[l] - shift[s][l]) + N[k] * F.grad[l]);
             }
-        for (int a = 0; a < m; ++a) {
-            out.G[a] += q.weight * grad[a];
-            for (int b = a; b < m; ++b) out.M[static_cast<size_t>(a) * m + b] += q.weight * grad[a] * grad[b].transpose();
-        }
     }
-    for (int a = 0; a < m; ++a)
-        for (int b = 0; b < a; ++b) out.M[static_cast<size_t>(a) * m + b] = out.M[static_cast<size_t>(b) * m + a].transpose();
+    const Eigen::VectorXd g = A * root;
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(2 * m, 2 * m);
+    M.selfadjointView<Eigen::Lower>().rankUpdate(A);
+    M.triangularView<Eigen::StrictlyUpper>() = M.transpose();
+    BranchIntegrals out;
+    out.G.resize(m);
+    out.M.resize(static_cast<size_t>(m) * m);
+    for (int a = 0; a < m; ++a) {
+        out.G[a] = g.segment<2>(2 * a);
+        for (int b = 0; b < m; ++b) out.M[static_cast<size_t>(a) * m + b] = M.block<2, 2>(2 * a, 2 * b);
+    }
     return out;
 }
 

@@ -63,6 +63,37 @@ TEST(BranchEnrichment, GradientsAreTheFunctionsDerivatives) {
     EXPECT_NEAR(branch_functions(tip, behind, 1).f[0] - branch_functions(tip, behind, -1).f[0], 2.0 * 0.5, 1e-12);
 }
 
+// The functions as defined, from θ = atan2 and the sine and cosine of θ and θ / 2, at points all
+// around the tip: ahead, beside, on both lips (and a lip's side given), a hair off the crack's line
+// behind the tip, where cos(θ / 2) is the difference of nearly equal numbers (10^-12 rad off the lip).
+TEST(BranchEnrichment, TheFunctionsAreTheirPolarDefinition) {
+    const TipFrame tip{Vec2(0.3, -0.2), Vec2(std::cos(0.4), std::sin(0.4))};
+    const Vec2 n(-tip.direction.y(), tip.direction.x());
+    int checked = 0;
+    for (int step = -31; step <= 31; ++step)
+        for (double radius : {1e-6, 0.01, 0.7})
+            for (int side : {0, 1, -1}) {
+                const double angle = 0.1 * step;
+                const Vec2 X = tip.point + radius * std::cos(angle) * tip.direction + radius * std::sin(angle) * n;
+                const double x1 = (X - tip.point).dot(tip.direction), x2 = (X - tip.point).dot(n), r = std::hypot(x1, x2);
+                double theta = std::atan2(x2, x1);
+                if (side != 0 && x1 < 0.0) theta = side * std::abs(theta);
+                const double sr = std::sqrt(r), f[4] = {sr * std::sin(theta / 2), sr * std::cos(theta / 2),
+                                                             sr * std::sin(theta / 2) * std::sin(theta),
+                                                             sr * std::cos(theta / 2) * std::sin(theta)};
+                const BranchValues v = branch_functions(tip, X, side);
+                for (int l = 0; l < 4; ++l) EXPECT_NEAR(v.f[l], f[l], 1e-14 * (1.0 + sr)) << "angle " << angle << " function " << l;
+                ++checked;
+            }
+    EXPECT_EQ(checked, 63 * 3 * 3);
+    // A hair off the crack's line behind the tip: θ = ±(π - 1e-12), so cos(θ / 2) = sin(5e-13).
+    for (double off : {1e-12, -1e-12}) {
+        const BranchValues v = branch_functions(tip, tip.point - std::cos(off) * tip.direction + std::sin(off) * n, 0);
+        EXPECT_NEAR(v.f[1], std::sin(0.5 * off) * (off > 0 ? 1.0 : -1.0), 1e-15) << off;
+        EXPECT_NEAR(v.f[0], off > 0 ? 1.0 : -1.0, 1e-15);
+    }
+}
+
 constexpr double kWidth = 0.02, kK = 0.01;  // plate [m]; stress intensity [Pa sqrt(m)]
 
 /// Mode I's near-tip displacement (Williams 1957; Anderson, Fracture Mechanics, Table 2.2), plane
