@@ -6,6 +6,7 @@
 // integrals of its shape functions' gradients over each, at rest (SI units).
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "components/nodes.h"
@@ -34,6 +35,7 @@ struct CrackTips {
     std::vector<int> element;      ///< force element (a mesh element, or a virtual element of a cut one)
     std::vector<int> first;        ///< its functions: [first[z], first[z + 1]) in `function`; size zone + 1
     std::vector<int> moment_first; ///< its n_z^2 gradient moments start here in `moment`
+    std::vector<int8_t> lip;       ///< the crack's side its part lies on (+1 the normal's, -1; 0 uncut: atan2)
     // ---- per zone element and function a (its own order)
     std::vector<int> function;     ///< global function: 4 pair + l
     std::vector<Vec3> gradient;    ///< G_a = t ∫ ∇φ_a over the element's part [m^2.5]; z = 0
@@ -49,10 +51,18 @@ struct CrackTips {
     int phantoms_seen = 0;           ///< phantoms then: later ones take the tips' field (transfer)
     int version = 0;                 ///< counts the zones built (a factor knows which it was made for)
 
-    // ---- what the volume output shows inside the tips' elements (show_crack_tips, at the steps the
-    //      output writes; engine/io/clipped_cells.cpp reads it when shown_step is the world's step):
-    //      the element as four triangles fanned from the tip, the crack's entry point once per lip
+    // ---- the amplitudes at the step's end positions (2 per function, world frame [sqrt(m)]), for
+    //      what is shown: taken by the CrackTipDisplaySystem when a surface or the volume output
+    //      shows the tips, valid while amplitude_step is the world's step
+    Eigen::VectorXd amplitude;
+    int amplitude_step = -1;
+
+    // ---- what is shown inside the tips' elements (show_crack_tips, at the steps the volume output
+    //      writes or a visual surface shows; engine/io/clipped_cells.cpp and
+    //      systems/surface/surface_tips.cpp read it when shown_step is the world's step): the
+    //      element as four triangles fanned from the tip, the crack's entry point once per lip
     int shown_step = -1;
+    std::vector<int> shown_tip;                       ///< per shown tip: the tip
     std::vector<int> shown_element;                   ///< per shown tip: the mesh element it lies in
     std::vector<std::array<int, 12>> shown_cells;     ///< its 4 triangles: a mesh node, or -1 - k for point k
     std::vector<std::array<Vec3, 3>> shown_rest;      ///< points: the entry on each lip, the tip [m]

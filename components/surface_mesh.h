@@ -48,6 +48,16 @@ struct SurfaceMesh {
     int cuts_mapped = 0;                     ///< cut elements already mapped (CutElements index)
     int crossings_mapped = 0;                ///< CutElements::crossed_log entries already mapped
     int last_rebound = 0;                    ///< vertices re-bound by the last mapping update
+    /// The crack tips' opening shown inside their elements (systems/surface/surface_tips.h) is laid
+    /// over the surface and taken off before it is cut or shown again: while it lies (tip_first_vertex
+    /// >= 0) the triangles are the tip_saved_* ones without the tips' elements' pieces, plus a fan
+    /// from each tip, and the vertices from tip_first_vertex on are its own.
+    int tip_first_vertex = -1;
+    /// per tip opened: its vertex, and where the crack enters its element on the + lip and the - lip
+    std::vector<std::array<int, 3>> tip_vertices;
+    std::vector<std::array<int, 3>> tip_saved_triangles;
+    std::vector<int> tip_saved_owner;
+    std::vector<uint8_t> tip_saved_cut_face;
 
     int vertex_count() const { return static_cast<int>(position.size()); }
 };

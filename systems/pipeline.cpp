@@ -39,8 +39,8 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
     scheduler.add(solver_system(world, terms));
     prepare_linear_solver(world, *terms);
     scheduler.add(watchdog_system());
-    scheduler.add(mapping_system());
     if (world.tips.follow_radius >= 0.0) scheduler.add(crack_tip_display_system());
+    scheduler.add(mapping_system());
     scheduler.add({"OutputSystem", kNodes | kElements | kOutput, 0, [&sim](World& w) {
                        if (sim.output) sim.output->frame_if_due(w);
                    }});

@@ -1,6 +1,7 @@
 #include "systems/xfem_queries.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "systems/kernels/mesh_measures.h"
 
@@ -49,6 +50,34 @@ Vec3 enriched_velocity(const World& w, int j) {
     if (p < 0) return Vec3::Zero();
     const Vec3 d = w.nodes.velocity[p] - w.nodes.velocity[j];
     return w.enriched.sign[j] > 0 ? Vec3(-d) : d;
+}
+
+int tip_node_lip(const World& w, const Vec2& tip_point, const Vec2& tip_direction, int node) {
+    const Vec2 rel = w.nodes.rest[node].head<2>() - tip_point, normal(-tip_direction.y(), tip_direction.x());
+    if (rel.dot(tip_direction) >= 0.0 || std::abs(rel.dot(normal)) > 1e-12 * rel.norm()) return 0;
+    const int H = node < static_cast<int>(w.enriched.sign.size()) ? w.enriched.sign[node] : 0;
+    if (H == 0) return 1;
+    return w.enriched.sign_normal[node].head<2>().dot(normal) >= 0.0 ? H : -H;
+}
+
+Vec3 tip_enrichment(const World& w, const Eigen::VectorXd& b, int z, const Vec2& X, const Vec3& L, int lip) {
+    const CrackTips& ct = w.tips;
+    Vec3 u = Vec3::Zero();
+    if (ct.first[z + 1] == ct.first[z]) return u;
+    const auto& dof = w.elements.nodes[ct.element[z]];  // a virtual element's corners may be phantoms
+    std::array<int, 3> corner;
+    for (int k = 0; k < 3; ++k) corner[k] = dof[k] < w.mesh_nodes ? dof[k] : w.enriched.node_of_phantom[dof[k] - w.mesh_nodes];
+    const int tip = ct.tip[ct.function[ct.first[z]] / 4];  // a zone element's functions are one tip's
+    const TipFrame f{ct.point[tip].head<2>(), ct.direction[tip].head<2>()};
+    const BranchValues F = branch_functions(f, X, lip);
+    for (int a = ct.first[z]; a < ct.first[z + 1]; a += 4) {  // (slot, l): four functions a slot
+        const int pair = ct.function[a] / 4, node = ct.node[pair];
+        const int k = static_cast<int>(std::find(corner.begin(), corner.end(), node) - corner.begin());
+        if (k == 3) continue;  // (a zone element's functions are its corners')
+        const BranchValues Fk = branch_functions(f, w.nodes.rest[node].head<2>(), tip_node_lip(w, f.point, f.direction, node));
+        for (int l = 0; l < 4; ++l) u.head<2>() += L[k] * (F.f[l] - Fk.f[l]) * b.segment<2>(2 * (4 * pair + l));
+    }
+    return u;
 }
 
 }  // namespace xcut

@@ -4,6 +4,7 @@
 // and studies ask a node's enriched displacement. They read the cut components only (CutElements,
 // EnrichedDofs); the EnrichmentSystem (systems/cut/enrichment_system.h) is what writes them.
 #include "engine/world.h"
+#include "systems/kernels/branch_enrichment.h"
 
 namespace xcut {
 
@@ -15,6 +16,19 @@ bool edge_crossed(const World& world, int a, int b);
 /// the edge put on it, or -1 if no cut element crosses it. One crack has one point per edge: an
 /// element split later takes this one, and the surface cuts along it.
 double crack_edge_param(const World& world, int a, int b);
+
+/// Crack tips (components/crack_tips.h): the lip (+1: the normal's side of tip frame `tip`, -1) a
+/// mesh node lies on when it sits on the crack's line behind the tip, from its Heaviside sign; 0
+/// elsewhere (atan2 decides). A node's branch-function shift F_l(X_j) is taken on that lip, so
+/// every element around it agrees.
+int tip_node_lip(const World& world, const Vec2& tip_point, const Vec2& tip_direction, int node);
+
+/// The enrichment of zone element z (CrackTips index) at its rest point X with barycentric L over
+/// its mesh element's corners: Σ_k L_k Σ_l (F_l(X) - F_l(X_k)) b_kl over the corners its functions
+/// belong to, F on lip `lip` of z's tip (0: atan2), b the amplitudes (2 per function) [m]. A point's
+/// enriched position is its element's linear interpolation plus this over the zone elements that
+/// are its force element (systems/cut/crack_tip_system.h).
+Vec3 tip_enrichment(const World& world, const Eigen::VectorXd& amplitudes, int z, const Vec2& X, const Vec3& L, int lip);
 
 /// a_j of mesh node j (eq. 6), zero if the node has no phantom.
 Vec3 enriched_displacement(const World& world, int node);

@@ -11,6 +11,7 @@
 #include "engine/error.h"
 #include "systems/kernels/branch_enrichment.h"
 #include "systems/kernels/corotational_kernel.h"
+#include "systems/xfem_queries.h"
 
 namespace xcut {
 namespace {
@@ -47,15 +48,8 @@ bool holds(const std::array<Vec2, 3>& X, const Vec2& T) { return barycentric(X, 
 
 Vec2 normal_of(const TipFrame& f) { return Vec2(-f.direction.y(), f.direction.x()); }
 
-/// The lip of a node on the crack's line behind the tip (+1: the normal's side), from its
-/// Heaviside sign; 0 elsewhere (atan2 decides).
-int node_lip(const World& w, const TipFrame& f, int node) {
-    const Vec2 rel = xy(w.nodes.rest[node]) - f.point;
-    if (rel.dot(f.direction) >= 0.0 || std::abs(rel.dot(normal_of(f))) > 1e-12 * rel.norm()) return 0;
-    const int H = node < static_cast<int>(w.enriched.sign.size()) ? w.enriched.sign[node] : 0;
-    if (H == 0) return 1;
-    return xy(w.enriched.sign_normal[node]).dot(normal_of(f)) >= 0.0 ? H : -H;
-}
+/// The lip of a node on the crack's line behind the tip (systems/xfem_queries.h).
+int node_lip(const World& w, const TipFrame& f, int node) { return tip_node_lip(w, f.point, f.direction, node); }
 
 struct ZonePart {
     int element;               ///< force element
@@ -102,6 +96,7 @@ void add_zone_part(World& w, int e, const ZonePart& part, const std::vector<int>
                                                 tip_polygon_rule(part.polygon, f, kRuleOrder));
     const double t = w.materials.list[w.elements.material[e]].thickness;
     ct.element.push_back(part.element);
+    ct.lip.push_back(static_cast<int8_t>(part.lip));
     ct.moment_first.push_back(static_cast<int>(ct.moment.size()));
     for (size_t s = 0; s < slots.size(); ++s)
         for (int l = 0; l < 4; ++l) {
@@ -460,20 +455,9 @@ SystemDesc crack_tip_system() {
 
 namespace {
 
-/// Where the crack behind tip f enters triangle X: the local edge and the point where the ray
-/// T - s d (s > 0) leaves the triangle; false when it leaves within 1e-6 of a corner.
+/// Where the crack behind tip f enters triangle X (systems/kernels/branch_enrichment.h, ray_exit).
 bool crack_entry(const std::array<Vec2, 3>& X, const TipFrame& f, int& edge, Vec2& E) {
-    double nearest = std::numeric_limits<double>::infinity(), at = -1.0;
-    for (int k = 0; k < 3; ++k) {
-        const Vec2 a = X[kTriEdges[k][0]], b = X[kTriEdges[k][1]];
-        Eigen::Matrix2d M;  // T - s d = a + u (b - a)
-        M << -f.direction, a - b;
-        if (std::abs(M.determinant()) <= 1e-14 * (b - a).norm()) continue;
-        const Vec2 su = M.partialPivLu().solve(a - f.point);
-        if (su.x() <= 0.0 || su.x() >= nearest || su.y() < -1e-9 || su.y() > 1.0 + 1e-9) continue;
-        nearest = su.x(), at = su.y(), edge = k, E = a + su.y() * (b - a);
-    }
-    return at > 1e-6 && at < 1.0 - 1e-6;
+    return ray_exit(X, f.point, -f.direction, -1, edge, E);
 }
 
 /// The enriched field at rest point X (barycentric coordinates L) of uncut mesh element e, on lip
@@ -483,15 +467,8 @@ Vec3 enriched_point(const World& w, const Eigen::VectorXd& b, int e, const Vec2&
     Vec3 x = Vec3::Zero();
     for (int k = 0; k < 3; ++k) x += L[k] * w.nodes.position[n[k]];
     const CrackTips& ct = w.tips;
-    for (int pair = 0; pair < static_cast<int>(ct.node.size()); ++pair)
-        for (int k = 0; k < 3; ++k) {
-            if (ct.node[pair] != n[k]) continue;
-            const int tip = ct.tip[pair];
-            const TipFrame f{xy(ct.point[tip]), xy(ct.direction[tip])};
-            const BranchValues F = branch_functions(f, X, tip == shown ? side : 0);
-            const BranchValues Fk = branch_functions(f, xy(w.nodes.rest[n[k]]), node_lip(w, f, n[k]));
-            for (int l = 0; l < 4; ++l) x.head<2>() += L[k] * (F.f[l] - Fk.f[l]) * b.segment<2>(2 * (4 * pair + l));
-        }
+    for (int z = 0; z < ct.zone(); ++z)
+        if (ct.element[z] == e) x += tip_enrichment(w, b, z, X, L, ct.tip[ct.function[ct.first[z]] / 4] == shown ? side : 0);
     return x;
 }
 
@@ -512,10 +489,11 @@ int tip_element(const World& w, const TipFrame& f) {
 void show_crack_tips(World& w) {
     CrackTips& ct = w.tips;
     ct.shown_step = w.step;
-    ct.shown_element.clear(), ct.shown_cells.clear();
+    ct.shown_tip.clear(), ct.shown_element.clear(), ct.shown_cells.clear();
     ct.shown_rest.clear(), ct.shown_position.clear(), ct.shown_velocity.clear();
     if (ct.count() == 0 || w.elements.dim != 2) return;
-    const Eigen::VectorXd b = crack_tip_amplitudes(w);
+    ct.amplitude = crack_tip_amplitudes(w), ct.amplitude_step = w.step;
+    const Eigen::VectorXd& b = ct.amplitude;
     for (int tip = 0; tip < ct.count(); ++tip) {
         const TipFrame f{xy(ct.point[tip]), xy(ct.direction[tip])};
         const int e = tip_element(w, f);
@@ -539,20 +517,21 @@ void show_crack_tips(World& w) {
         }
         // Fanned from the tip (point 2): a and the entry on a's lip (point 0), the entry on c's lip
         // (point 1) and c, then the two whole edges.
-        ct.shown_element.push_back(e);
+        ct.shown_tip.push_back(tip), ct.shown_element.push_back(e);
         ct.shown_cells.push_back({-3, n[a], -1, -3, -2, n[c], -3, n[c], n[o], -3, n[o], n[a]});
         ct.shown_rest.push_back(rest), ct.shown_position.push_back(position), ct.shown_velocity.push_back(velocity);
     }
 }
 
 SystemDesc crack_tip_display_system() {
-    SystemDesc s{"CrackTipDisplaySystem", kNodes | kElements | kOutput, kXfem,
+    SystemDesc s{"CrackTipDisplaySystem", kNodes | kElements, kXfem,
                  [](World& w) {
                      const OutputSettings& o = w.output;
-                     if (w.tips.count() > 0 && o.vtu && output_frame_due(o, w.step)) show_crack_tips(w);
+                     const bool volume = o.vtu && output_frame_due(o, w.step);
+                     if (w.tips.count() > 0 && (volume || w.visual.vertex_count() > 0)) show_crack_tips(w);
                  },
-                 "the opening inside the crack tips' elements, for the volume output (2D)"};
-    return s.also_reads(kXfem);
+                 "the opening inside the crack tips' elements, for the visual surface and the volume output (2D)"};
+    return s.also_reads(kXfem | kOutput | kSurfaces);
 }
 
 }  // namespace xcut

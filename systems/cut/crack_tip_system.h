@@ -58,7 +58,10 @@ Eigen::VectorXd crack_tip_amplitudes(World& world);
 /// the branch functions carry up to the tip, which the element's nodes alone do not show. A tip on
 /// an edge or at a node, or in a cut element, is shown whole.
 void show_crack_tips(World& world);
-/// The CrackTipDisplaySystem: show_crack_tips at the steps the scene's volume output writes.
+/// The CrackTipDisplaySystem, before the MappingSystem: show_crack_tips at every step when the
+/// world has a visual surface (systems/surface/surface_tips.h opens it inside the tips' elements),
+/// else at the steps the volume output writes. It keeps the amplitudes it used
+/// (CrackTips::amplitude) for the surface.
 SystemDesc crack_tip_display_system();
 
 /// The term: active when the world has tips; the assembled methods apply it beside A.

@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace xcut {
@@ -132,6 +133,21 @@ std::vector<QuadraturePoint> tip_polygon_rule(const std::vector<Vec2>& polygon, 
     const int m = static_cast<int>(loop.size());
     for (int i = 0; i < m; ++i) add_duffy(apex, loop[i], loop[(i + 1) % m], gx, gw, 1e-14 * h * h, out);
     return out;
+}
+
+bool ray_exit(const std::array<Vec2, 3>& X, const Vec2& p, const Vec2& v, int from, int& edge, Vec2& E) {
+    double nearest = std::numeric_limits<double>::infinity(), at = -1.0;
+    for (int k = 0; k < 3; ++k) {
+        if (k == from) continue;
+        const Vec2 a = X[k], b = X[(k + 1) % 3];
+        Eigen::Matrix2d M;  // p + s v = a + u (b - a)
+        M << v, a - b;
+        if (std::abs(M.determinant()) <= 1e-14 * (b - a).norm()) continue;
+        const Vec2 su = M.partialPivLu().solve(a - p);
+        if (su.x() <= 0.0 || su.x() >= nearest || su.y() < -1e-9 || su.y() > 1.0 + 1e-9) continue;
+        nearest = su.x(), at = su.y(), edge = k, E = a + su.y() * (b - a);
+    }
+    return at > 1e-6 && at < 1.0 - 1e-6;
 }
 
 std::vector<Vec2> clip_triangle(const std::array<Vec2, 3>& X, const Vec2& a, const Vec2& b, int side) {

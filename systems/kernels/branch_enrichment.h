@@ -71,6 +71,11 @@ BranchIntegrals branch_integrals(const std::array<Vec2, 3>& X, const std::vector
                                  const std::array<int, 3>& node_side, const TipFrame& tip, int side,
                                  const std::vector<QuadraturePoint>& rule);
 
+/// Where the ray p + s v (s > 0) leaves triangle X: its local edge (k: corners k and (k + 1) % 3)
+/// and the point. The edge `from` (-1: none) is one p lies on, passed over. False when it leaves
+/// within 1e-6 of a corner (along the edge), or nowhere.
+bool ray_exit(const std::array<Vec2, 3>& X, const Vec2& p, const Vec2& v, int from, int& edge, Vec2& E);
+
 /// Nodes and weights of the n-point Gauss-Legendre rule on [0, 1] (Newton on P_n from Chebyshev
 /// guesses: Press et al., Numerical Recipes, §4.6), to rounding.
 void gauss_legendre_unit(int n, std::vector<double>& x, std::vector<double>& w);

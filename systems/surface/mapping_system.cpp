@@ -8,6 +8,7 @@
 #include "engine/parallel.h"
 #include "systems/kernels/quadratic_tet.h"
 #include "systems/surface/surface_cut.h"
+#include "systems/surface/surface_tips.h"
 
 namespace xcut {
 namespace {
@@ -147,6 +148,7 @@ void build_surface(const World& w, SurfaceMesh& s, int subdivisions) {
 void build_visual_surface(World& w, int subdivisions) { build_surface(w, w.visual, subdivisions); }
 
 int map_cuts(World& w, SurfaceMesh& s) {
+    take_off_tip_opening(s);  // the surface is cut as it is, without the tips' overlay
     const int crossings = static_cast<int>(w.cuts.crossed_log.size());
     if (s.vertex_count() == 0 || (s.cuts_mapped >= w.cuts.count() && s.crossings_mapped >= crossings)) return 0;
     int rebound = 0;
@@ -211,6 +213,7 @@ SystemDesc mapping_system() {
     SystemDesc s{"MappingSystem", kNodes | kElements | kSurfaces, kSurfaces, [](World& w) {
                      rebind_cut_vertices(w);
                      update_surface_positions(w);
+                     open_tips_on_surface(w, w.visual);  // 2D crack tips: nothing without them
                  }};
     return s.also_reads(kXfem);  // the cut elements' virtual elements and where the crack crosses
 }

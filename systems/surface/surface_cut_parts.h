@@ -3,7 +3,8 @@
 //  - surface_points.cpp: the mesh around a cut element, and the surface's points bound to a side;
 //  - surface_rim.cpp: the cut's plane and trace in an element, and its rim ordered around the cut;
 //  - surface_cut_faces.cpp: the cut-face polygons that close the wound;
-//  - surface_cut.cpp: the skin subdivided along the cut, and the regeneration of an element's pieces.
+//  - surface_cut.cpp: the skin subdivided along the cut, and the regeneration of an element's pieces;
+//  - surface_tips.cpp: the crack tips' opening laid over the surface (2D).
 // Internal to those files; nothing else includes it.
 #include <Eigen/Core>
 #include <array>
