@@ -85,8 +85,14 @@ public:
         base_vertices_ = static_cast<int>(s.base_vertex_at.size());
     }
 
-    /// Walks back from the tip's element e; false (nothing changed) where the crack meets a corner.
-    bool walk(int e) {
+    /// Walks back from the tip's element e; false (nothing changed) where the crack meets a corner
+    /// or the tip's element is another tip's (`hidden`: the pieces already laid over). Another
+    /// tip's slit element ends the walk as the zone's edge does.
+    bool walk(int e, const std::vector<uint8_t>& hidden) {
+        const auto taken = [&](int f) {
+            return std::any_of(s_.pieces_of[f].begin(), s_.pieces_of[f].end(), [&](int t) { return hidden[t] != 0; });
+        };
+        if (taken(e)) return false;
         Vec2 p = T_;
         int from = -1;
         for (int guard = 0; guard < 64; ++guard) {
@@ -109,11 +115,11 @@ public:
             int next = -1;
             for_elements_around(w_, a, b, [&](int f) { next = f != e ? f : next; });
             const bool cut_point = c.replaced >= base_vertices_;  // the split elements behind show the rest
-            const bool slit_next = !cut_point && next >= 0 && !is_cut(w_, next) && zi_.head[next] >= 0 && !slit(next);
+            const bool slit_next = !cut_point && next >= 0 && !is_cut(w_, next) && zi_.head[next] >= 0 && !slit(next) && !taken(next);
             if (cut_point || next < 0 || slit_next) {
-                for (int lip : {1, -1}) c.lip[lip > 0 ? 0 : 1] = place(e, P, lip);
+                for (int lip : {1, -1}) c.lip[lip > 0 ? 0 : 1] = place(e, c.X, lip);
             } else {  // beyond, no functions (or a split element whose crack is elsewhere): the lips meet
-                c.lip.fill(c.replaced >= 0 ? c.replaced : place(e, P, 0));
+                c.lip.fill(c.replaced >= 0 ? c.replaced : place(e, c.X, 0));
                 c.replaced = -1;
             }
             if (!slit_next) return true;
@@ -261,7 +267,7 @@ void open_tips_on_surface(World& w, SurfaceMesh& s) {
     for (size_t i = 0; i < ct.shown_element.size(); ++i) {
         TipOverlay overlay(w, s, zi, static_cast<int>(i));
         const int first_vertex = s.vertex_count();
-        if (overlay.walk(ct.shown_element[i])) {
+        if (overlay.walk(ct.shown_element[i], hidden)) {
             overlay.lay(hidden);
         } else {  // the crack meets a corner: the element shown whole
             s.position.resize(first_vertex), s.element.resize(first_vertex), s.bary.resize(first_vertex), s.side.resize(first_vertex);
