@@ -80,4 +80,13 @@ Vec3 tip_enrichment(const World& w, const Eigen::VectorXd& b, int z, const Vec2&
     return u;
 }
 
+Vec3 tip_field(const World& w, const Eigen::VectorXd& b, int fe, const Vec2& X, const Vec3& L, int tip, int lip) {
+    const CrackTips& ct = w.tips;
+    Vec3 x = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) x += L[k] * w.nodes.position[w.elements.nodes[fe][k]];
+    for (int z = 0; z < ct.zone(); ++z)
+        if (ct.element[z] == fe) x += tip_enrichment(w, b, z, X, L, ct.tip[ct.function[ct.first[z]] / 4] == tip ? lip : ct.lip[z]);
+    return x;
+}
+
 }  // namespace xcut

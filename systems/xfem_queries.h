@@ -30,6 +30,12 @@ int tip_node_lip(const World& world, const Vec2& tip_point, const Vec2& tip_dire
 /// are its force element (systems/cut/crack_tip_system.h).
 Vec3 tip_enrichment(const World& world, const Eigen::VectorXd& amplitudes, int z, const Vec2& X, const Vec3& L, int lip);
 
+/// The enriched position at rest point X of force element fe (barycentric L over its corners): its
+/// linear interpolation plus tip_enrichment over the zone elements that are fe, on lip `lip` for
+/// tip `tip` and each other tip's on the element's own lip (CrackTips::lip; 0: atan2) [m]. What the
+/// volume output and the visual surface show inside the tips' elements.
+Vec3 tip_field(const World& world, const Eigen::VectorXd& amplitudes, int fe, const Vec2& X, const Vec3& L, int tip, int lip);
+
 /// a_j of mesh node j (eq. 6), zero if the node has no phantom.
 Vec3 enriched_displacement(const World& world, int node);
 Vec3 enriched_velocity(const World& world, int node);

@@ -460,18 +460,6 @@ bool crack_entry(const std::array<Vec2, 3>& X, const TipFrame& f, int& edge, Vec
     return ray_exit(X, f.point, -f.direction, -1, edge, E);
 }
 
-/// The enriched field at rest point X (barycentric coordinates L) of uncut mesh element e, on lip
-/// `side` of tip `shown` (0: off its crack; other tips' functions take their own angle) [m].
-Vec3 enriched_point(const World& w, const Eigen::VectorXd& b, int e, const Vec2& X, const Vec3& L, int shown, int side) {
-    const auto& n = w.elements.nodes[e];
-    Vec3 x = Vec3::Zero();
-    for (int k = 0; k < 3; ++k) x += L[k] * w.nodes.position[n[k]];
-    const CrackTips& ct = w.tips;
-    for (int z = 0; z < ct.zone(); ++z)
-        if (ct.element[z] == e) x += tip_enrichment(w, b, z, X, L, ct.tip[ct.function[ct.first[z]] / 4] == shown ? side : 0);
-    return x;
-}
-
 /// The uncut mesh element of the zone that holds tip f strictly inside; -1 if none.
 int tip_element(const World& w, const TipFrame& f) {
     const CrackTips& ct = w.tips;
@@ -512,7 +500,7 @@ void show_crack_tips(World& w) {
         for (int p = 0; p < 3; ++p) {
             rest[p] = Vec3(X[p].x(), X[p].y(), z);
             const Vec3 L = barycentric(corners, X[p]);
-            position[p] = enriched_point(w, b, e, X[p], L, tip, lip[p]);
+            position[p] = tip_field(w, b, e, X[p], L, tip, lip[p]);
             velocity[p] = L[0] * w.nodes.velocity[n[0]] + L[1] * w.nodes.velocity[n[1]] + L[2] * w.nodes.velocity[n[2]];
         }
         // Fanned from the tip (point 2): a and the entry on a's lip (point 0), the entry on c's lip

@@ -20,8 +20,6 @@ struct ZoneIndex {
     }
 };
 
-int tip_of_zone(const CrackTips& ct, int z) { return ct.tip[ct.function[ct.first[z]] / 4]; }
-
 /// Barycentric coordinates of rest point X in mesh element e (a triangle).
 Vec3 triangle_bary(const World& w, int e, const Vec2& X) {
     const auto& n = w.elements.nodes[e];
@@ -30,17 +28,6 @@ Vec3 triangle_bary(const World& w, int e, const Vec2& X) {
     D << w.nodes.rest[n[1]].head<2>() - X0, w.nodes.rest[n[2]].head<2>() - X0;
     const Vec2 l = D.partialPivLu().solve(X - X0);
     return Vec3(1.0 - l.x() - l.y(), l.x(), l.y());
-}
-
-/// The enriched field at rest point X of force element fe (barycentric L): its linear part and the
-/// enrichment of each of its zone elements, on lip `lip` of tip `tip` (other tips: the element's own).
-Vec3 enriched_at(const World& w, const ZoneIndex& zi, int fe, const Vec2& X, const Vec3& L, int tip, int lip) {
-    const CrackTips& ct = w.tips;
-    Vec3 x = Vec3::Zero();
-    for (int k = 0; k < 3; ++k) x += L[k] * w.nodes.position[w.elements.nodes[fe][k]];
-    for (int z = zi.head[fe]; z >= 0; z = zi.next[z])
-        x += tip_enrichment(w, ct.amplitude, z, X, L, tip_of_zone(ct, z) == tip ? lip : ct.lip[z]);
-    return x;
 }
 
 /// A vertex of the overlay, bound to mesh element e at rest point X, placed at x.
@@ -165,7 +152,7 @@ private:
     Vec2 rest_centre(const std::array<int, 3>& t) const { return (rest_2d(t[0]) + rest_2d(t[1]) + rest_2d(t[2])) / 3.0; }
     /// A vertex at rest point X of element e, placed by the enriched field on lip `lip` (0: atan2).
     int place(int e, const Vec2& X, int lip) {
-        return add_vertex(w_, s_, e, X, enriched_at(w_, zi_, e, X, triangle_bary(w_, e, X), tip_, lip));
+        return add_vertex(w_, s_, e, X, tip_field(w_, w_.tips.amplitude, e, X, triangle_bary(w_, e, X), tip_, lip));
     }
     /// Whether rest points X and Y of element e are one place (within 1e-9 of its size).
     bool same_place(int e, const Vec2& X, const Vec2& Y) const {
