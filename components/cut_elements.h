@@ -19,6 +19,17 @@
 
 namespace xcut {
 
+/// A cut line through an element (2D): a point on it and its unit normal, toward the side its bit
+/// names 1 (rest [m]).
+struct CutLine {
+    Vec3 origin = Vec3::Zero();
+    Vec3 normal = Vec3::Zero();
+};
+
+/// Cut lines an element can hold: its first cut and three more (docs/xfem.md, Several cuts per
+/// element). A further cut through it is not made, and counted (CutState::recut_ignored).
+inline constexpr int kMaxElementLines = 4;
+
 /// One entry per cut mesh element.
 struct CutElements {
     std::vector<int> element;                    ///< the mesh element that was cut
@@ -43,6 +54,16 @@ struct CutElements {
 
     std::vector<int> cut_of_element;             ///< per mesh element: index here, -1 if uncut
 
+    /// Several cuts per element (2D). Per cut element: its cut lines, the first through `points`
+    /// oriented toward its side +1, then one per further cut; empty while it is cut once along the
+    /// nodes' sides (EnrichedDofs::sign). An element with lines is divided into fragments, the parts
+    /// of it on one side of each line (VirtualElements::mask), each a virtual element.
+    std::vector<std::vector<CutLine>> lines;
+    /// Per cut element with lines: its fragments' virtual elements (virtual_element's two first).
+    std::vector<std::vector<int>> fragments;
+    /// Cut elements cut again, in order (one entry per further cut): the surfaces re-make them.
+    std::vector<int> recut_log;
+
     int count() const { return static_cast<int>(element.size()); }
 };
 
@@ -53,6 +74,10 @@ struct VirtualElements {
     std::vector<int> parent;       ///< mesh element it comes from
     std::vector<int8_t> side;      ///< +1 above (H > 0), -1 below
     std::vector<int> element;      ///< its force element index in Elements
+    /// Its side of each of its cut element's lines that bound it (CutElements::lines; bit k: line
+    /// k's normal side, bit 16 + k: line k bounds it; engine/fragment_geometry.h); bit 16 and bit 0
+    /// (side > 0) while the element is cut once.
+    std::vector<uint32_t> mask;
 
     int count() const { return static_cast<int>(parent.size()); }
 };
@@ -92,6 +117,12 @@ struct CutEvent {
     std::array<double, 4> level{};        ///< per local node; sign gives H_j unless already set
     std::array<double, 6> edge_t{};       ///< per local edge: crossing parameter in [0, 1] from its first node
     std::array<uint8_t, 6> edge_has_t{};  ///< edge_t is given (else taken from the levels)
+    /// A further cut through an element already cut (2D): the line where its levels change sign
+    /// divides the element's fragments it crosses from side to side within `extent`
+    /// (systems/cut/recut.h).
+    bool again = false;
+    bool bounded = false;                 ///< the cut ends inside the element: only `extent` is cut
+    std::array<Vec3, 2> extent{Vec3::Zero(), Vec3::Zero()};  ///< rest points on the line between which it cuts [m]
 };
 
 /// Local edges of a tetrahedron / triangle as node pairs.

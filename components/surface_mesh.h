@@ -47,6 +47,10 @@ struct SurfaceMesh {
     std::vector<std::array<int, 3>> opened;
     int cuts_mapped = 0;                     ///< cut elements already mapped (CutElements index)
     int crossings_mapped = 0;                ///< CutElements::crossed_log entries already mapped
+    int recuts_mapped = 0;                   ///< CutElements::recut_log entries already mapped
+    /// Every point a cut made, by quantized rest position: an element cut more than once (2D) takes
+    /// the one there whose material is its own (systems/surface/surface_fragments.cpp).
+    std::multimap<std::array<int64_t, 3>, int> point_at;
     int last_rebound = 0;                    ///< vertices re-bound by the last mapping update
     /// The crack tips' opening shown inside their elements (systems/surface/surface_tips.h) is laid
     /// over the surface and taken off before it is cut or shown again: while it lies (tip_first_vertex

@@ -11,7 +11,7 @@ namespace {
 
 void hash_surface(Hasher& h, const SurfaceMesh& s) {
     h.all(s.position, s.element, s.bary, s.side, s.triangles, s.triangle_owner, s.cut_face, s.bound_to,
-          s.base_triangles, s.base_of, s.pieces_of, s.node_vertex, s.cuts_mapped, s.crossings_mapped, s.last_rebound);
+          s.base_triangles, s.base_of, s.pieces_of, s.node_vertex, s.cuts_mapped, s.crossings_mapped, s.recuts_mapped, s.last_rebound);
 }
 
 void hash_component(Hasher& h, const World& w, uint32_t bit) {
@@ -45,8 +45,8 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
         case kXfem: {
             const CutElements& c = w.cuts;
             h.all(c.element, c.fraction_above, c.points, c.point_edge, c.virtual_element, c.crossed, c.opened,
-                  c.crossed_log, c.cut_of_element);
-            h.all(w.virtual_elements.parent, w.virtual_elements.side, w.virtual_elements.element);
+                  c.crossed_log, c.cut_of_element, c.lines, c.fragments, c.recut_log);
+            h.all(w.virtual_elements.parent, w.virtual_elements.side, w.virtual_elements.element, w.virtual_elements.mask);
             const CrackTips& t = w.tips;
             h.all(t.point, t.direction, t.node, t.tip, t.element, t.lip, t.first, t.moment_first, t.function, t.gradient, t.moment);
             const EnrichedDofs& en = w.enriched;

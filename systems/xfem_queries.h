@@ -36,6 +36,13 @@ Vec3 tip_enrichment(const World& world, const Eigen::VectorXd& amplitudes, int z
 /// volume output and the visual surface show inside the tips' elements.
 Vec3 tip_field(const World& world, const Eigen::VectorXd& amplitudes, int fe, const Vec2& X, const Vec3& L, int tip, int lip);
 
+/// The virtual elements of cut element c: its two sides, or its fragments once cut again
+/// (CutElements::fragments).
+inline std::vector<int> fragments_of(const World& world, int c) {
+    if (!world.cuts.fragments[c].empty()) return world.cuts.fragments[c];
+    return {world.cuts.virtual_element[c][0], world.cuts.virtual_element[c][1]};
+}
+
 /// a_j of mesh node j (eq. 6), zero if the node has no phantom.
 Vec3 enriched_displacement(const World& world, int node);
 Vec3 enriched_velocity(const World& world, int node);

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 
+#include "engine/fragment_geometry.h"
 #include "engine/quadratic_setup.h"
 #include "engine/tet10_shapes.h"
 
@@ -181,6 +182,34 @@ bool add_clipped(ClippedCells& out, const World& w, Source& src, int parent, int
     return true;
 }
 
+/// Writes virtual element v of a triangle cut again (CutElements::lines): its fragment's polygon,
+/// fanned from its first corner; true if it has one.
+bool add_fragment(ClippedCells& out, const World& w, Source& src, int v) {
+    const int parent = w.virtual_elements.parent[v];
+    const int c = w.cuts.cut_of_element[parent];
+    if (w.elements.dim != 2 || c < 0 || w.cuts.lines[c].empty()) return false;
+    const auto& pn = w.elements.nodes[parent];
+    const std::array<Vec3, 3> X{w.nodes.rest[pn[0]], w.nodes.rest[pn[1]], w.nodes.rest[pn[2]]};
+    const auto& lines = w.cuts.lines[c];
+    const std::vector<Vec3> poly =
+        fragment_polygon(X, lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v]);
+    if (poly.size() < 3) return true;
+    std::vector<int> points;
+    for (const Vec3& p : poly) {
+        int corner = -1;
+        for (int a = 0; a < 3; ++a)
+            if (p == X[a]) corner = a;
+        if (corner >= 0) {
+            points.push_back(w.elements.nodes[src.element][corner]);
+            continue;
+        }
+        const Vec3 l = triangle_barycentric(X, p);  // in the parent (xy)
+        points.push_back(add_point(out, w, src, Eigen::Vector4d(l.x(), l.y(), l.z(), 0.0), p));
+    }
+    for (size_t k = 1; k + 1 < points.size(); ++k) add_cell(out, {points[0], points[k], points[k + 1], -1}, 2, src.element);
+    return true;
+}
+
 /// Mesh element e as the four triangles fanned from a crack tip inside it (CrackTips::shown_*).
 void add_tip_fan(ClippedCells& out, const CrackTips& ct, int shown, int e) {
     const int base = static_cast<int>(out.position.size());
@@ -220,6 +249,10 @@ ClippedCells clipped_cells(const World& w) {
         const int v = virtual_of[e];
         Source src = source_of(w, e);
         const size_t first = out.cells.size();
+        if (v >= 0 && add_fragment(out, w, src, v)) {
+            out.quadratic.resize(out.cells.size(), -1);
+            continue;
+        }
         if (v >= 0 && add_clipped(out, w, src, w.virtual_elements.parent[v], w.virtual_elements.side[v])) {
             add_edge_points(out, w, src, first);
             continue;

@@ -7,6 +7,7 @@
 #include "engine/parallel.h"
 #include "engine/quadratic_setup.h"
 #include "systems/cut/edge_geometry.h"
+#include "systems/cut/recut.h"
 #include "systems/kernels/intersection.h"
 #include "systems/kernels/blade_pose.h"
 #include "systems/kernels/mesh_measures.h"
@@ -89,6 +90,18 @@ int side_of(const Vec3& x, const Vec3& point, const Vec3& normal) {
     return (x - point).dot(normal) >= 0.0 ? 1 : -1;
 }
 
+/// The unit normal of the blade over the element's crossed edges (their quads' normals, each
+/// turned to the first's side).
+Vec3 crossing_normal(const ElementCrossings& c) {
+    Vec3 sum = Vec3::Zero(), first = Vec3::Zero();
+    for (int k = 0; k < 6; ++k) {
+        if (!(c.mask >> k & 1)) continue;
+        if (first.isZero()) first = c.normal[k];
+        sum += c.normal[k].dot(first) < 0.0 ? Vec3(-c.normal[k]) : c.normal[k];
+    }
+    return sum.norm() > 0.0 ? Vec3(sum.normalized()) : sum;
+}
+
 /// Builds the split of an element from its crossed edges: node signs (the 2-colouring whose
 /// differing edges contain the crossed ones with the fewest extra, oriented by the quad's normal or
 /// by signs already fixed) and the crossing parameter of every differing edge. False if no
@@ -111,10 +124,12 @@ bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) 
     }
     if (best < 0) return false;
     auto colour = [&](int a) { return a == 0 ? 0 : (best >> (a - 1)) & 1; };
-    // Orientation: signs already fixed win; else the side of the first crossed edge's first node.
+    // Orientation: signs already fixed win (not another incision's, where elements are cut again:
+    // systems/cut/recut.h); else the side of the first crossed edge's first node.
     int colour0_sign = 0;
     const auto& sign = w.enriched.sign;
-    for (int a = 0; a < npe; ++a) {
+    const bool own = recut_allowed(w) && signed_by_other_incision(w, e, crossing_normal(c));
+    for (int a = 0; a < npe && !own; ++a) {
         const int s = sign.empty() ? 0 : sign[el.nodes[e][a]];
         if (s == 0) continue;
         const int implied = colour(a) == 0 ? s : -s;
@@ -326,17 +341,6 @@ int test_element(World& w, BladeCut& bc, int e, const std::vector<const CutQuad*
     return found;
 }
 
-/// The unit normal of the blade over the element's crossed edges (their quads' normals, each
-/// turned to the first's side).
-Vec3 crossing_normal(const ElementCrossings& c) {
-    Vec3 sum = Vec3::Zero(), first = Vec3::Zero();
-    for (int k = 0; k < 6; ++k) {
-        if (!(c.mask >> k & 1)) continue;
-        if (first.isZero()) first = c.normal[k];
-        sum += c.normal[k].dot(first) < 0.0 ? Vec3(-c.normal[k]) : c.normal[k];
-    }
-    return sum.norm() > 0.0 ? Vec3(sum.normalized()) : sum;
-}
 
 /// Whether quad q crosses one of element e's edges.
 bool quad_crosses_element(const World& w, int e, const CutQuad& q) {
@@ -370,6 +374,23 @@ void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed, int 
         ElementCrossings& c = bc.crossing.at(e);
         const int count = std::min(__builtin_popcount(c.mask), 3);
         const bool full = count >= need;
+        if (!w.cuts.cut_of_element.empty() && w.cuts.cut_of_element[e] >= 0 && !c.split) {  // cut again, once fully crossed
+            CutEvent ev;
+            if (full && make_event(w, e, c, ev)) {
+                ev.again = true;
+                w.pending_cuts.push_back(ev);
+                ++cs.elements_split;
+            }
+            if (full) {
+                remove_from_list(bc, e, c.list);
+                bc.crossing.erase(e);
+            } else if (count != c.list) {
+                remove_from_list(bc, e, c.list);
+                c.list = count;
+                bc.lists[count - 1].push_back(e);
+            }
+            continue;
+        }
         if (c.split) {  // a tip element already split: the enrichment learns which edges are crossed now
             CutEvent ev;
             ev.element = e;
@@ -458,7 +479,8 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
     for (int e : candidates) {
         if ((!cut.empty() && cut[e] >= 0) || (!cs.queued.empty() && cs.queued[e])) {
             const auto tip = bc.crossing.find(e);  // a progressive front's tip element is still tested
-            if (!cs.progressive || tip == bc.crossing.end() || !tip->second.split) {
+            const bool again = recut_allowed(w) && !cut.empty() && cut[e] >= 0 && cuts_across(w, e, normals[0][0]);
+            if (!again && (!cs.progressive || tip == bc.crossing.end() || !tip->second.split)) {
                 for (size_t k = 0; k < quads.size(); ++k) note_recut(w, e, *quads[k], normals[k][0], tool);
                 continue;
             }

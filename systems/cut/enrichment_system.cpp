@@ -9,6 +9,8 @@
 #include "engine/setup.h"
 #include "systems/cut/node_copies.h"
 #include "systems/cut/quadratic_enrichment.h"
+#include "systems/cut/recut.h"
+#include "engine/fragment_geometry.h"
 #include "systems/kernels/cut_geometry.h"
 #include "systems/xfem_queries.h"
 
@@ -39,6 +41,16 @@ void prepare_enrichment(World& w) {
 
 namespace {
 
+/// Whether event ev is a cut of another incision than the one that gave one of its element's nodes
+/// its side: its line is more than 30 degrees from the cut that fixed it (kRecutCos). Such an element
+/// takes its sides and its points from the event, not from the nodes' sides and the edges' earlier
+/// points, and its parts are those of its line (`line`; systems/cut/recut.h), where a world cuts
+/// elements again.
+bool other_incision(const World& w, const CutEvent& ev, CutLine& line) {
+    return recut_allowed(w) && event_line(ev, corners(w, ev.element), line) &&
+           signed_by_other_incision(w, ev.element, line.normal);
+}
+
 /// Splits one element as `ev` asks; returns false if it is already cut or the signs do not differ.
 bool record_cut(World& w, const CutEvent& ev) {
     const int e = ev.element;
@@ -47,8 +59,11 @@ bool record_cut(World& w, const CutEvent& ev) {
     const int dim = el.dim, npe = el.nodes_per_element();
     const auto& c = el.nodes[e];
     EnrichedDofs& en = w.enriched;
+    CutLine own_line;
+    const bool own = other_incision(w, ev, own_line);
     std::array<int8_t, 4> H{};
-    for (int a = 0; a < npe; ++a) H[a] = en.sign[c[a]] != 0 ? en.sign[c[a]] : (ev.level[a] >= 0.0 ? 1 : -1);
+    for (int a = 0; a < npe; ++a)
+        H[a] = en.sign[c[a]] != 0 && !own ? en.sign[c[a]] : (ev.level[a] >= 0.0 ? 1 : -1);
     bool mixed = false;
     for (int a = 1; a < npe; ++a) mixed = mixed || H[a] != H[0];
     if (!mixed) return false;
@@ -70,7 +85,7 @@ bool record_cut(World& w, const CutEvent& ev) {
         double tk = ev.edge_has_t[k] ? ev.edge_t[k] : 0.5;
         const double li = ev.level[i], lj = ev.level[j];
         if (!ev.edge_has_t[k] && li != lj && (li >= 0.0) != (lj >= 0.0)) tk = li / (li - lj);
-        const double earlier = crack_edge_param(w, c[i], c[j]);
+        const double earlier = own ? -1.0 : crack_edge_param(w, c[i], c[j]);
         t[k] = earlier >= 0.0 ? earlier : std::clamp(tk, 0.0, 1.0);
         points[np] = edge_point(X, dim, k, t[k]);
         point_edge[np++] = static_cast<int8_t>(k);
@@ -81,8 +96,7 @@ bool record_cut(World& w, const CutEvent& ev) {
     for (int a = 0; a < npe; ++a) toward += H[a] * (X[a] - points[0]).dot(normal);
     if (toward < 0.0) normal = -normal;
     for (int a = 0; a < npe; ++a) {
-        if (en.sign[c[a]] == 0) en.sign_normal[c[a]] = normal;
-        en.sign[c[a]] = H[a];
+        if (en.sign[c[a]] == 0) en.sign_normal[c[a]] = normal, en.sign[c[a]] = H[a];
         en.enriched[c[a]] = 1;
     }
     const double total = dim == 3 ? tet_side_volume(X, H, t, 1) + tet_side_volume(X, H, t, -1)
@@ -98,6 +112,9 @@ bool record_cut(World& w, const CutEvent& ev) {
     ce.entered_time.push_back(ev.entered_time >= 0.0 ? ev.entered_time : w.time);
     ce.entered_wall.push_back(ev.entered_wall >= 0.0 ? ev.entered_wall : wall_seconds());
     ce.opened.push_back(0);
+    ce.lines.emplace_back();
+    ce.fragments.emplace_back();
+    if (own) ce.lines.back().push_back(own_line);
     sign_edge_nodes(w, e);
     return true;
 }
@@ -127,15 +144,16 @@ void record_crossings(World& w, const CutEvent& ev, std::vector<int>& affected) 
 void note_opening(World& w, int c) {
     CutElements& ce = w.cuts;
     if (ce.opened[c]) return;
-    const auto& verts = w.elements.nodes[w.virtual_elements.element[ce.virtual_element[c][0]]];
-    const auto& other = w.elements.nodes[w.virtual_elements.element[ce.virtual_element[c][1]]];
-    for (int a = 0; a < w.elements.nodes_per_element(); ++a)
-        if (verts[a] >= w.mesh_nodes || other[a] >= w.mesh_nodes) {
-            ce.opened[c] = 1;
-            ce.open_delay_sim.push_back(w.time - ce.entered_time[c]);
-            ce.open_delay_wall.push_back(wall_seconds() - ce.entered_wall[c]);
-            return;
-        }
+    for (int v : fragments_of(w, c)) {
+        const auto& verts = w.elements.nodes[w.virtual_elements.element[v]];
+        for (int a = 0; a < w.elements.nodes_per_element(); ++a)
+            if (verts[a] >= w.mesh_nodes) {
+                ce.opened[c] = 1;
+                ce.open_delay_sim.push_back(w.time - ce.entered_time[c]);
+                ce.open_delay_wall.push_back(wall_seconds() - ce.entered_wall[c]);
+                return;
+            }
+    }
 }
 
 /// Creates the two virtual elements of a newly cut element `c` over its own nodes (the copies the
@@ -149,9 +167,11 @@ void create_virtual_elements(World& w, int c) {
         w.cuts.virtual_element[c][s] = w.virtual_elements.count();
         w.virtual_elements.parent.push_back(e);
         w.virtual_elements.side.push_back(side);
+        w.virtual_elements.mask.push_back((side > 0 ? 1u : 0u) | bound_by(0));
         w.virtual_elements.element.push_back(append_element_copy(el, e, std::max(side > 0 ? fa : 1.0 - fa, kMinSideFraction)));
     }
     el.weight[e] = 0.0;
+    if (!w.cuts.lines[c].empty()) w.cuts.fragments[c] = {w.cuts.virtual_element[c][0], w.cuts.virtual_element[c][1]};
     add_quadratic_sides(w, c);
 }
 
@@ -162,10 +182,21 @@ int apply_cut_events(World& w) {
     prepare_enrichment(w);
     const int first_new = w.cuts.count();
     std::vector<int> affected;  // nodes whose hold is looked at again
-    for (const CutEvent& ev : w.pending_cuts)
-        if (!record_cut(w, ev)) record_crossings(w, ev, affected);
+    std::vector<int> update;    // cut elements whose virtual vertices change
+    int recut = 0;
+    for (const CutEvent& ev : w.pending_cuts) {
+        if (ev.again) {
+            if (!record_recut(w, ev)) continue;
+            ++recut;
+            update.push_back(w.cuts.cut_of_element[ev.element]);
+            w.cuts.recut_log.push_back(w.cuts.cut_of_element[ev.element]);
+            for (int a = 0; a < w.elements.nodes_per_element(); ++a) affected.push_back(w.elements.nodes[ev.element][a]);
+        } else if (!record_cut(w, ev)) {
+            record_crossings(w, ev, affected);
+        }
+    }
     w.pending_cuts.clear();
-    const int split = w.cuts.count() - first_new;
+    const int split = w.cuts.count() - first_new + recut;
     if (split == 0 && affected.empty()) return 0;
 
     const Elements& el = w.elements;
@@ -179,7 +210,6 @@ int apply_cut_events(World& w) {
     std::sort(affected.begin(), affected.end());
     affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
 
-    std::vector<int> update;  // cut elements whose virtual vertices change
     for (int c = first_new; c < w.cuts.count(); ++c) create_virtual_elements(w, c), update.push_back(c);
     for (int j : affected) assign_node_copies(w, j, update);
     std::sort(update.begin(), update.end());
@@ -191,8 +221,8 @@ int apply_cut_events(World& w) {
     std::vector<int> touched;  // every vertex of the updated virtual elements and of their parents
     for (int c : update) {
         for (int a = 0; a < npe; ++a) touched.push_back(el.nodes[w.cuts.element[c]][a]);
-        for (int s = 0; s < 2; ++s) {
-            const auto& verts = el.nodes[w.virtual_elements.element[w.cuts.virtual_element[c][s]]];
+        for (int v : fragments_of(w, c)) {
+            const auto& verts = el.nodes[w.virtual_elements.element[v]];
             touched.insert(touched.end(), verts.begin(), verts.begin() + npe);
         }
         append_quadratic_vertices(w, c, touched);

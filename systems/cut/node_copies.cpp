@@ -6,17 +6,27 @@
 #include <stdexcept>
 
 #include "systems/cut/quadratic_enrichment.h"
+#include "systems/cut/recut.h"
+#include "engine/fragment_geometry.h"
 #include "systems/kernels/disjoint_sets.h"
 #include "systems/xfem_queries.h"
 
 namespace xcut {
 namespace {
 
-/// Material of one element around the node: side 0 a whole element, else a cut element's side.
+/// Two fragments of neighbouring elements, one of them cut again, hold one material across their
+/// common edge when their parts of it overlap by more than this fraction of the edge [-]: two lines
+/// crossing it at one point (each element computes it) leave a few ulps, not an overlap.
+constexpr double kFaceOverlap = 1e-9;
+
+/// Material of one element around the node: side 0 a whole element, else a cut element's side or,
+/// once it is cut again, one of its fragments (systems/cut/recut.h).
 struct Fragment {
     int element;
     int8_t side;
     int8_t slot;  ///< the node's local index in the element (a quadratic one's mid-edge node: 4..9)
+    int ve;       ///< its virtual element (-1: a whole element)
+    int count;    ///< the element's first fragment: how many it has; 0 for the others
 };
 
 /// The corners a node of local index `slot` lies on: itself, or a mid-edge node's two; returns how many.
@@ -43,9 +53,32 @@ bool on_face(const World& w, const Fragment& f, const std::array<int, 3>& face) 
 }
 
 /// The force element of fragment f's virtual element (f a cut element's side).
-int virtual_of(const World& w, const Fragment& f) {
+int virtual_of(const World& w, const Fragment& f) { return w.virtual_elements.element[f.ve]; }
+
+/// Whether fragment f's element holds cut lines (it was cut again): its parts are then geometric.
+bool has_lines(const World& w, const Fragment& f) {
+    return f.side != 0 && !w.cuts.lines[w.cuts.cut_of_element[f.element]].empty();
+}
+
+/// The part [s0, s1] of the segment from mesh node p to mesh node q that fragment f holds (2D).
+std::array<double, 2> part_of_edge(const World& w, const Fragment& f, int p, int q) {
+    if (f.side == 0) return {0.0, 1.0};
     const int c = w.cuts.cut_of_element[f.element];
-    return w.virtual_elements.element[w.cuts.virtual_element[c][f.side > 0 ? 0 : 1]];
+    const Vec3 &a = w.nodes.rest[p], &b = w.nodes.rest[q];
+    if (w.cuts.lines[c].empty()) {
+        const CutLine first = first_cut_line(w, c);
+        return segment_part(a, b, &first, 1, (f.side > 0 ? 1u : 0u) | bound_by(0));
+    }
+    const auto& lines = w.cuts.lines[c];
+    return segment_part(a, b, lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[f.ve]);
+}
+
+/// Whether fragment f holds mesh node j's own material: a whole element, the side j is on, or the
+/// fragment of an element cut again that j lies in.
+bool holds_node(const World& w, const Fragment& f, int j) {
+    if (f.side == 0) return true;
+    if (!has_lines(w, f)) return f.side == w.enriched.sign[j];
+    return fragment_holds(w, w.cuts.cut_of_element[f.element], f.ve, w.nodes.rest[j]);
 }
 
 /// Where fragment f's virtual element keeps its vertex for the node: its force element's corner, or
@@ -91,12 +124,14 @@ std::vector<Fragment> fragments_around(const World& w, int j) {
         const int e = mid ? w.quadratic.element[inc.entry[p] >> 4] : inc.entry[p] >> 2;
         const auto slot = static_cast<int8_t>(mid ? inc.entry[p] & 15 : inc.entry[p] & 3);
         if (e >= w.mesh_elements) continue;
-        if (w.cuts.cut_of_element[e] < 0) {
-            frags.push_back({e, 0, slot});
-        } else {
-            frags.push_back({e, 1, slot});
-            frags.push_back({e, -1, slot});
+        const int c = w.cuts.cut_of_element[e];
+        if (c < 0) {
+            frags.push_back({e, 0, slot, -1, 1});
+            continue;
         }
+        const std::vector<int> parts = fragments_of(w, c);
+        for (size_t k = 0; k < parts.size(); ++k)
+            frags.push_back({e, w.virtual_elements.side[parts[k]], slot, parts[k], k == 0 ? static_cast<int>(parts.size()) : 0});
     }
     return frags;
 }
@@ -109,7 +144,7 @@ std::vector<int> material_classes(const World& w, const std::vector<Fragment>& f
     DisjointSets sets(static_cast<int>(frags.size()));
     std::vector<FaceOf> faces;
     for (size_t f = 0; f < frags.size(); ++f) {
-        if (frags[f].side < 0) continue;  // an element's first fragment stands for it
+        if (frags[f].count == 0) continue;  // an element's first fragment stands for it
         const auto& nodes = el.nodes[frags[f].element];
         std::array<int, 2> on{};
         const int n_on = corners_of(frags[f].slot, on);
@@ -123,13 +158,18 @@ std::vector<int> material_classes(const World& w, const std::vector<Fragment>& f
         }
     }
     std::sort(faces.begin(), faces.end());
-    const auto count_of = [&](int f) { return frags[f].side == 0 ? 1 : 2; };
     for (size_t k = 0; k + 1 < faces.size(); ++k) {
         if (faces[k].nodes != faces[k + 1].nodes) continue;
         const int fa = faces[k].fragment, fb = faces[k + 1].fragment;
-        for (int a = fa; a < fa + count_of(fa); ++a)
-            for (int b = fb; b < fb + count_of(fb); ++b) {
+        for (int a = fa; a < fa + frags[fa].count; ++a)
+            for (int b = fb; b < fb + frags[fb].count; ++b) {
                 const Fragment &A = frags[a], &B = frags[b];
+                if (has_lines(w, A) || has_lines(w, B)) {  // an element cut again: by the parts of the edge they hold
+                    const int p = faces[k].nodes[1], q = faces[k].nodes[2];
+                    const auto pa = part_of_edge(w, A, p, q), pb = part_of_edge(w, B, p, q);
+                    if (std::min(pa[1], pb[1]) - std::max(pa[0], pb[0]) > kFaceOverlap) sets.join(a, b);
+                    continue;
+                }
                 if (A.side != 0 && B.side != 0 && A.side != B.side) continue;  // the cut's two sides
                 if (on_face(w, A, faces[k].nodes) && on_face(w, B, faces[k].nodes)) sets.join(a, b);
             }
@@ -137,7 +177,7 @@ std::vector<int> material_classes(const World& w, const std::vector<Fragment>& f
     // The progressive front's clause: material joins across an element's split edge at a corner of
     // the node's that the blade has not crossed yet (a mid-edge node: at either of its corners).
     for (size_t f = 0; f + 1 < frags.size(); ++f) {
-        if (frags[f].side != 1) continue;
+        if (frags[f].side != 1 || has_lines(w, frags[f])) continue;
         const auto& nodes = el.nodes[frags[f].element];
         std::array<int, 2> on{};
         const int n_on = corners_of(frags[f].slot, on);
@@ -159,10 +199,9 @@ std::vector<int> material_classes(const World& w, const std::vector<Fragment>& f
 void assign_node_copies(World& w, int j, std::vector<int>& changed) {
     const std::vector<Fragment> frags = fragments_around(w, j);
     const std::vector<int> cls = material_classes(w, frags);
-    const int own = w.enriched.sign[j];
     int real = -1;  // the class of j's own material
     for (size_t f = 0; f < frags.size() && real < 0; ++f)
-        if (frags[f].side == 0 || frags[f].side == own) real = cls[f];
+        if (holds_node(w, frags[f], j)) real = cls[f];
     std::vector<int> copy(frags.size(), -1);  // per class (its root): its DOF node
     std::vector<int> claimed;
     const int phantoms_before = w.nodes.count();
@@ -193,7 +232,7 @@ void assign_node_copies(World& w, int j, std::vector<int>& changed) {
     const bool grew = w.nodes.count() > phantoms_before;
     for (size_t f = 0; f < frags.size(); ++f) {
         if (frags[f].side == 0) continue;
-        held |= cls[f] == real && frags[f].side != own;
+        held |= cls[f] == real && !holds_node(w, frags[f], j);
         if (grew) changed.push_back(w.cuts.cut_of_element[frags[f].element]);
         int& vertex = vertex_of(w, frags[f]);
         if (vertex == copy[cls[f]]) continue;

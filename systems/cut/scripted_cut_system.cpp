@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "systems/cut/edge_geometry.h"
+#include "systems/cut/recut.h"
 
 namespace xcut {
 namespace {
@@ -56,6 +57,30 @@ bool inside_segment(const CutPlane& pl, const Vec3& q) {
     return s >= -eps && s <= pl.length + eps;
 }
 
+/// A 2D segment that ends inside cut element e (its line crossing two of its edges, ev.edge_t):
+/// the event's extent, the part of the segment inside e, at rest. The map from the current line to
+/// the rest one is affine inside a linear element, so it runs from one crossing to the other.
+/// False if the segment misses e.
+bool bound_recut(const World& w, int e, const CutPlane& pl, CutEvent& ev) {
+    std::array<double, 2> s{};
+    std::array<Vec3, 2> rest;
+    int n = 0;
+    for (int k = 0; k < 3 && n < 2; ++k) {
+        if (!ev.edge_has_t[k]) continue;
+        const Vec3& Xi = w.nodes.rest[w.elements.nodes[e][kTriEdges[k][0]]];
+        const Vec3& Xj = w.nodes.rest[w.elements.nodes[e][kTriEdges[k][1]]];
+        s[n] = (edge_point(w, e, k, ev.edge_t[k]) - pl.origin).dot(pl.u);
+        rest[n++] = Xi + ev.edge_t[k] * (Xj - Xi);
+    }
+    if (n < 2 || s[0] == s[1]) return false;
+    const double lo = std::max(std::min(s[0], s[1]), 0.0), hi = std::min(std::max(s[0], s[1]), pl.length);
+    if (!(lo < hi)) return false;
+    const auto at = [&](double q) { return Vec3(rest[0] + (q - s[0]) / (s[1] - s[0]) * (rest[1] - rest[0])); };
+    ev.bounded = true;
+    ev.extent = {at(lo), at(hi)};
+    return true;
+}
+
 }  // namespace
 
 int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressive) {
@@ -64,9 +89,12 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressi
     const CutPlane pl = plane_of(polygon, dim);
     const auto& cut = w.cuts.cut_of_element;
     int queued = 0;
+    const bool again = recut_allowed(w);
     for (int e = 0; e < w.mesh_elements; ++e) {
-        if (!cut.empty() && cut[e] >= 0) continue;
+        const bool is_cut = !cut.empty() && cut[e] >= 0;
+        if (is_cut && !again) continue;
         CutEvent ev;
+        ev.again = is_cut;
         ev.element = e;
         // The sides of this cut's plane. Not the sides earlier cuts fixed: a node an earlier cut put
         // on one side lies on either side of this one, and an element this plane does not cross is
@@ -79,7 +107,7 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressi
         bool crossed = false, complete = true;
         uint8_t inside = 0;  // the edges crossed inside the polygon
         const int edges = dim == 3 ? 6 : 3;
-        for (int k = 0; k < edges && (complete || progressive); ++k) {
+        for (int k = 0; k < edges && (complete || progressive || is_cut); ++k) {
             const int* ed = dim == 3 ? kTetEdges[k] : kTriEdges[k];
             if (H[ed[0]] == H[ed[1]]) continue;
             const double t = plane_edge_param(w, e, k, pl.origin, pl.normal);
@@ -90,6 +118,12 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressi
             ev.edge_t[k] = t;
             ev.edge_has_t[k] = 1;
             crossed = true;
+        }
+        if (crossed && is_cut && !complete) {  // cut again up to where the segment ends inside it
+            if (dim != 2 || !bound_recut(w, e, pl, ev)) continue;
+            w.pending_cuts.push_back(ev);
+            ++queued;
+            continue;
         }
         if (crossed && (complete || (progressive && inside != 0))) {
             if (!complete) ev.crossed = inside;  // a tip element: its other split edges are held

@@ -150,10 +150,23 @@ void build_visual_surface(World& w, int subdivisions) { build_surface(w, w.visua
 int map_cuts(World& w, SurfaceMesh& s) {
     take_off_tip_opening(s);  // the surface is cut as it is, without the tips' overlay
     const int crossings = static_cast<int>(w.cuts.crossed_log.size());
-    if (s.vertex_count() == 0 || (s.cuts_mapped >= w.cuts.count() && s.crossings_mapped >= crossings)) return 0;
+    const int recuts = static_cast<int>(w.cuts.recut_log.size());
+    if (s.vertex_count() == 0 ||
+        (s.cuts_mapped >= w.cuts.count() && s.crossings_mapped >= crossings && s.recuts_mapped >= recuts))
+        return 0;
     int rebound = 0;
+    for (int k = s.recuts_mapped; k < recuts; ++k) {  // an element cut again: its vertices go to its fragments
+        const int c = w.cuts.recut_log[k];
+        bind_to_fragments(w, s, c);
+        rebound += static_cast<int>(s.bound_to[w.cuts.element[c]].size());
+    }
     for (int c = s.cuts_mapped; c < w.cuts.count(); ++c) {
         const int e = w.cuts.element[c];
+        if (!w.cuts.lines[c].empty()) {  // cut by another incision than its nodes' (2D): by its line
+            bind_to_fragments(w, s, c);
+            rebound += static_cast<int>(s.bound_to[e].size());
+            continue;
+        }
         const CutPlaneInfo cp = cut_plane_info(w, c);
         for (int v : s.bound_to[e]) {
             const int side = side_of_cut(w, cp, e, s.bary[v]);
@@ -162,9 +175,10 @@ int map_cuts(World& w, SurfaceMesh& s) {
             ++rebound;
         }
     }
-    cut_surface(w, s, s.cuts_mapped, s.crossings_mapped);
+    cut_surface(w, s, s.cuts_mapped, s.crossings_mapped, s.recuts_mapped);
     s.cuts_mapped = w.cuts.count();
     s.crossings_mapped = crossings;
+    s.recuts_mapped = recuts;
     s.last_rebound = rebound;
     return rebound;
 }

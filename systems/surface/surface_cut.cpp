@@ -21,8 +21,7 @@ using namespace surface_cut_detail;
 void whole_element_pieces(World& w, SurfaceMesh& s, int e) {
     if (s.base_of[e].empty()) return;
     const auto& en = w.elements.nodes[e];
-    struct FrontPoint { int i, j, v; double t; };
-    std::vector<FrontPoint> front;
+    std::vector<FrontPoint> front = w.elements.dim == 2 ? further_front_points(w, s, e) : std::vector<FrontPoint>{};
     for (int k = 0; k < edge_count(w); ++k) {
         const int i = local_edge(w, k)[0], j = local_edge(w, k)[1];
         const double t = edge_crossing(w, en[i], en[j]);
@@ -103,13 +102,19 @@ void cut_element_pieces(World& w, SurfaceMesh& s, int c) {
     if (w.elements.dim == 3) cut_faces(w, s, c, cp, rim);  // in 2D the surface is the sheet itself: the gap is the cut
 }
 
-/// Makes the pieces of `elements` (sorted, unique) again.
+bool has_lines(const World& w, int e) { return is_cut(w, e) && !w.cuts.lines[w.cuts.cut_of_element[e]].empty(); }
+
+/// Makes the pieces of `elements` (sorted, unique) again: the elements cut more than once last, so
+/// their points find those the others made (shared_point).
 void remake_pieces(World& w, SurfaceMesh& s, const std::vector<int>& elements) {
     remove_pieces(s, elements);
     for (int e : elements) {
+        if (has_lines(w, e)) continue;
         if (is_cut(w, e)) cut_element_pieces(w, s, w.cuts.cut_of_element[e]);
         else whole_element_pieces(w, s, e);
     }
+    for (int e : elements)
+        if (has_lines(w, e)) fragment_pieces(w, s, w.cuts.cut_of_element[e]);
 }
 
 }  // namespace
@@ -124,11 +129,21 @@ int zero_area_triangles(const SurfaceMesh& s) {
     return zero;
 }
 
-void cut_surface(World& w, SurfaceMesh& s, int first_cut, int first_crossing) {
+void cut_surface(World& w, SurfaceMesh& s, int first_cut, int first_crossing, int first_recut) {
     // Elements whose pieces change: the new cut elements and, around each of their crossed edges,
     // the cut ones (points on an edge that has just opened are bound anew) and the whole ones
-    // showing skin (a new crack-front point splits it).
+    // showing skin (a new crack-front point splits it); around an element with lines (2D), every
+    // element at its nodes, whose copies it may have changed.
     std::vector<int> touched;
+    std::vector<int> with_lines;
+    for (size_t k = first_recut; k < w.cuts.recut_log.size(); ++k) with_lines.push_back(w.cuts.element[w.cuts.recut_log[k]]);
+    for (int c = first_cut; c < w.cuts.count(); ++c)
+        if (!w.cuts.lines[c].empty()) with_lines.push_back(w.cuts.element[c]);
+    for (int e : with_lines)
+        for (int a = 0; a < w.elements.nodes_per_element(); ++a) {
+            const int j = w.elements.nodes[e][a];
+            for (int p = w.incidence.offset[j]; p < w.incidence.offset[j + 1]; ++p) touched.push_back(w.incidence.entry[p] >> 2);
+        }
     for (int c = first_cut; c < w.cuts.count(); ++c) {
         const int e = w.cuts.element[c];
         touched.push_back(e);

@@ -43,10 +43,15 @@ std::array<int64_t, 3> surface_place(const Vec3& rest);
 /// triangles 1e-9 of an edge high: those have area. None is emitted (the stress suite counts them).
 int zero_area_triangles(const SurfaceMesh& surface);
 
+/// Binds the vertices bound to cut element c's mesh element (c having lines, 2D) to the fragment
+/// each lies in (systems/surface/surface_fragments.cpp).
+void bind_to_fragments(World& world, SurfaceMesh& surface, int c);
+
 /// Regenerates the pieces of the elements cut by cuts [first_cut, world.cuts.count()) and of the
 /// elements around their crossed edges, and around the edges of CutElements::crossed_log from
-/// first_crossing on (a progressive front's edges crossed after their split). Vertex bindings of
+/// first_crossing on (a progressive front's edges crossed after their split), and of the elements
+/// cut again (CutElements::recut_log from first_recut on) and those around them. Vertex bindings of
 /// the base surface are not touched here.
-void cut_surface(World& world, SurfaceMesh& surface, int first_cut, int first_crossing);
+void cut_surface(World& world, SurfaceMesh& surface, int first_cut, int first_crossing, int first_recut);
 
 }  // namespace xcut

@@ -47,6 +47,24 @@ void for_elements_around(const World& w, int a, int b, F&& f) {
     }
 }
 
+/// A point where a crack crosses a whole element's edge (local nodes i -> j, parameter t): its
+/// skin triangles are split there (vertex v), so the sheet has no T-junction where a cut ends.
+struct FrontPoint {
+    int i, j, v;
+    double t;
+};
+
+// --- surface_fragments.cpp (2D elements cut more than once) ---
+/// The vertex at rest point `rest` (barycentric b in force element fe) for material `fe`: an
+/// existing one there with the same copy of every mesh node b weighs, else a new one bound to fe
+/// on `side`.
+int shared_point(World& w, SurfaceMesh& s, int fe, int8_t side, const Eigen::Vector4d& b, const Vec3& rest);
+/// Cut element c's pieces, c having lines: its skin triangles clipped to each fragment, fanned.
+void fragment_pieces(World& w, SurfaceMesh& s, int c);
+/// Where the further lines of the cut elements around whole element e cross its edges, as its
+/// front points.
+std::vector<FrontPoint> further_front_points(World& w, SurfaceMesh& s, int e);
+
 // --- surface_rim.cpp ---
 double crossing_param(const World& w, const CutPlaneInfo& cp, int e, const Eigen::Vector4d& ba,
                       const Eigen::Vector4d& bb);

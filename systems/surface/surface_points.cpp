@@ -169,6 +169,7 @@ int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector
         if (n == 1 && s.node_vertex[support[0]] >= 0)
             s.opened.push_back({s.node_vertex[support[0]], support[0], support[0]});
         it = s.cut_point.emplace(key, s.vertex_count()).first;
+        s.point_at.emplace(place, s.vertex_count());
         s.position.push_back(rest_of(w, e, b));
         s.element.push_back(-1);
         s.bary.emplace_back();

@@ -77,8 +77,10 @@ std::vector<double> PySimulation::von_mises() const {
         // What carries the element: itself, its two virtual elements (XFEM) or its pieces (snapping).
         std::vector<int> carriers = {e};
         const int cut = e < static_cast<int>(w.cuts.cut_of_element.size()) ? w.cuts.cut_of_element[e] : -1;
-        if (cut >= 0) carriers = {w.virtual_elements.element[w.cuts.virtual_element[cut][0]],
-                                  w.virtual_elements.element[w.cuts.virtual_element[cut][1]]};
+        if (cut >= 0) {
+            carriers.clear();
+            for (int v : xcut::fragments_of(w, cut)) carriers.push_back(w.virtual_elements.element[v]);
+        }
         if (e < static_cast<int>(w.snap.pieces.size()) && !w.snap.pieces[e].empty()) carriers = w.snap.pieces[e];
         for (int c : carriers) {
             const bool spare = c >= w.mesh_elements && !w.snap.piece_live.empty() && !w.snap.piece_live[c - w.mesh_elements];

@@ -1,0 +1,60 @@
+#pragma once
+// Fragments of a triangle crossed by several cut lines (2D, the xy plane, rest configuration): the
+// triangle clipped by one half-plane per line (Sutherland & Hodgman 1974, "Reentrant polygon
+// clipping", CACM 17(1): a convex polygon stays convex, vertex by vertex against each line), its
+// area (the shoelace formula), and the part of a segment it holds (Cyrus & Beck 1978, "Generalized
+// two- and three-dimensional clipping"). docs/xfem.md, Several cuts per element.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "components/cut_elements.h"
+
+namespace xcut {
+
+/// A fragment's mask (VirtualElements::mask): bit k its side of line k, bit kBoundBit + k set when
+/// line k bounds it (a line that ends at an earlier one bounds only the fragments it crossed).
+inline constexpr int kBoundBit = 16;
+inline constexpr uint32_t bound_by(int k) { return 1u << (kBoundBit + k); }
+
+/// Whether rest point x lies on the side of line l that bit value `bit` names (a point on the
+/// line lies on both).
+inline bool on_side(const CutLine& l, const Vec3& x, bool bit) {
+    const double d = l.normal.dot(x - l.origin);
+    return bit ? d >= 0.0 : d <= 0.0;
+}
+
+/// Whether rest point x lies in the fragment of lines[0..n) that `mask` names (on or inside it).
+inline bool in_fragment(const CutLine* lines, int n, uint32_t mask, const Vec3& x) {
+    for (int k = 0; k < n; ++k)
+        if ((mask & bound_by(k)) && !on_side(lines[k], x, mask >> k & 1u)) return false;
+    return true;
+}
+
+/// The convex polygon `poly` (xy) clipped to the side of l that `bit` names.
+std::vector<Vec3> clip_to_side(const std::vector<Vec3>& poly, const CutLine& l, bool bit);
+
+/// Barycentric coordinates of point x in triangle X (xy).
+inline Vec3 triangle_barycentric(const std::array<Vec3, 3>& X, const Vec3& x) {
+    const Vec3 u = X[1] - X[0], v = X[2] - X[0], d = x - X[0];
+    const double twice = u.x() * v.y() - u.y() * v.x();
+    const double b1 = (d.x() * v.y() - d.y() * v.x()) / twice, b2 = (u.x() * d.y() - u.y() * d.x()) / twice;
+    return {1.0 - b1 - b2, b1, b2};
+}
+
+/// Area of a simple polygon in the xy plane, whatever its orientation [m^2].
+double polygon_area(const std::vector<Vec3>& poly);
+
+/// The fragment of triangle (a, b, c) on the sides of lines[0..n) that `mask` names (bit k: line
+/// k's side, for each line that bounds it).
+std::vector<Vec3> fragment_polygon(const std::array<Vec3, 3>& tri, const CutLine* lines, int n, uint32_t mask);
+
+/// The part [s0, s1] of segment a -> b (parameters from a) on the sides of lines[0..n) that
+/// `mask` names (the lines that bound it): s1 <= s0 if it holds none (or a point).
+std::array<double, 2> segment_part(const Vec3& a, const Vec3& b, const CutLine* lines, int n, uint32_t mask);
+
+/// The part [s0, s1] of segment a -> b inside the convex polygon `poly` (xy, either orientation):
+/// s1 <= s0 if it misses it.
+std::array<double, 2> segment_in_polygon(const Vec3& a, const Vec3& b, const std::vector<Vec3>& poly);
+
+}  // namespace xcut

@@ -1,0 +1,154 @@
+#include "systems/cut/recut.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/setup.h"
+#include "systems/cut/enrichment_system.h"
+#include "engine/fragment_geometry.h"
+
+namespace xcut {
+
+std::array<Vec3, 3> corners(const World& w, int e) {
+    const auto& n = w.elements.nodes[e];
+    return {w.nodes.rest[n[0]], w.nodes.rest[n[1]], w.nodes.rest[n[2]]};
+}
+
+namespace {
+
+/// The line through a and b, its normal toward the corners' positive `level` side.
+CutLine line_through(const Vec3& a, const Vec3& b, const std::array<Vec3, 3>& X, const std::array<double, 3>& level) {
+    CutLine l{a, Vec3(a.y() - b.y(), b.x() - a.x(), 0.0).normalized()};
+    double toward = 0.0;
+    for (int k = 0; k < 3; ++k) toward += level[k] * l.normal.dot(X[k] - a);
+    if (toward < 0.0) l.normal = -l.normal;
+    return l;
+}
+
+/// Gives cut element c its first line and its two sides as fragments, if it has none yet.
+void ensure_lines(World& w, int c) {
+    CutElements& ce = w.cuts;
+    if (!ce.lines[c].empty()) return;
+    ce.lines[c].push_back(first_cut_line(w, c));
+    ce.fragments[c] = {ce.virtual_element[c][0], ce.virtual_element[c][1]};
+}
+
+}  // namespace
+
+CutLine first_cut_line(const World& w, int c) {
+    const int e = w.cuts.element[c];
+    std::array<double, 3> level{};
+    for (int a = 0; a < 3; ++a) level[a] = w.enriched.sign[w.elements.nodes[e][a]];
+    return line_through(w.cuts.points[c][0], w.cuts.points[c][1], corners(w, e), level);
+}
+
+bool fragment_holds(const World& w, int c, int v, const Vec3& x) {
+    const auto& lines = w.cuts.lines[c];
+    return in_fragment(lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v], x);
+}
+
+bool recut_allowed(const World& w) {
+    return w.elements.dim == 2 && w.quadratic.count() == 0 && !w.snap.enabled && w.tips.follow_radius < 0.0 &&
+           w.tips.point.empty();
+}
+
+bool cuts_across(const World& w, int e, const Vec3& normal) {
+    const int c = w.cuts.cut_of_element[e];
+    const double n = normal.norm();
+    if (c < 0 || !(n > 0.0)) return false;
+    const std::vector<CutLine> lines = w.cuts.lines[c].empty() ? std::vector<CutLine>{first_cut_line(w, c)} : w.cuts.lines[c];
+    if (static_cast<int>(lines.size()) >= kMaxElementLines) return false;
+    for (const CutLine& l : lines)
+        if (std::abs(l.normal.dot(normal)) / n > kRecutCos) return false;
+    return true;
+}
+
+bool signed_by_other_incision(const World& w, int e, const Vec3& normal) {
+    const double n = normal.norm();
+    if (!(n > 0.0) || w.enriched.sign.empty()) return false;
+    for (int a = 0; a < w.elements.nodes_per_element(); ++a) {
+        const int j = w.elements.nodes[e][a];
+        if (w.enriched.sign[j] != 0 && std::abs(w.enriched.sign_normal[j].dot(normal)) / n < kRecutCos) return true;
+    }
+    return false;
+}
+
+bool event_line(const CutEvent& ev, const std::array<Vec3, 3>& X, CutLine& line) {
+    std::array<double, 3> level{};
+    std::vector<Vec3> points;
+    for (int k = 0; k < 3; ++k) {
+        level[k] = ev.level[k];
+        const int i = kTriEdges[k][0], j = kTriEdges[k][1];
+        const double li = ev.level[i], lj = ev.level[j];
+        if ((li >= 0.0) == (lj >= 0.0)) continue;
+        const double t = ev.edge_has_t[k] ? ev.edge_t[k] : li / (li - lj);
+        points.push_back(X[i] + std::clamp(t, 0.0, 1.0) * (X[j] - X[i]));
+    }
+    if (points.size() < 2 || (points[1] - points[0]).norm() == 0.0) return false;
+    line = line_through(points[0], points[1], X, level);
+    return true;
+}
+
+bool record_recut(World& w, const CutEvent& ev) {
+    const int e = ev.element;
+    if (e < 0 || e >= w.mesh_elements || w.elements.dim != 2) return false;
+    const int c = w.cuts.cut_of_element[e];
+    if (c < 0) return false;
+    const std::array<Vec3, 3> X = corners(w, e);
+    CutLine line;
+    if (!event_line(ev, X, line)) return false;
+    const double size = std::max({(X[1] - X[0]).norm(), (X[2] - X[1]).norm(), (X[0] - X[2]).norm()});
+    const std::vector<CutLine> before =
+        w.cuts.lines[c].empty() ? std::vector<CutLine>{first_cut_line(w, c)} : w.cuts.lines[c];
+    if (static_cast<int>(before.size()) >= kMaxElementLines) return false;
+    for (const CutLine& l : before)
+        if (std::abs(l.normal.dot(line.normal)) > 1.0 - 1e-12 && std::abs(l.normal.dot(line.origin - l.origin)) < 1e-9 * size)
+            return false;
+    // Which fragments the line divides: each part's area, decided before anything changes.
+    const std::vector<int> frags = w.cuts.lines[c].empty()
+                                       ? std::vector<int>{w.cuts.virtual_element[c][0], w.cuts.virtual_element[c][1]}
+                                       : w.cuts.fragments[c];
+    const double area = polygon_area({X.begin(), X.end()});
+    const int n = static_cast<int>(before.size());
+    // The line as a long segment a -> b through the element, and the part of it the cut covers.
+    const Vec3 along(-line.normal.y(), line.normal.x(), 0.0);
+    const Vec3 a = line.origin - 2.0 * size * along, b = line.origin + 2.0 * size * along;
+    double from = 0.0, to = 1.0;
+    if (ev.bounded) {
+        from = (ev.extent[0] - a).dot(along) / (4.0 * size), to = (ev.extent[1] - a).dot(along) / (4.0 * size);
+        if (from > to) std::swap(from, to);
+    }
+    const double slack = 1e-9;  // of the long segment: round-off of a cut ending on an earlier line
+    struct Parts { double one, zero; };
+    std::vector<Parts> parts;
+    bool divides = false;
+    for (int v : frags) {
+        const uint32_t mask = w.virtual_elements.mask[v];
+        const std::vector<Vec3> poly = fragment_polygon(X, before.data(), n, mask);
+        const std::array<double, 2> chord = segment_in_polygon(a, b, poly);
+        const bool across = chord[0] >= from - slack && chord[1] <= to + slack;  // crossed from side to side
+        parts.push_back({across ? polygon_area(clip_to_side(poly, line, true)) : 0.0,
+                         across ? polygon_area(clip_to_side(poly, line, false)) : 0.0});
+        divides = divides || (parts.back().one >= kMinFragmentFraction * area && parts.back().zero >= kMinFragmentFraction * area);
+    }
+    if (!divides) return false;
+    ensure_lines(w, c);
+    w.cuts.lines[c].push_back(line);
+    const uint32_t bit = 1u << n;
+    VirtualElements& ve = w.virtual_elements;
+    for (size_t f = 0; f < frags.size(); ++f) {
+        const int v = frags[f];
+        if (parts[f].one < kMinFragmentFraction * area || parts[f].zero < kMinFragmentFraction * area) continue;
+        const int fe = ve.element[v];
+        w.elements.weight[fe] = std::max(parts[f].one / area, kMinSideFraction);
+        ve.mask[v] |= bit | bound_by(n);
+        w.cuts.fragments[c].push_back(ve.count());
+        ve.parent.push_back(e);
+        ve.side.push_back(ve.side[v]);
+        ve.mask.push_back(ve.mask[v] & ~bit);
+        ve.element.push_back(append_element_copy(w.elements, fe, std::max(parts[f].zero / area, kMinSideFraction)));
+    }
+    return true;
+}
+
+}  // namespace xcut

@@ -1,0 +1,59 @@
+#pragma once
+// Several cuts per element, 2D (docs/xfem.md, Several cuts per element): a triangle already cut is
+// cut again along another line. It keeps its nodes; its material is divided into fragments, the
+// parts of it on one side of each of its lines, each a virtual element with its own rotation and
+// its exact area over the element's as weight (a linear element's strain is constant, so that is
+// the exact integral; Molino, Bao & Fedkiw 2004, the virtual node algorithm). A new fragment starts
+// from the vertices of the one it was cut from; the node copies (systems/cut/node_copies.h) then
+// give each its own where material connectivity parts them.
+#include <vector>
+
+#include "engine/world.h"
+
+namespace xcut {
+
+/// Smallest area a fragment has, as a fraction of its element's [-]. A line that leaves less than
+/// this of a fragment on one side (through a node, or along an earlier line) does not cut it.
+inline constexpr double kMinFragmentFraction = 1e-6;
+
+/// The line of cut element c's first cut (2D): through its two edge points, its normal toward the
+/// side H = +1 of the element's nodes.
+CutLine first_cut_line(const World& world, int c);
+
+/// Cuts element ev.element again along the line of ev's levels (2D, linear, already cut): its
+/// fragments crossed by the line are split, each into the part on the line's side +1 (the old
+/// virtual element, new weight) and a new virtual element for the rest. Returns false (and changes
+/// nothing) if the element is not cut, the line is one of its lines, it already holds
+/// kMaxElementLines, or it crosses no fragment.
+bool record_recut(World& world, const CutEvent& ev);
+
+/// Whether rest point x lies in fragment (virtual element) v of cut element c with lines (on or
+/// inside its boundary).
+bool fragment_holds(const World& world, int c, int v, const Vec3& x);
+
+}  // namespace xcut
+
+namespace xcut {
+
+/// The rest corners of triangle e.
+std::array<Vec3, 3> corners(const World& world, int e);
+
+/// Whether this world cuts an element again (2D, linear elements, the XFEM cutter, no crack tips).
+/// Where it does not, a cut that crosses an element along another line keeps the first
+/// (CutState::recut_ignored says so).
+bool recut_allowed(const World& world);
+
+/// Whether a cut with normal `normal` through cut element e (2D) runs along another line than each
+/// of its cuts (more than 30 degrees from it: kRecutCos), and e can hold one more line.
+bool cuts_across(const World& world, int e, const Vec3& normal);
+
+/// Whether a node of element e has its side from a cut more than 30 degrees from a cut with normal
+/// `normal` (another incision's).
+bool signed_by_other_incision(const World& world, int e, const Vec3& normal);
+
+/// The line of a cut event's levels through a triangle with rest corners X (the points where they
+/// change sign on its edges, ev.edge_t where given), its normal toward positive levels; false if
+/// the levels cross fewer than two edges at distinct points.
+bool event_line(const CutEvent& ev, const std::array<Vec3, 3>& X, CutLine& line);
+
+}  // namespace xcut
