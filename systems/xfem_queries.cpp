@@ -23,16 +23,21 @@ bool edge_crossed(const World& w, int a, int b) {
 double crack_edge_param(const World& w, int a, int b) {
     const Elements& el = w.elements;
     const int dim = el.dim;
-    for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
-        const int f = w.incidence.entry[p] >> 2;
-        const int c = w.cuts.cut_of_element[f];
-        if (c < 0) continue;
-        for (int k = 0; k < 4 && w.cuts.point_edge[c][k] >= 0; ++k) {
-            const int* ed = (dim == 3 ? kTetEdges : kTriEdges)[w.cuts.point_edge[c][k]];
-            const int n0 = el.nodes[f][ed[0]], n1 = el.nodes[f][ed[1]];
-            if (!((n0 == a && n1 == b) || (n0 == b && n1 == a))) continue;
-            const Vec3 &Xa = w.nodes.rest[a], &Xb = w.nodes.rest[b];
-            return std::clamp((w.cuts.points[c][k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm(), 0.0, 1.0);
+    // An element cut by its own line (another incision's, systems/cut/recut.h) is asked last: an
+    // edge two incisions cross has a point of each, and an element cut once along the nodes' sides
+    // takes its own incision's.
+    for (int pass = 0; pass < 2; ++pass) {
+        for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
+            const int f = w.incidence.entry[p] >> 2;
+            const int c = w.cuts.cut_of_element[f];
+            if (c < 0 || w.cuts.lines[c].empty() != (pass == 0)) continue;
+            for (int k = 0; k < 4 && w.cuts.point_edge[c][k] >= 0; ++k) {
+                const int* ed = (dim == 3 ? kTetEdges : kTriEdges)[w.cuts.point_edge[c][k]];
+                const int n0 = el.nodes[f][ed[0]], n1 = el.nodes[f][ed[1]];
+                if (!((n0 == a && n1 == b) || (n0 == b && n1 == a))) continue;
+                const Vec3 &Xa = w.nodes.rest[a], &Xb = w.nodes.rest[b];
+                return std::clamp((w.cuts.points[c][k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm(), 0.0, 1.0);
+            }
         }
     }
     return -1.0;

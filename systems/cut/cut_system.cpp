@@ -8,6 +8,7 @@
 #include "engine/quadratic_setup.h"
 #include "systems/cut/edge_geometry.h"
 #include "systems/cut/recut.h"
+#include "systems/cut/skin_flap.h"
 #include "systems/kernels/intersection.h"
 #include "systems/kernels/blade_pose.h"
 #include "systems/kernels/mesh_measures.h"
@@ -225,56 +226,6 @@ bool tip_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) {
     return true;
 }
 
-/// Whether the split `ev` of element e (current positions) lies on the skin: every point of the cut
-/// is closer than kThinFlapFraction of e's shortest edge to the plane of one face of e that no other
-/// element holds (2D: the line of a boundary edge), and one of them is farther than that from every
-/// node of e. Such a cut would leave a flap thinner than that over the face: it is the blade lying on
-/// the surface, not an incision. (A cut whose points all lie at nodes is one through or beside a node
-/// layer, which cuts the body: the slivers of docs/xfem.md.)
-bool lies_on_skin(const World& w, int e, const CutEvent& ev) {
-    const Elements& el = w.elements;
-    const int dim = el.dim, npe = el.nodes_per_element();
-    const Vec3* x = w.nodes.position.data();
-    const auto& n = el.nodes[e];
-    const double tolerance = kThinFlapFraction * shortest_edge(el, x, e);
-    std::vector<Vec3> points;
-    bool off_nodes = false;
-    for (int k = 0; k < edge_count(dim); ++k) {
-        const int* ed = edge_nodes(dim, k);
-        const double li = ev.level[ed[0]], lj = ev.level[ed[1]];
-        if ((li >= 0.0) == (lj >= 0.0)) continue;
-        // Where the enrichment will put the point: the event's parameter, else where the levels
-        // change sign (a progressive front's edges ahead of the blade).
-        const double t = ev.edge_has_t[k] ? ev.edge_t[k] : li / (li - lj);
-        const Vec3 &a = x[n[ed[0]]], &b = x[n[ed[1]]];
-        points.push_back(edge_point(w, e, k, t));
-        off_nodes = off_nodes || std::min(t, 1.0 - t) * (b - a).norm() > tolerance;
-    }
-    if (!off_nodes) return false;
-    for (int skip = 0; skip < npe; ++skip) {  // the face opposite local node `skip`
-        std::array<int, 3> face{};
-        int m = 0;
-        for (int a = 0; a < npe; ++a)
-            if (a != skip) face[m++] = n[a];
-        int holders = 0;  // elements holding the whole face
-        for (int p = w.incidence.offset[face[0]]; p < w.incidence.offset[face[0] + 1]; ++p) {
-            const auto& f = el.nodes[w.incidence.entry[p] >> 2];
-            bool all = true;
-            for (int b = 1; b < m; ++b) all = all && std::find(f.begin(), f.begin() + npe, face[b]) != f.begin() + npe;
-            holders += all;
-        }
-        if (holders != 1) continue;
-        const Vec3 o = x[face[0]], u = x[face[1]] - o;
-        Vec3 normal = dim == 3 ? Vec3(u.cross(x[face[2]] - o)) : Vec3(-u.y(), u.x(), 0.0);
-        if (normal.norm() == 0.0) continue;
-        normal.normalize();
-        bool on = true;
-        for (const Vec3& q : points) on = on && std::abs((q - o).dot(normal)) < tolerance;
-        if (on) return true;
-    }
-    return false;
-}
-
 void remove_from_list(BladeCut& bc, int e, int list) {
     if (list < 1) return;
     auto& l = bc.lists[list - 1];
@@ -366,8 +317,10 @@ void note_recut(World& w, int e, const CutQuad& q, const Vec3& quad_normal, int 
 /// Queues the splits of the elements the last quad crossed and moves the others through the lists,
 /// in element order (deterministic): an element fully crossed is split (make_event); on a
 /// progressive front one the blade has only entered is split as a tip element (tip_event), and a
-/// tip element's later crossings are queued as events for the enrichment.
-void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed, int tool) {
+/// tip element's later crossings are queued as events for the enrichment. An element already cut
+/// (2D) is cut again once fully crossed, or where the quad, starting inside it at `start`, leaves it
+/// (the stem of a T: stem_event).
+void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed, int tool, const Vec3& start) {
     CutState& cs = w.cut_state;
     const int need = w.elements.dim == 3 ? 3 : 2;
     for (int e : crossed) {
@@ -376,12 +329,13 @@ void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed, int 
         const bool full = count >= need;
         if (!w.cuts.cut_of_element.empty() && w.cuts.cut_of_element[e] >= 0 && !c.split) {  // cut again, once fully crossed
             CutEvent ev;
-            if (full && make_event(w, e, c, ev)) {
+            const bool stem = count == 1 && stem_event(w, e, __builtin_ctz(c.mask), c.t[__builtin_ctz(c.mask)], start, ev);
+            if ((full && make_event(w, e, c, ev)) || stem) {
                 ev.again = true;
                 w.pending_cuts.push_back(ev);
                 ++cs.elements_split;
             }
-            if (full) {
+            if (full || stem) {
                 remove_from_list(bc, e, c.list);
                 bc.crossing.erase(e);
             } else if (count != c.list) {
@@ -491,7 +445,7 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
         if (found > 0) crossed.push_back(e);
     }
     const int queued_before = cs.elements_split;
-    split_or_list(w, bc, crossed, tool);
+    split_or_list(w, bc, crossed, tool, q.corner[0]);
     if (static_cast<int>(cs.split_by_tool.size()) <= tool) cs.split_by_tool.resize(tool + 1, 0);
     cs.split_by_tool[tool] += cs.elements_split - queued_before;
     // Elements the search no longer reaches are dropped: the blade has left them.

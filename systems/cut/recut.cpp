@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/fragment_geometry.h"
 #include "engine/setup.h"
 #include "systems/cut/enrichment_system.h"
 #include "engine/fragment_geometry.h"
@@ -71,6 +72,27 @@ bool signed_by_other_incision(const World& w, int e, const Vec3& normal) {
         if (w.enriched.sign[j] != 0 && std::abs(w.enriched.sign_normal[j].dot(normal)) / n < kRecutCos) return true;
     }
     return false;
+}
+
+bool stem_event(const World& w, int e, int k, double t, const Vec3& start, CutEvent& ev) {
+    const auto& n = w.elements.nodes[e];
+    const std::array<Vec3, 3> x{w.nodes.position[n[0]], w.nodes.position[n[1]], w.nodes.position[n[2]]};
+    const Vec3 l = triangle_barycentric(x, start);
+    if (w.elements.dim != 2 || l.minCoeff() < 0.0) return false;
+    const int i = kTriEdges[k][0], j = kTriEdges[k][1];
+    const Vec3 exit = x[i] + t * (x[j] - x[i]);
+    const Vec3 normal(start.y() - exit.y(), exit.x() - start.x(), 0.0);
+    if (!(normal.norm() > 0.0)) return false;
+    ev = CutEvent{};
+    ev.element = e;
+    ev.again = true;
+    for (int a = 0; a < 3; ++a) ev.level[a] = (x[a] - start).dot(normal);
+    if ((ev.level[i] >= 0.0) == (ev.level[j] >= 0.0)) return false;  // through a node of the edge
+    ev.edge_t[k] = t, ev.edge_has_t[k] = 1;
+    const std::array<Vec3, 3> X = corners(w, e);
+    ev.bounded = true;
+    ev.extent = {Vec3(l.x() * X[0] + l.y() * X[1] + l.z() * X[2]), Vec3(X[i] + t * (X[j] - X[i]))};
+    return true;
 }
 
 bool event_line(const CutEvent& ev, const std::array<Vec3, 3>& X, CutLine& line) {

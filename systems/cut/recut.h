@@ -51,6 +51,12 @@ bool cuts_across(const World& world, int e, const Vec3& normal);
 /// `normal` (another incision's).
 bool signed_by_other_incision(const World& world, int e, const Vec3& normal);
 
+/// A scalpel that starts inside cut element e (2D; its swept segment from `start`, current
+/// positions) and crosses one of its edges, `crossed` (local edge) at parameter t: the event cutting
+/// e again along that segment, bounded by it (the stem of a T begun at the wound divides the
+/// fragment between the wound and that edge). False if `start` is not inside e.
+bool stem_event(const World& world, int e, int crossed, double t, const Vec3& start, CutEvent& ev);
+
 /// The line of a cut event's levels through a triangle with rest corners X (the points where they
 /// change sign on its edges, ev.edge_t where given), its normal toward positive levels; false if
 /// the levels cross fewer than two edges at distinct points.

@@ -93,7 +93,7 @@ void fragment_pieces(World& w, SurfaceMesh& s, int c) {
             std::vector<Vec3> poly = corner;
             for (int k = 0; k < static_cast<int>(lines.size()) && poly.size() >= 3; ++k)
                 if (ve.mask[v] & bound_by(k)) poly = clip_to_side(poly, lines[k], ve.mask[v] >> k & 1u);
-            poly = clean(poly, 1e-9 * size);
+            poly = clean(poly, std::max(1e-9 * size, 2e-11));  // and never two points at one place (1e-11 m)
             if (poly.size() < 3) continue;
             const int fe = ve.element[v];
             std::vector<int> ids;
