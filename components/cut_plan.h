@@ -15,6 +15,10 @@ struct ScriptedCut {
 
 struct CutPlan {
     std::vector<ScriptedCut> cuts;
+    /// Elements already cut that a scripted cut crossed along another plane and did not cut again
+    /// (where the world does not cut again, or the element holds kMaxElementLines): the end of the
+    /// run says so.
+    int recut_ignored = 0;
 };
 
 }  // namespace xcut

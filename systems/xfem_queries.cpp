@@ -71,7 +71,7 @@ Vec3 tip_enrichment(const World& w, const Eigen::VectorXd& b, int z, const Vec2&
     if (ct.first[z + 1] == ct.first[z]) return u;
     const auto& dof = w.elements.nodes[ct.element[z]];  // a virtual element's corners may be phantoms
     std::array<int, 3> corner;
-    for (int k = 0; k < 3; ++k) corner[k] = dof[k] < w.mesh_nodes ? dof[k] : w.enriched.node_of_phantom[dof[k] - w.mesh_nodes];
+    for (int k = 0; k < 3; ++k) corner[k] = mesh_node(w, dof[k]);
     const int tip = ct.tip[ct.function[ct.first[z]] / 4];  // a zone element's functions are one tip's
     const TipFrame f{ct.point[tip].head<2>(), ct.direction[tip].head<2>()};
     const BranchValues F = branch_functions(f, X, lip);

@@ -36,6 +36,11 @@ Vec3 tip_enrichment(const World& world, const Eigen::VectorXd& amplitudes, int z
 /// volume output and the visual surface show inside the tips' elements.
 Vec3 tip_field(const World& world, const Eigen::VectorXd& amplitudes, int fe, const Vec2& X, const Vec3& L, int tip, int lip);
 
+/// The mesh node that DOF node `node` is (itself) or copies (a phantom's node).
+inline int mesh_node(const World& world, int node) {
+    return node >= world.mesh_nodes ? world.enriched.node_of_phantom[node - world.mesh_nodes] : node;
+}
+
 /// The virtual elements of cut element c: its two sides, or its fragments once cut again
 /// (CutElements::fragments).
 inline std::vector<int> fragments_of(const World& world, int c) {

@@ -23,6 +23,20 @@
 
 namespace xcut::testing {
 
+/// Whether this build runs under AddressSanitizer (the CI's sanitizer stage, about 40x slower on
+/// numerical loops): randomized suites run fewer cases there, the release build runs them all.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kInstrumented = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr bool kInstrumented = true;
+#else
+inline constexpr bool kInstrumented = false;
+#endif
+#else
+inline constexpr bool kInstrumented = false;
+#endif
+
 /// FNV-1a over every DOF node's position and velocity (and the visual vertices when asked): two runs
 /// that should agree bit for bit have the same hash.
 inline uint64_t state_hash(const World& w, bool with_visual = false) {

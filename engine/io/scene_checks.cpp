@@ -223,12 +223,19 @@ std::vector<std::string> end_of_run_notes(const World& w) {
         for (int i = 0; i < static_cast<int>(count.size()) && i < w.tools.count(); ++i)
             if (count[i] > 0) out.push_back(line(w.tools.name[i], count[i], count[i] == 1 ? "" : "s"));
     };
-    // A blade across an earlier wound: xcut splits an element once.
-    per_tool(w.cut_state.recut_ignored, [](const std::string& tool, int n, const char* s) {
-        return fmt::format("tool \"{}\" crossed {} element{} already cut along another plane: xcut splits an element "
-                           "once (docs/xfem.md), so they keep their first cut; where an incision meets a wound it stops "
-                           "about an element short of it, and a closed loop does not free its piece", tool, n, s);
+    // A cut across an earlier wound where this world does not cut an element again.
+    constexpr const char* kRecutLimits =
+        "xcut cuts an element again in 2D with linear elements, the XFEM cutter and no crack tips, up to 4 cuts "
+        "per element (docs/xfem.md); elsewhere they keep their cuts: an incision that meets a wound stops about an "
+        "element short of it, and a closed loop does not free its piece";
+    per_tool(w.cut_state.recut_ignored, [&](const std::string& tool, int n, const char* s) {
+        return fmt::format("tool \"{}\" crossed {} element{} already cut along another plane and did not cut them "
+                           "again: {}", tool, n, s, kRecutLimits);
     });
+    if (w.cut_plan.recut_ignored > 0)
+        out.push_back(fmt::format("the scripted cuts crossed {} element{} already cut along another plane and did not "
+                                  "cut them again: {}", w.cut_plan.recut_ignored,
+                                  w.cut_plan.recut_ignored == 1 ? "" : "s", kRecutLimits));
     per_tool(w.cut_state.on_skin_ignored, [](const std::string& tool, int n, const char* s) {
         return fmt::format("tool \"{}\" lay on the tissue's surface in {} element{}: its cut there stayed within {:g} "
                            "of an element's edge from the skin, a flap thinner than that, so it made none (docs/xfem.md)",

@@ -6,7 +6,7 @@
 #include "engine/fragment_geometry.h"
 #include "engine/setup.h"
 #include "systems/cut/enrichment_system.h"
-#include "engine/fragment_geometry.h"
+#include "systems/xfem_queries.h"
 
 namespace xcut {
 
@@ -48,6 +48,11 @@ bool fragment_holds(const World& w, int c, int v, const Vec3& x) {
     return in_fragment(lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v], x);
 }
 
+std::vector<CutLine> lines_of(const World& w, int c) {
+    if (!w.cuts.lines[c].empty()) return w.cuts.lines[c];
+    return {first_cut_line(w, c)};
+}
+
 bool recut_allowed(const World& w) {
     return w.elements.dim == 2 && w.quadratic.count() == 0 && !w.snap.enabled && w.tips.follow_radius < 0.0 &&
            w.tips.point.empty();
@@ -57,7 +62,7 @@ bool cuts_across(const World& w, int e, const Vec3& normal) {
     const int c = w.cuts.cut_of_element[e];
     const double n = normal.norm();
     if (c < 0 || !(n > 0.0)) return false;
-    const std::vector<CutLine> lines = w.cuts.lines[c].empty() ? std::vector<CutLine>{first_cut_line(w, c)} : w.cuts.lines[c];
+    const std::vector<CutLine> lines = lines_of(w, c);
     if (static_cast<int>(lines.size()) >= kMaxElementLines) return false;
     for (const CutLine& l : lines)
         if (std::abs(l.normal.dot(normal)) / n > kRecutCos) return false;
@@ -120,16 +125,13 @@ bool record_recut(World& w, const CutEvent& ev) {
     CutLine line;
     if (!event_line(ev, X, line)) return false;
     const double size = std::max({(X[1] - X[0]).norm(), (X[2] - X[1]).norm(), (X[0] - X[2]).norm()});
-    const std::vector<CutLine> before =
-        w.cuts.lines[c].empty() ? std::vector<CutLine>{first_cut_line(w, c)} : w.cuts.lines[c];
+    const std::vector<CutLine> before = lines_of(w, c);
     if (static_cast<int>(before.size()) >= kMaxElementLines) return false;
     for (const CutLine& l : before)
         if (std::abs(l.normal.dot(line.normal)) > 1.0 - 1e-12 && std::abs(l.normal.dot(line.origin - l.origin)) < 1e-9 * size)
             return false;
     // Which fragments the line divides: each part's area, decided before anything changes.
-    const std::vector<int> frags = w.cuts.lines[c].empty()
-                                       ? std::vector<int>{w.cuts.virtual_element[c][0], w.cuts.virtual_element[c][1]}
-                                       : w.cuts.fragments[c];
+    const std::vector<int> frags = fragments_of(w, c);
     const double area = polygon_area({X.begin(), X.end()});
     const int n = static_cast<int>(before.size());
     // The line as a long segment a -> b through the element, and the part of it the cut covers.

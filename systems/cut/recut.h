@@ -20,6 +20,9 @@ inline constexpr double kMinFragmentFraction = 1e-6;
 /// side H = +1 of the element's nodes.
 CutLine first_cut_line(const World& world, int c);
 
+/// Cut element c's lines: those it keeps once cut again, else its first cut's line alone.
+std::vector<CutLine> lines_of(const World& world, int c);
+
 /// Cuts element ev.element again along the line of ev's levels (2D, linear, already cut): its
 /// fragments crossed by the line are split, each into the part on the line's side +1 (the old
 /// virtual element, new weight) and a new virtual element for the rest. Returns false (and changes

@@ -6,6 +6,7 @@
 
 #include "systems/cut/edge_geometry.h"
 #include "systems/cut/recut.h"
+#include "systems/kernels/mesh_measures.h"
 
 namespace xcut {
 namespace {
@@ -81,6 +82,27 @@ bool bound_recut(const World& w, int e, const CutPlane& pl, CutEvent& ev) {
     return true;
 }
 
+/// Whether the plane runs through every point of cut element e's first cut (current positions,
+/// within 1e-9 of its longest edge): the same cut again, not another one.
+bool along_first_cut(const World& w, int e, const CutPlane& pl) {
+    const int c = w.cuts.cut_of_element[e];
+    double size = 0.0;
+    for (int k = 0; k < edge_count(w.elements.dim); ++k) {
+        const int* ed = edge_nodes(w.elements.dim, k);
+        size = std::max(size, (w.nodes.position[w.elements.nodes[e][ed[0]]] - w.nodes.position[w.elements.nodes[e][ed[1]]]).norm());
+    }
+    for (int p = 0; p < 4; ++p) {
+        const int k = w.cuts.point_edge[c][p];
+        if (k < 0) continue;
+        const int* ed = edge_nodes(w.elements.dim, k);
+        const Vec3& Xi = w.nodes.rest[w.elements.nodes[e][ed[0]]];
+        const Vec3& Xj = w.nodes.rest[w.elements.nodes[e][ed[1]]];
+        const double t = (w.cuts.points[c][p] - Xi).norm() / (Xj - Xi).norm();
+        if (std::abs((edge_point(w, e, k, t) - pl.origin).dot(pl.normal)) > 1e-9 * size) return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressive) {
@@ -92,7 +114,9 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressi
     const bool again = recut_allowed(w);
     for (int e = 0; e < w.mesh_elements; ++e) {
         const bool is_cut = !cut.empty() && cut[e] >= 0;
-        if (is_cut && !again) continue;
+        // An element already cut that this world cannot cut again (or that holds its last line):
+        // crossed along another plane, it keeps its cuts, and the count says so.
+        const bool full = is_cut && (!again || static_cast<int>(lines_of(w, cut[e]).size()) >= kMaxElementLines);
         CutEvent ev;
         ev.again = is_cut;
         ev.element = e;
@@ -108,7 +132,7 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressi
         uint8_t inside = 0;  // the edges crossed inside the polygon
         const int edges = dim == 3 ? 6 : 3;
         for (int k = 0; k < edges && (complete || progressive || is_cut); ++k) {
-            const int* ed = dim == 3 ? kTetEdges[k] : kTriEdges[k];
+            const int* ed = edge_nodes(dim, k);
             if (H[ed[0]] == H[ed[1]]) continue;
             const double t = plane_edge_param(w, e, k, pl.origin, pl.normal);
             const Vec3 q = edge_point(w, e, k, t);
@@ -118,6 +142,10 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressi
             ev.edge_t[k] = t;
             ev.edge_has_t[k] = 1;
             crossed = true;
+        }
+        if (full) {
+            if (crossed && complete && !along_first_cut(w, e, pl)) ++w.cut_plan.recut_ignored;
+            continue;
         }
         if (crossed && is_cut && !complete) {  // cut again up to where the segment ends inside it
             if (dim != 2 || !bound_recut(w, e, pl, ev)) continue;

@@ -26,7 +26,7 @@ Signature signature(const World& w, int fe, const Eigen::Vector4d& b) {
     for (int a = 0; a < w.elements.nodes_per_element() && n < 3; ++a) {
         if (std::abs(b[a]) < 1e-12) continue;
         const int dof = w.elements.nodes[fe][a];
-        sig[n++] = {dof >= w.mesh_nodes ? w.enriched.node_of_phantom[dof - w.mesh_nodes] : dof, dof};
+        sig[n++] = {mesh_node(w, dof), dof};
     }
     std::sort(sig.begin(), sig.begin() + n);
     return sig;

@@ -13,10 +13,6 @@ namespace {
 
 constexpr double kQuantum = 1e-11;  // [m]: points closer than this on one side are one point
 
-int mesh_node(const World& w, int node) {
-    return node >= w.mesh_nodes ? w.enriched.node_of_phantom[node - w.mesh_nodes] : node;
-}
-
 /// The element that holds the lips together at a point on mesh edge nodes[0]-nodes[1] (n = 2) or
 /// at node nodes[0] (n = 1): the first whole (uncut) mesh element holding every node; else, on a
 /// progressive front, the first cut element in which that edge (n = 1: an edge at that node) is split
