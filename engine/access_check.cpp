@@ -89,6 +89,13 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
             for (const PieceEvent& e : p.log) h.all(e.step, e.time, e.volume, e.body, e.anchored);
             return;
         }
+        case kGrasps: {
+            const Grasps& g = w.grasps;
+            h.all(g.radius, g.centre, g.close, g.open, g.stiffness, g.state, g.surface, g.held_at_close, g.force,
+                  g.peak_force, g.step_work);
+            for (size_t i = 0; i < g.vertex.size(); ++i) h.all(g.vertex[i], g.anchor[i]);
+            return;
+        }
         default: return;
     }
 }

@@ -15,7 +15,7 @@ namespace xcut {
 /// The component kinds whose contents are hashed (the others are settings no system writes).
 inline constexpr uint32_t kCheckedComponents[] = {kNodes, kElements, kForces, kMetrics, kCutPlan, kCutEvents,
                                                   kXfem,  kTools,    kVisual, kCollision, kLinear, kContacts,
-                                                  kCutState, kSnap, kPieces};
+                                                  kCutState, kSnap, kPieces, kGrasps};
 
 /// One hash per kCheckedComponents entry, of the world as it is.
 std::vector<uint64_t> component_hashes(const World& world);

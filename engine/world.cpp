@@ -25,6 +25,7 @@ const char* component_name(uint32_t bit) {
         case kCutState: return "CutState";
         case kSnap: return "SnapMesh";
         case kPieces: return "Pieces";
+        case kGrasps: return "Grasps";
         default: return "?";
     }
 }
@@ -55,6 +56,7 @@ uint32_t World::present() const {
     for (const ToolShape& s : tools.shape)
         if (s.kind != ToolShape::kNone) mask |= kShapedTools | kContacts;
     if (snap.enabled) mask |= kSnap;
+    if (grasps.any()) mask |= kGrasps;
     if (visual.vertex_count() > 0) mask |= kVisual | kSurfaces;
     if (collision.vertex_count() > 0) mask |= kCollision | kSurfaces;
     return mask;

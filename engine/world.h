@@ -12,6 +12,7 @@
 #include "components/cut_elements.h"
 #include "components/cut_plan.h"
 #include "components/cut_state.h"
+#include "components/grasps.h"
 #include "components/elements.h"
 #include "components/linear_system.h"
 #include "components/material.h"
@@ -49,6 +50,7 @@ enum ComponentBit : uint32_t {
     kCutState = 1u << 18,    ///< the blades' crossing lists, fronts and cut figures
     kSnap = 1u << 19,        ///< the snapping cutter's pieces and copies
     kPieces = 1u << 20,      ///< the connected pieces of tissue; present when the scene has any cutter
+    kGrasps = 1u << 21,      ///< graspers' jaws and what they hold; present when a tool grasps
 };
 const char* component_name(uint32_t bit);
 std::string component_list(uint32_t mask);
@@ -135,6 +137,7 @@ struct World {
 
     ToolBodies tools;
     CutState cut_state;
+    Grasps grasps;
     CutPlan cut_plan;
     std::vector<CutEvent> pending_cuts;   ///< splits queued by cutters, applied by the EnrichmentSystem
     CutElements cuts;

@@ -200,21 +200,12 @@ namespace {
 
 /// The penalty contacts' term of the step (systems/step_term.h): K_c between each contact's element
 /// nodes, held at the step's start (contacts are found once a step).
-class ContactTerm final : public StepTerm {
+class ContactTerm final : public SerialHeldTerm {
 public:
     const char* name() const override { return "contact"; }
     bool active(const World& world) const override { return world.contacts.count() > 0; }
-    bool held() const override { return true; }
-    void product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
-        if (first) out.setZero(p.size());
+    void add_product(const World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) const override {
         add_contact_stiffness_product(world, p, out);
-    }
-    void product_in_team(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
-#pragma omp single
-        {
-            if (first) out.setZero();
-            add_contact_stiffness_product(world, p, out);
-        }
     }
     /// K_c = k (w_a w_b) n n^T between the element's nodes, scaled.
     void add_scattered(const World& w, double scale, LinearSystem& A) const override {

@@ -7,6 +7,7 @@
 #include "systems/cut/enrichment_system.h"
 #include "systems/cut/pieces_system.h"
 #include "systems/force_system.h"
+#include "systems/grasp_system.h"
 #include "systems/solver/linear_solver.h"
 #include "systems/surface/mapping_system.h"
 #include "systems/cut/scripted_cut_system.h"
@@ -35,6 +36,7 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
     scheduler.add(force_system());
     scheduler.add(rebind_system());
     scheduler.add(collision_system(make_collision_model()));
+    scheduler.add(grasp_system());
     const auto terms = std::make_shared<const StepOperator>(xcut_step_terms());
     scheduler.add(solver_system(world, terms));
     prepare_linear_solver(world, *terms);
@@ -47,7 +49,7 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
 }
 
 StepOperator xcut_step_terms() {
-    return StepOperator{{elastic_step_term(), contact_step_term(), crack_tip_step_term()}};
+    return StepOperator{{elastic_step_term(), contact_step_term(), grasp_step_term(), crack_tip_step_term()}};
 }
 
 std::unique_ptr<Simulation> make_simulation(const Scene& scene, bool with_output, const std::string& replay_directory) {

@@ -82,6 +82,27 @@ public:
     virtual bool from_system() const { return true; }
 };
 
+/// A held term whose stiffness product is one serial pass over its own entries (the penalty
+/// contacts, the grasps): `add_product` adds K_t p; inside a team one thread makes it.
+class SerialHeldTerm : public StepTerm {
+public:
+    bool held() const override { return true; }
+    void product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
+        if (first) out.setZero(p.size());
+        add_product(world, p, out);
+    }
+    void product_in_team(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
+#pragma omp single
+        {
+            if (first) out.setZero();
+            add_product(world, p, out);
+        }
+    }
+
+protected:
+    virtual void add_product(const World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) const = 0;
+};
+
 /// The terms of a step, in order.
 struct StepOperator {
     std::vector<std::shared_ptr<StepTerm>> terms;

@@ -23,7 +23,7 @@ int first_non_finite(const Nodes& nodes) {
     return -1;
 }
 
-/// The work the tools' contacts did on the tissue over the last step, bounded above [J].
+/// The work the tools' contacts and grasps did on the tissue over the last step, bounded above [J].
 double tool_work(const World& w) {
     const ToolBodies& tb = w.tools;
     double work = 0.0;
@@ -33,7 +33,7 @@ double tool_work(const World& w) {
         const Vec3 cutting = i < static_cast<int>(tb.cutting_force.size()) ? tb.cutting_force[i] : Vec3::Zero();
         work += std::abs((tb.reaction_force[i] - cutting).dot(tb.velocity[i])) * w.solver.dt;
     }
-    return work;
+    return work + w.grasps.step_work;  // the graspers' (systems/grasp_system.h)
 }
 
 }  // namespace

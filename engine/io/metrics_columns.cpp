@@ -70,6 +70,17 @@ std::vector<MetricColumn> metric_columns(const World& world, int& split_total) {
             for (int k = 0; k < 3; ++k) c.push_back({fmt::format("{}_t{}_Nm", n, "xyz"[k]), t[k], 'e'});
         }
     }
+    if ((world.present() & kGrasps) != 0) {
+        // Each grasper's pull from the tissue it holds (zero while its jaws are open), and how many
+        // skin vertices they hold (systems/grasp_system.h).
+        const Grasps& g = world.grasps;
+        for (int i = 0; i < g.count(); ++i) {
+            if (!(g.radius[i] > 0.0)) continue;
+            const std::string& n = world.tools.name[i];
+            c.push_back({fmt::format("{}_held", n), double(g.vertex[i].size()), 'd'});
+            for (int k = 0; k < 3; ++k) c.push_back({fmt::format("{}_grasp_f{}_N", n, "xyz"[k]), g.force[i][k], 'e'});
+        }
+    }
     return c;
 }
 

@@ -17,6 +17,7 @@
 #include "engine/io/mesh_io.h"
 #include "engine/io/scene_mesh.h"
 #include "engine/io/scene_checks.h"
+#include "engine/io/scene_grasp.h"
 #include "engine/io/scene_node_sets.h"
 #include "engine/mesh_repair.h"
 #include "engine/setup.h"
@@ -176,7 +177,7 @@ void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) 
     const auto tools = top.array_of_objects("tools", kMaxTools);
     for (size_t i = 0; i < tools.size(); ++i) {
         const JsonFields& t = tools[i];
-        t.allow_only({"name", "blade", "shape", "contact", "trajectory", "trajectory_csv", "device"});
+        t.allow_only({"name", "blade", "shape", "contact", "grasp", "trajectory", "trajectory_csv", "device"});
         tb.name.push_back(t.string("name", fmt::format("tool{}", i)));
         const JsonFields blade = t.object("blade");
         blade.allow_only({"tip", "heel", "back"});
@@ -203,6 +204,7 @@ void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) 
             t.fail("trajectory", "give exactly one of \"trajectory\" (keyframes) or \"trajectory_csv\" (a recorded file)");
         if (live && !t.has("trajectory") && !t.has("trajectory_csv")) keys.push_back(Keyframe{});  // holds at the origin
         read_tool_shape(t, scene_dir, tb);
+        read_tool_grasp(t, scene.grasps);
         if (t.has("trajectory_csv")) {
             keys = read_trajectory_csv(beside_scene(scene_dir, t.string("trajectory_csv", "")).string());
         } else {
@@ -548,6 +550,16 @@ World build_world(const Scene& scene) {
     }
     world.cut_plan.cuts = scene.cuts;
     world.tools = scene.tools;
+    world.grasps = scene.grasps;
+    for (int i = 0; i < scene.grasps.count(); ++i)
+        if (scene.grasps.radius[i] > 0.0 && (scene.cutter == "snap" || (scene.visual_subdivisions < 0 &&
+                                                                       scene.collision_subdivisions < 0)))
+            throw InputError(scene.file, fmt::format("tools[{}].grasp", i),
+                             scene.cutter == "snap"
+                                 ? "the jaws hold the tissue's skin, which the snapping cutter builds anew at each split: "
+                                   "a grasp needs \"cutter.type\": \"xfem\""
+                                 : "the jaws hold the tissue's skin, and this scene has none: give \"visual\" or "
+                                   "\"collision\" its \"subdivisions\"");
     world.cut_state.threshold = scene.cut_threshold;
     world.cut_state.min_depth = scene.cut_min_depth;
     world.cut_state.progressive = scene.cut_front == "progressive";

@@ -80,6 +80,7 @@ struct Scene {
     OutputSettings output;
     std::vector<ScriptedCut> cuts;   ///< "cuts": programmatic XFEM cuts
     ToolBodies tools;                ///< "tools"
+    Grasps grasps;                   ///< "tools[i].grasp", one entry per tool
     std::vector<DeviceSpec> devices; ///< "tools[i].device", one per tool
     double cut_threshold = 0.0;      ///< "cutter.threshold" [m]; 0: mean edge length
     int cut_min_depth = 1;           ///< "cutter.neighbourhood_depth"

@@ -236,6 +236,13 @@ std::vector<std::string> end_of_run_notes(const World& w) {
         out.push_back(fmt::format("the scripted cuts crossed {} element{} already cut along another plane and did not "
                                   "cut them again: {}", w.cut_plan.recut_ignored,
                                   w.cut_plan.recut_ignored == 1 ? "" : "s", kRecutLimits));
+    const Grasps& g = w.grasps;  // jaws that closed on nothing
+    for (int i = 0; i < g.count() && i < w.tools.count(); ++i)
+        if (g.radius[i] > 0.0 && g.state[i] != Grasps::kWaiting && g.held_at_close[i] == 0)
+            out.push_back(fmt::format("tool \"{}\" closed its jaws at {:g} s on no skin: no surface vertex of the tissue "
+                                      "lay within {:g} mm of their centre, so it held nothing (move the tool onto the "
+                                      "tissue or widen \"grasp.radius\")",
+                                      w.tools.name[i], g.close[i], 1e3 * g.radius[i]));
     per_tool(w.cut_state.on_skin_ignored, [](const std::string& tool, int n, const char* s) {
         return fmt::format("tool \"{}\" lay on the tissue's surface in {} element{}: its cut there stayed within {:g} "
                            "of an element's edge from the skin, a flap thinner than that, so it made none (docs/xfem.md)",

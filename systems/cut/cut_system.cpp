@@ -480,6 +480,32 @@ void cut_to(World& w, ElementBvh& bvh, int i, const BladeAt& b) {
     cs.anchor_tip[i] = b.tip, cs.anchor_heel[i] = b.heel;
 }
 
+/// A blade stopped at `end` inside cut elements it entered across their cuts (2D): each crossed on
+/// one edge is cut again from that crossing to `end` (stem_event, its segment the other way), so a
+/// stem that crosses a wound and stops past it inside the element (an arc's overshoot at the tip of
+/// a fusiform excision) divides the fragment it crossed. Each is done once: its crossings go.
+void end_stems(World& w, int tool, const Vec3& end) {
+    CutState& cs = w.cut_state;
+    if (static_cast<int>(cs.blade.size()) <= tool || !recut_allowed(w)) return;
+    BladeCut& bc = cs.blade[tool];
+    std::vector<int> entered;  // in element order (the map's is not fixed)
+    for (const auto& [e, c] : bc.crossing)
+        if (w.cuts.cut_of_element[e] >= 0 && !c.split && __builtin_popcount(c.mask) == 1) entered.push_back(e);
+    std::sort(entered.begin(), entered.end());
+    for (int e : entered) {
+        const ElementCrossings& c = bc.crossing.at(e);
+        const int k = __builtin_ctz(c.mask);
+        CutEvent ev;
+        if (!stem_event(w, e, k, c.t[k], end, ev)) continue;
+        w.pending_cuts.push_back(ev);
+        remove_from_list(bc, e, c.list);
+        bc.crossing.erase(e);
+        ++cs.elements_split;
+        if (static_cast<int>(cs.split_by_tool.size()) <= tool) cs.split_by_tool.resize(tool + 1, 0);
+        ++cs.split_by_tool[tool];
+    }
+}
+
 /// Cuts along one blade's path over the step: a quad from the anchor to each point of the path the
 /// blade has moved `threshold` away from it; then, if the blade has stopped (it ends the step where
 /// it ended the last), the stretch left shorter than the threshold, so an incision ends where the
@@ -496,6 +522,7 @@ void sweep_blade(World& w, ElementBvh& bvh, int i, const std::vector<BladeAt>& p
     cs.last_tip[i] = end.tip, cs.last_heel[i] = end.heel;
     const double left = moved(end);
     if (stopped && left > 1e-6 * threshold && left < threshold) cut_to(w, bvh, i, end);
+    if (stopped) end_stems(w, i, end.tip);
 }
 
 }  // namespace

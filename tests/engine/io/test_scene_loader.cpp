@@ -149,6 +149,18 @@ std::vector<BadScene> bad_scenes() {
         {"units and scale", "!{ \"mesh\": { \"file\": \"m.msh\", \"units\": \"cm\", \"scale\": 0.01 } }", "mesh.scale", "not both"},
         {"unknown units", "!{ \"mesh\": { \"file\": \"m.msh\", \"units\": \"inch\" } }", "mesh.units", "is not one of"},
         {"rotation beyond a turn", "!{ \"mesh\": { \"file\": \"m.msh\", \"rotate\": [0, 400, 0] } }", "mesh.rotate[1]", "[-360, 360]"},
+        {"grasp opening before it closes",
+         "tools=[{\"grasp\":{\"radius\":0.002,\"close\":1,\"open\":0.5},\"trajectory\":[{\"time\":0,\"position\":[0,0,0]}]}]",
+         "tools[0].grasp.open", "the jaws open after they close"},
+        {"grasp without a reach", "tools=[{\"grasp\":{\"close\":1},\"trajectory\":[{\"time\":0,\"position\":[0,0,0]}]}]",
+         "tools[0].grasp.radius", "required field is missing"},
+        {"grasp without a skin", "tools=[{\"grasp\":{\"radius\":0.002,\"close\":1},\"trajectory\":[{\"time\":0,\"position\":[0,0,0]}]}]",
+         "tools[0].grasp", "this scene has none"},
+        {"grasp with the snapping cutter",
+         "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, \"visual\": "
+         "{\"subdivisions\": 0}, \"cutter\": {\"type\": \"snap\"}, \"tools\": [{\"grasp\":{\"radius\":0.002,\"close\":1},"
+         "\"trajectory\":[{\"time\":0,\"position\":[0,0,0]}]}] }",
+         "tools[0].grasp", "needs \"cutter.type\": \"xfem\""},
         {"region material without regions", "region_materials={\"fat\":{\"young\":1e3}}", "region_materials.fat",
          "its regions: none"},
         {"region material with an unknown field", "region_materials={\"fat\":{\"stiffness\":1e3}}",

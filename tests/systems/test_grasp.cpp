@@ -1,0 +1,125 @@
+// Graspers (systems/grasp_system.h): what the jaws take when they close (against the skin's own
+// vertex positions), that closing moves nothing, that they let go, that closing on nothing is said,
+// and, on the excision scene, that they draw a freed piece out where the uncut skin holds.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "engine/io/scene.h"
+#include "engine/io/scene_checks.h"
+#include "engine/simulation.h"
+#include "systems/cut/pieces_system.h"
+#include "systems/grasp_system.h"
+#include "systems/pipeline.h"
+
+namespace xcut {
+namespace {
+
+/// A 10 x 10 mm sheet of 1 mm cells with its skin, held on its left border; a grasper at (6, 5) mm
+/// (or `where`) closing at 0.02 s and opening at 0.1 s, then moving 2 mm along x by 0.08 s.
+std::unique_ptr<Simulation> sheet_with_grasper(const std::string& where = "0.006, 0.005") {
+    const std::string text = R"({
+      "mesh": {"generator": "plate", "size": [0.01, 0.01, 0], "element_size": 0.001},
+      "visual": {"subdivisions": 0},
+      "material": {"young": 1e4, "poisson": 0.3, "density": 1000, "thickness": 0.002},
+      "constraints": {"fixed_boxes": [{"min": [-1, -1, -1], "max": [1e-6, 1, 1]}]},
+      "tools": [{"name": "grasper", "grasp": {"radius": 0.0015, "close": 0.02, "open": 0.1, "stiffness": 5},
+                 "trajectory": [{"time": 0, "position": [)" + where + R"(, 0]}, {"time": 0.03, "position": [)" + where +
+                             R"(, 0]}, {"time": 0.08, "position": [0.008, 0.005, 0]}]}],
+      "solver": {"dt": 0.01},
+      "steps": 12
+    })";
+    return make_simulation(load_scene_text(text, "grasped sheet", "."), /*with_output=*/false);
+}
+
+TEST(Grasp, TheJawsTakeTheSkinWithinTheirReachHoldItWithoutAJumpAndLetItGo) {
+    auto sim = sheet_with_grasper();
+    World& w = sim->world;
+    while (w.time < 0.015) step_simulation(*sim);
+    EXPECT_EQ(w.grasps.state[0], Grasps::kWaiting);
+    // The skin's vertices within 1.5 mm of (6, 5) mm, from the surface's own positions.
+    int within = 0;
+    for (const Vec3& x : w.visual.position) within += (x - Vec3(0.006, 0.005, 0)).norm() <= 0.0015;
+    ASSERT_GT(within, 4);
+    step_simulation(*sim);  // t = 0.02 s: the jaws close
+    ASSERT_EQ(w.grasps.state[0], Grasps::kHolding);
+    EXPECT_EQ(static_cast<int>(w.grasps.vertex[0].size()), within);
+    EXPECT_EQ(w.grasps.held_at_close[0], within);
+    EXPECT_LT(w.grasps.peak_force[0], 1e-12) << "each vertex is held where it was: closing pulls nothing";
+    while (w.time < 0.075) step_simulation(*sim);
+    EXPECT_LT(w.grasps.force[0].x(), -1e-4) << "drawn along +x, the skin held on its left pulls the jaws back";
+    EXPECT_EQ(w.tools.reaction_force[0], w.grasps.force[0]) << "the pull is the tool's reaction";
+    // The held vertices follow the jaws: their mean moved most of the tool's 2 mm (the skin resists).
+    Vec3 mean = Vec3::Zero();
+    for (int v : w.grasps.vertex[0]) mean += w.visual.position[v] / static_cast<double>(w.grasps.vertex[0].size());
+    EXPECT_GT(mean.x() - 0.006, 0.001);
+    while (w.time < 0.105) step_simulation(*sim);
+    EXPECT_EQ(w.grasps.state[0], Grasps::kReleased);
+    EXPECT_TRUE(w.grasps.vertex[0].empty());
+    EXPECT_EQ(w.grasps.force[0], Vec3::Zero());
+    for (const std::string& n : end_of_run_notes(w)) EXPECT_EQ(n.find("closed its jaws"), std::string::npos) << n;
+}
+
+TEST(Grasp, JawsThatCloseOnNoSkinSaySo) {
+    auto sim = sheet_with_grasper("0.03, 0.03");  // 20 mm off the sheet
+    while (sim->world.time < 0.025) step_simulation(*sim);
+    EXPECT_EQ(sim->world.grasps.held_at_close[0], 0);
+    std::string notes;
+    for (const std::string& n : end_of_run_notes(sim->world)) notes += n + "\n";
+    EXPECT_NE(notes.find("tool \"grasper\" closed its jaws at 0.02 s on no skin"), std::string::npos) << notes;
+}
+
+struct Excision {
+    Vec3 pull;               ///< on the jaws at t = 3.5 s, halfway through the draw [N]
+    Vec3 moved;              ///< mean displacement of the mesh nodes within 3 mm of the lesion [m]
+    int pieces = 0;
+    double smallest = 0.0;   ///< the smallest piece's rest volume [m^3]
+};
+
+/// The excision scene to t = 4.2 s (the grasper has drawn the lens 30 mm down), with or without its
+/// two scalpels.
+Excision excise(bool scalpel) {
+    std::ifstream in(std::string(XCUT_SOURCE_DIR) + "/scenes/excision_2d.json");
+    nlohmann::json j;
+    in >> j;
+    if (!scalpel) j["tools"].erase(0), j["tools"].erase(0);
+    auto sim = make_simulation(load_scene_text(j.dump(), "excision", "."), /*with_output=*/false);
+    World& w = sim->world;
+    const int g = scalpel ? 2 : 0;
+    Excision out;
+    while (w.time < 4.2 - 1e-9) {
+        step_simulation(*sim);
+        if (std::abs(w.time - 3.5) < 1e-9) out.pull = w.grasps.force[g];
+    }
+    int n = 0;
+    out.moved = Vec3::Zero();
+    for (int i = 0; i < w.mesh_nodes; ++i)
+        if ((w.nodes.rest[i] - Vec3(0.0303, 0.0207, 0)).norm() < 0.003)
+            out.moved += w.nodes.position[i] - w.nodes.rest[i], ++n;
+    out.moved /= n;
+    count_pieces(w);
+    out.pieces = w.pieces.count;
+    out.smallest = *std::min_element(w.pieces.volume.begin(), w.pieces.volume.end());
+    return out;
+}
+
+// The two arcs free the lens, and the grasper carries it 30 mm down at 20 mm/s. A free body carried
+// at constant speed v needs only the step's Rayleigh mass damping, alpha rho V v (closed form: the
+// relative damping of the grasp is zero, and the piece is not stretched); the same jaws on uncut skin
+// stretch it and pull back more than a thousand times harder.
+TEST(Grasp, TheExcisionsFreedPieceFollowsTheJawsWhereUncutSkinHolds) {
+    const Excision cut = excise(true), whole = excise(false);
+    ASSERT_EQ(cut.pieces, 2);
+    const double alpha = 1.0, rho = 1000.0, v = 0.02;  // the scene's damping.mass [1/s], density, draw speed
+    EXPECT_NEAR(cut.pull.y(), alpha * rho * cut.smallest * v, 0.01 * alpha * rho * cut.smallest * v)
+        << "the lens is " << cut.smallest * 1e9 << " mm^3";
+    EXPECT_NEAR(cut.moved.y(), -0.030, 0.002);
+    EXPECT_NEAR(cut.moved.x(), 0.0, 0.002);
+    EXPECT_EQ(whole.pieces, 1);
+    EXPECT_GT(whole.pull.norm(), 1000.0 * cut.pull.norm());
+}
+
+}  // namespace
+}  // namespace xcut
