@@ -483,11 +483,13 @@ void cut_to(World& w, ElementBvh& bvh, int i, const BladeAt& b) {
 /// A blade stopped at `end` inside cut elements it entered across their cuts (2D): each crossed on
 /// one edge is cut again from that crossing to `end` (stem_event, its segment the other way), so a
 /// stem that crosses a wound and stops past it inside the element (an arc's overshoot at the tip of
-/// a fusiform excision) divides the fragment it crossed. Each is done once: its crossings go.
+/// a fusiform excision) divides the fragment it crossed. Its crossing stays: if the blade goes on
+/// and leaves the element, the cut along the whole chord divides what the stem did not (its line is
+/// the stem's: record_recut), so a pause inside the element loses nothing.
 void end_stems(World& w, int tool, const Vec3& end) {
     CutState& cs = w.cut_state;
     if (static_cast<int>(cs.blade.size()) <= tool || !recut_allowed(w)) return;
-    BladeCut& bc = cs.blade[tool];
+    const BladeCut& bc = cs.blade[tool];
     std::vector<int> entered;  // in element order (the map's is not fixed)
     for (const auto& [e, c] : bc.crossing)
         if (w.cuts.cut_of_element[e] >= 0 && !c.split && __builtin_popcount(c.mask) == 1) entered.push_back(e);
@@ -496,13 +498,7 @@ void end_stems(World& w, int tool, const Vec3& end) {
         const ElementCrossings& c = bc.crossing.at(e);
         const int k = __builtin_ctz(c.mask);
         CutEvent ev;
-        if (!stem_event(w, e, k, c.t[k], end, ev)) continue;
-        w.pending_cuts.push_back(ev);
-        remove_from_list(bc, e, c.list);
-        bc.crossing.erase(e);
-        ++cs.elements_split;
-        if (static_cast<int>(cs.split_by_tool.size()) <= tool) cs.split_by_tool.resize(tool + 1, 0);
-        ++cs.split_by_tool[tool];
+        if (stem_event(w, e, k, c.t[k], end, ev)) w.pending_cuts.push_back(ev);
     }
 }
 
@@ -521,8 +517,10 @@ void sweep_blade(World& w, ElementBvh& bvh, int i, const std::vector<BladeAt>& p
     const bool stopped = end.tip == cs.last_tip[i] && end.heel == cs.last_heel[i];
     cs.last_tip[i] = end.tip, cs.last_heel[i] = end.heel;
     const double left = moved(end);
-    if (stopped && left > 1e-6 * threshold && left < threshold) cut_to(w, bvh, i, end);
-    if (stopped) end_stems(w, i, end.tip);
+    if (stopped && left > 1e-6 * threshold && left < threshold) {  // the step the blade stopped in
+        cut_to(w, bvh, i, end);
+        end_stems(w, i, end.tip);
+    }
 }
 
 }  // namespace

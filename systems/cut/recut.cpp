@@ -64,8 +64,13 @@ bool cuts_across(const World& w, int e, const Vec3& normal) {
     if (c < 0 || !(n > 0.0)) return false;
     const std::vector<CutLine> lines = lines_of(w, c);
     if (static_cast<int>(lines.size()) >= kMaxElementLines) return false;
-    for (const CutLine& l : lines)
-        if (std::abs(l.normal.dot(normal)) / n > kRecutCos) return false;
+    for (int k = 0; k < static_cast<int>(lines.size()); ++k) {
+        if (std::abs(lines[k].normal.dot(normal)) / n <= kRecutCos) continue;
+        // Along line k: only where it bounds part of the element (a stem that stopped in it).
+        bool everywhere = true;
+        for (int v : fragments_of(w, c)) everywhere = everywhere && (w.virtual_elements.mask[v] & bound_by(k));
+        if (everywhere) return false;
+    }
     return true;
 }
 
@@ -126,10 +131,16 @@ bool record_recut(World& w, const CutEvent& ev) {
     if (!event_line(ev, X, line)) return false;
     const double size = std::max({(X[1] - X[0]).norm(), (X[2] - X[1]).norm(), (X[0] - X[2]).norm()});
     const std::vector<CutLine> before = lines_of(w, c);
-    if (static_cast<int>(before.size()) >= kMaxElementLines) return false;
-    for (const CutLine& l : before)
-        if (std::abs(l.normal.dot(line.normal)) > 1.0 - 1e-12 && std::abs(l.normal.dot(line.origin - l.origin)) < 1e-9 * size)
-            return false;
+    // One of its lines again (a stem that stopped on it goes on): the fragments it does not bound
+    // yet may be divided by it, and no line is added.
+    // Within a degree and a thousandth of the element's size of it, a line is that line (the path's
+    // map to rest changes a little as the element deforms between the stem and its sequel).
+    int same = -1;
+    for (int k = 0; k < static_cast<int>(before.size()) && same < 0; ++k)
+        if (std::abs(before[k].normal.dot(line.normal)) > kSameLineCos &&
+            std::abs(before[k].normal.dot(line.origin - before[k].origin)) < 1e-3 * size)
+            same = k, line = before[k];
+    if (same < 0 && static_cast<int>(before.size()) >= kMaxElementLines) return false;
     // Which fragments the line divides: each part's area, decided before anything changes.
     const std::vector<int> frags = fragments_of(w, c);
     const double area = polygon_area({X.begin(), X.end()});
@@ -150,22 +161,24 @@ bool record_recut(World& w, const CutEvent& ev) {
         const uint32_t mask = w.virtual_elements.mask[v];
         const std::vector<Vec3> poly = fragment_polygon(X, before.data(), n, mask);
         const std::array<double, 2> chord = segment_in_polygon(a, b, poly);
-        const bool across = chord[0] >= from - slack && chord[1] <= to + slack;  // crossed from side to side
+        const bool across = chord[0] >= from - slack && chord[1] <= to + slack &&  // crossed from side to side
+                            (same < 0 || !(mask & bound_by(same)));
         parts.push_back({across ? polygon_area(clip_to_side(poly, line, true)) : 0.0,
                          across ? polygon_area(clip_to_side(poly, line, false)) : 0.0});
         divides = divides || (parts.back().one >= kMinFragmentFraction * area && parts.back().zero >= kMinFragmentFraction * area);
     }
     if (!divides) return false;
     ensure_lines(w, c);
-    w.cuts.lines[c].push_back(line);
-    const uint32_t bit = 1u << n;
+    const int k = same >= 0 ? same : n;
+    if (same < 0) w.cuts.lines[c].push_back(line);
+    const uint32_t bit = 1u << k;
     VirtualElements& ve = w.virtual_elements;
     for (size_t f = 0; f < frags.size(); ++f) {
         const int v = frags[f];
         if (parts[f].one < kMinFragmentFraction * area || parts[f].zero < kMinFragmentFraction * area) continue;
         const int fe = ve.element[v];
         w.elements.weight[fe] = std::max(parts[f].one / area, kMinSideFraction);
-        ve.mask[v] |= bit | bound_by(n);
+        ve.mask[v] |= bit | bound_by(k);
         w.cuts.fragments[c].push_back(ve.count());
         ve.parent.push_back(e);
         ve.side.push_back(ve.side[v]);

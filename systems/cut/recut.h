@@ -16,6 +16,10 @@ namespace xcut {
 /// this of a fragment on one side (through a node, or along an earlier line) does not cut it.
 inline constexpr double kMinFragmentFraction = 1e-6;
 
+/// Cosine of the angle [-] within which (and 1e-3 of the element's size apart) a further cut's line
+/// is one of the element's lines: cos 1 degree.
+inline constexpr double kSameLineCos = 0.9998476951563913;
+
 /// The line of cut element c's first cut (2D): through its two edge points, its normal toward the
 /// side H = +1 of the element's nodes.
 CutLine first_cut_line(const World& world, int c);
@@ -25,9 +29,10 @@ std::vector<CutLine> lines_of(const World& world, int c);
 
 /// Cuts element ev.element again along the line of ev's levels (2D, linear, already cut): its
 /// fragments crossed by the line are split, each into the part on the line's side +1 (the old
-/// virtual element, new weight) and a new virtual element for the rest. Returns false (and changes
-/// nothing) if the element is not cut, the line is one of its lines, it already holds
-/// kMaxElementLines, or it crosses no fragment.
+/// virtual element, new weight) and a new virtual element for the rest. Along one of its lines
+/// already (a bounded cut on that line goes on), it divides the fragments that line does not bound
+/// yet and adds no line. Returns false (and changes nothing) if the element is not cut, it already
+/// holds kMaxElementLines and the line is a new one, or it divides no fragment.
 bool record_recut(World& world, const CutEvent& ev);
 
 /// Whether rest point x lies in fragment (virtual element) v of cut element c with lines (on or
@@ -47,7 +52,8 @@ std::array<Vec3, 3> corners(const World& world, int e);
 bool recut_allowed(const World& world);
 
 /// Whether a cut with normal `normal` through cut element e (2D) runs along another line than each
-/// of its cuts (more than 30 degrees from it: kRecutCos), and e can hold one more line.
+/// of its cuts (more than 30 degrees from it: kRecutCos), or along one that bounds only part of it
+/// (a stem that stopped inside it, which goes on), and e can hold one more line.
 bool cuts_across(const World& world, int e, const Vec3& normal);
 
 /// Whether a node of element e has its side from a cut more than 30 degrees from a cut with normal

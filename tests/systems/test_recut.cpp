@@ -359,6 +359,45 @@ std::string random_scalpels_scene(std::mt19937_64& rng) {
     })";
 }
 
+/// The sheet (5 mm cells), cut along x = 17.5 mm, then along y = 21.5 mm from outside its left
+/// border by a second scalpel that stops at `stop_x` (t = 0.3-0.45 s) and, if `resume`, goes on past
+/// the right border.
+std::unique_ptr<Simulation> stopping_second(const std::string& stop_x, bool resume) {
+    const std::string text = R"({
+      "mesh": {"generator": "plate", "size": [0.04, 0.04, 0], "element_size": 0.005},
+      "material": {"young": 1e5, "poisson": 0.3, "density": 1000, "thickness": 0.002},
+      "tools": [{"name": "first", "blade": {"tip": [0, 0, 0], "heel": [0, 0, 0.001]},
+                 "trajectory": [{"time": 0, "position": [0.0175, -0.002, 0]}, {"time": 0.2, "position": [0.0175, 0.042, 0]}]},
+                {"name": "second", "blade": {"tip": [0, 0, 0], "heel": [0, 0, 0.001]},
+                 "trajectory": [{"time": 0, "position": [-0.002, 0.0215, 0]}, {"time": 0.2, "position": [-0.002, 0.0215, 0]},
+                                {"time": 0.3, "position": [)" + stop_x + R"(, 0.0215, 0]}, {"time": 0.45, "position": [)" +
+                             stop_x + R"(, 0.0215, 0]})" + (resume ? R"(, {"time": 0.6, "position": [0.042, 0.0215, 0]})" : "") + R"(]}],
+      "solver": {"dt": 0.01},
+      "allow": ["dt"],
+      "steps": 70
+    })";
+    return make_simulation(load_scene_text(text, "stopping scalpel", "."), /*with_output=*/false);
+}
+
+// A blade that stops past a wound inside the element it crossed it in divides the fragment it
+// crossed (end_stems: without it the T keeps a bridge there, 2 pieces); one that pauses there, before
+// or past the wound line, and goes on loses nothing (the chord's line is the stem's: 4 pieces, as
+// without the pause).
+TEST(Recut, AScalpelThatStopsOrPausesPastAWoundInsideAnElementDividesWhatItCrossed) {
+    auto stopped = stopping_second("0.0185", false);
+    while (stopped->world.step < 70) step_simulation(*stopped);
+    count_pieces(stopped->world);
+    EXPECT_EQ(stopped->world.pieces.count, 3) << "the T's stem reaches the wound";
+    for (const char* at : {"0.0165", "0.0185"}) {
+        SCOPED_TRACE(at);
+        auto sim = stopping_second(at, true);
+        while (sim->world.step < 70) step_simulation(*sim);
+        EXPECT_TRUE(every_crossed_element_cut_along(sim->world, 0.0215, 0.0, kSide));
+        count_pieces(sim->world);
+        EXPECT_EQ(sim->world.pieces.count, 4);
+    }
+}
+
 // Random crossings, T's and re-cuts of re-cut elements (100 runs, seed 31; 12 under the sanitizer,
 // where the 100 took two minutes): at every step no
 // triangle without area and no number NaN; at the end the sheet is sound (every directed edge once,
