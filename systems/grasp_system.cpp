@@ -4,20 +4,13 @@
 #include <stdexcept>
 
 #include "systems/kernels/solver/block_sparse.h"
+#include "systems/xfem_queries.h"
 
 namespace xcut {
 namespace {
 
 const SurfaceMesh& held_surface(const World& w, int tool) {
     return w.grasps.surface[tool] == 0 ? w.collision : w.visual;
-}
-
-/// The position of surface vertex v from its binding (eq. 4, 6) [m].
-Vec3 bound_point(const World& w, const SurfaceMesh& s, int v) {
-    const auto& nodes = w.elements.nodes[s.element[v]];
-    Vec3 x = Vec3::Zero();
-    for (int a = 0; a < w.elements.nodes_per_element(); ++a) x += s.bary[v][a] * w.nodes.position[nodes[a]];
-    return x;
 }
 
 /// The jaws of tool i close: every skin vertex within their reach, on material, is held where it is.
@@ -33,7 +26,7 @@ void close_jaws(World& w, int i) {
         for (int v : t) skin[v] = 1;
     for (int v = 0; v < s.vertex_count(); ++v) {
         if (!skin[v] || w.elements.weight[s.element[v]] < kMinHeldWeight) continue;
-        const Vec3 x = bound_point(w, s, v);
+        const Vec3 x = bound_position(w, s.element[v], s.bary[v]);
         if ((x - centre).norm() > g.radius[i]) continue;
         g.vertex[i].push_back(v);
         g.anchor[i].push_back(q.conjugate() * (x - p));
@@ -83,6 +76,20 @@ public:
     void add_product(const World& w, const Eigen::VectorXd& p, Eigen::VectorXd& out) const override {
         add_grasp_product(w, p, out);
     }
+    /// Its stiffness as a block (step_term.h): one row per held vertex and axis, C = w^T (x) e_axis
+    /// over the vertex's element nodes, H = -1/k, so -C^T H^-1 C = k w w^T (x) I.
+    bool gives_jump_block() const override { return true; }
+    void jump_block(const World& w, BesideBlock& out) const override {
+        const int npe = w.elements.nodes_per_element();
+        for_held(w, [&](int i, size_t, const SurfaceMesh& s, int v) {
+            const auto& nodes = w.elements.nodes[s.element[v]];
+            for (int c = 0; c < 3; ++c, ++out.rows) {
+                for (int a = 0; a < npe; ++a)
+                    if (s.bary[v][a] != 0.0) out.coupling.emplace_back(out.rows, 3 * nodes[a] + c, s.bary[v][a]);
+                out.stiffness.emplace_back(out.rows, out.rows, -1.0 / w.grasps.stiffness[i]);
+            }
+        });
+    }
     /// k w_a w_b I between the held vertex's element nodes, scaled.
     void add_scattered(const World& w, double scale, LinearSystem& A) const override {
         const int npe = w.elements.nodes_per_element();
@@ -126,8 +133,8 @@ void apply_grasps(World& w) {
         const Keyframe& from = tb.sweep[i].empty() ? Keyframe{0.0, tb.position[i], tb.orientation[i]} : tb.sweep[i].front();
         const Vec3 held_velocity = dt > 0.0 ? Vec3((held - (from.position + from.orientation * g.anchor[i][k])) / dt) : Vec3::Zero();
         const auto& nodes = w.elements.nodes[s.element[v]];
-        Vec3 x = Vec3::Zero(), xv = Vec3::Zero();
-        for (int a = 0; a < npe; ++a) x += s.bary[v][a] * w.nodes.position[nodes[a]], xv += s.bary[v][a] * w.nodes.velocity[nodes[a]];
+        const Vec3 x = bound_position(w, s.element[v], s.bary[v]);
+        const Vec3 xv = bound_value(w, s.element[v], s.bary[v], w.nodes.velocity);
         // The spring, and its share of the Rayleigh damping beta K against the jaws' motion: the step
         // takes beta K v of the vertex (SolverSystem), so its force adds beta k v of the held point.
         const Vec3 spring = stiffness * (held - x);

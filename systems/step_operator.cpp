@@ -81,6 +81,12 @@ bool StepOperator::add_beside_product(World& world, const Eigen::VectorXd& p, Ei
     return any;
 }
 
+BesideBlock StepOperator::jump_blocks(const World& world) const {
+    BesideBlock out;
+    in_order(terms, world, [](const StepTerm& t) { return t.gives_jump_block(); }, [&](StepTerm& t, bool) { t.jump_block(world, out); });
+    return out;
+}
+
 StepTerm* StepOperator::block_term(const World& world) const {
     StepTerm* one = nullptr;
     int count = 0;

@@ -76,6 +76,14 @@ public:
     /// A number that changes when the term's own unknowns change (the crack tips' zones are built
     /// again): a factor knows which block it was made for.
     virtual uint64_t beside_version(const World&) const { return 0; }
+    /// An assembled term whose stiffness jumps between steps by a change of low rank (the grasps'
+    /// jaws closing or opening, a held vertex re-bound by a cut) gives its whole stiffness as a
+    /// block, K_t = -C^T H^-1 C (H negative definite for a stiffness that adds): a kept factor made
+    /// with another block solves the step's A through the difference beside it
+    /// (systems/solver/beside_augment.h), so the jump costs the step no factorization.
+    virtual bool gives_jump_block() const { return false; }
+    /// Appends its block now to `out` (its rows after out's).
+    virtual void jump_block(const World&, BesideBlock&) const {}
     /// Whether a scheduled system computes its force at the step's start (the elastic term's: the
     /// ForceSystem; the contacts': the CollisionSystem). A term without one (the crack tips) has it
     /// added by the SolverSystem as the step begins (StepOperator::add_start_forces).
@@ -131,6 +139,9 @@ struct StepOperator {
     /// out += scale mask (K_t (mask p)) over the active terms kept beside the assembly; whether any is.
     bool add_beside_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, double scale,
                             const Eigen::VectorXd& mask) const;
+    /// The blocks of the active terms that give one (jump_block), stacked in order: the jumping
+    /// part of the stiffness A is assembled with now.
+    BesideBlock jump_blocks(const World& world) const;
     /// The active term kept beside the assembly, if it is the only one and gives its block
     /// (several are not combined); null otherwise.
     StepTerm* block_term(const World& world) const;

@@ -3,6 +3,8 @@
 // surface code asks where the crack crosses an edge and whether the blade has crossed it; output
 // and studies ask a node's enriched displacement. They read the cut components only (CutElements,
 // EnrichedDofs); the EnrichmentSystem (systems/cut/enrichment_system.h) is what writes them.
+#include <span>
+
 #include "engine/world.h"
 #include "systems/kernels/branch_enrichment.h"
 
@@ -41,11 +43,25 @@ inline int mesh_node(const World& world, int node) {
     return node >= world.mesh_nodes ? world.enriched.node_of_phantom[node - world.mesh_nodes] : node;
 }
 
+/// A nodal field (positions, velocities) at barycentric `b` of force element `element`, linear over
+/// its corners (eq. 4, 6): how a surface vertex or a probe point bound to it moves.
+inline Vec3 bound_value(const World& w, int element, const Eigen::Vector4d& b, const std::vector<Vec3>& field) {
+    const auto& nodes = w.elements.nodes[element];
+    Vec3 p = Vec3::Zero();
+    for (int a = 0; a < w.elements.nodes_per_element(); ++a) p += b[a] * field[nodes[a]];
+    return p;
+}
+/// Current position of the point at barycentric `b` of force element `element` [m], as
+/// update_surface_positions places a surface vertex.
+inline Vec3 bound_position(const World& w, int element, const Eigen::Vector4d& b) {
+    return bound_value(w, element, b, w.nodes.position);
+}
+
 /// The virtual elements of cut element c: its two sides, or its fragments once cut again
-/// (CutElements::fragments).
-inline std::vector<int> fragments_of(const World& world, int c) {
+/// (CutElements::fragments). A view into the cut components: a caller that changes them copies it first.
+inline std::span<const int> fragments_of(const World& world, int c) {
     if (!world.cuts.fragments[c].empty()) return world.cuts.fragments[c];
-    return {world.cuts.virtual_element[c][0], world.cuts.virtual_element[c][1]};
+    return world.cuts.virtual_element[c];
 }
 
 /// a_j of mesh node j (eq. 6), zero if the node has no phantom.

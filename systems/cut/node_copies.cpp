@@ -129,7 +129,7 @@ std::vector<Fragment> fragments_around(const World& w, int j) {
             frags.push_back({e, 0, slot, -1, 1});
             continue;
         }
-        const std::vector<int> parts = fragments_of(w, c);
+        const std::span<const int> parts = fragments_of(w, c);
         for (size_t k = 0; k < parts.size(); ++k)
             frags.push_back({e, w.virtual_elements.side[parts[k]], slot, parts[k], k == 0 ? static_cast<int>(parts.size()) : 0});
     }

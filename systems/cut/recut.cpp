@@ -142,7 +142,8 @@ bool record_recut(World& w, const CutEvent& ev) {
             same = k, line = before[k];
     if (same < 0 && static_cast<int>(before.size()) >= kMaxElementLines) return false;
     // Which fragments the line divides: each part's area, decided before anything changes.
-    const std::vector<int> frags = fragments_of(w, c);
+    const std::span<const int> now = fragments_of(w, c);
+    const std::vector<int> frags(now.begin(), now.end());  // the fragments before this line; it adds more
     const double area = polygon_area({X.begin(), X.end()});
     const int n = static_cast<int>(before.size());
     // The line as a long segment a -> b through the element, and the part of it the cut covers.

@@ -62,6 +62,22 @@ void phantom_products(const FactorAugment& g, int base, BesideAugment& b) {
 
 }  // namespace
 
+void append_block(BesideBlock& into, const BesideBlock& more, double h_sign) {
+    for (const Eigen::Triplet<double>& t : more.coupling) into.coupling.emplace_back(into.rows + t.row(), t.col(), t.value());
+    for (const Eigen::Triplet<double>& t : more.stiffness)
+        into.stiffness.emplace_back(into.rows + t.row(), into.rows + t.col(), h_sign * t.value());
+    into.rows += more.rows;
+}
+
+bool same_block(const BesideBlock& a, const BesideBlock& b) {
+    const auto same = [](const std::vector<Eigen::Triplet<double>>& x, const std::vector<Eigen::Triplet<double>>& y) {
+        return std::equal(x.begin(), x.end(), y.begin(), y.end(), [](const auto& p, const auto& q) {
+            return p.row() == q.row() && p.col() == q.col() && p.value() == q.value();
+        });
+    };
+    return a.rows == b.rows && same(a.coupling, b.coupling) && same(a.stiffness, b.stiffness);
+}
+
 bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, uint64_t factor, const FactorAugment* g,
                           const BesideBlock& block, double stiff_scale, const Eigen::VectorXd& mask, BesideAugment& b) {
     const int base = lf.rows(), m = g ? g->columns() : 0, k = block.rows;
@@ -103,7 +119,7 @@ bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, uint64_t
         D(t.row(), t.col()) += stiff_scale * t.value();
         if (t.row() == t.col()) diagonal[t.row()] += t.value();
     }
-    for (int i = 0; i < k; ++i) D(i, i) += diagonal[i] > 0.0 ? stiff_scale * kBesideRegularization * diagonal[i] : 1.0;
+    for (int i = 0; i < k; ++i) D(i, i) += diagonal[i] != 0.0 ? stiff_scale * kBesideRegularization * diagonal[i] : 1.0;
     D.noalias() -= b.E.transpose() * (b.G * b.E);
     if (m > 0) {
         if (b.f_columns != m) phantom_products(*g, base, b);
@@ -113,8 +129,15 @@ bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, uint64_t
     } else {
         b.V.resize(0, k);
     }
-    b.schur.compute(D);
-    return b.ok = b.schur.info() == Eigen::Success;
+    b.indefinite = k > 0 && diagonal.minCoeff() < 0.0;
+    if (!b.indefinite) {
+        b.schur.compute(D);
+        return b.ok = b.schur.info() == Eigen::Success;
+    }
+    b.schur_indefinite.compute(D);
+    // Singular to round-off (a pivot below 1e-14 of the largest) is refused as a failed LLT is.
+    const Eigen::VectorXd pivots = b.schur_indefinite.vectorD().cwiseAbs();
+    return b.ok = b.schur_indefinite.info() == Eigen::Success && pivots.minCoeff() > 1e-14 * pivots.maxCoeff();
 }
 
 void apply_augmented(const LowerFactor& lf, const FactorAugment* g, const BesideAugment* b, const Eigen::VectorXd& r,
@@ -134,7 +157,7 @@ void apply_augmented(const LowerFactor& lf, const FactorAugment* g, const Beside
         for (int c = 0; c < n; ++c) xs[c] = column_dot(*b, c, t);
         y = -(b->E.transpose() * xs);  // -Y_E^T v: the amplitudes' residual is 0
         if (m > 0) y.noalias() -= b->V.transpose() * p;
-        y = b->schur.solve(y);
+        y = b->indefinite ? Eigen::VectorXd(b->schur_indefinite.solve(y)) : Eigen::VectorXd(b->schur.solve(y));
         if (m > 0) p -= b->V * y;
     }
     if (m > 0) {  // a = L_g^-T (p - V y)

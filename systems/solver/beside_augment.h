@@ -23,6 +23,13 @@
 // not S, so most moving steps pay only the small dense products (E^T G E, F E, V, S_E's Cholesky).
 // Solving the amplitudes' columns every step instead took 0.3-0.44 ms a step on the face skin and
 // saved nothing (docs/xfem.md, Solvers).
+//
+// The same block carries a jump of an assembled term (StepTerm::jump_block: grasps' jaws that
+// closed or opened since the factor was made): the term's block now, with its H, and its block as
+// the factor was made, with H negated, so that A_kept - s C^T H'^-1 C = A_kept + s (K_now - K_then),
+// the step's A up to the elements' own drift since (Woodbury's identity by the augmented matrix).
+// A stiffness that adds has H < 0, so S_E is then indefinite and factored by LDL^T (Eigen's
+// pivoted LDLT); a tip's block alone keeps its LLT.
 #include <Eigen/Dense>
 #include <cstdint>
 #include <vector>
@@ -52,6 +59,10 @@ struct BesideAugment {
     Eigen::MatrixXd E;
     Eigen::MatrixXd V;             ///< L_g^-1 Z (phantom columns x amplitudes)
     Eigen::LLT<Eigen::MatrixXd> schur;  ///< of S_E = D - V^T V
+    Eigen::LDLT<Eigen::MatrixXd> schur_indefinite;  ///< of S_E when H has a negative diagonal entry
+    bool indefinite = false;
+    bool with_term = false;        ///< it holds a moving term's block (else jumps only)
+    BesideBlock jumps;             ///< the jumping terms' block now it was built for
     bool ok = false;
     int solves = 0;                ///< CG solves it preconditioned
     int s_builds = 0;              ///< times X_S was solved for
@@ -59,10 +70,15 @@ struct BesideAugment {
     int amplitudes() const { return static_cast<int>(E.cols()); }
 };
 
+/// Appends `more`'s rows to `into`, its H times `h_sign`.
+void append_block(BesideBlock& into, const BesideBlock& more, double h_sign);
+/// Whether two blocks hold the same rows and entries in the same order.
+bool same_block(const BesideBlock& a, const BesideBlock& b);
+
 /// Builds b for `block` at stiff_scale s beside the factor `lf` (LinearFactor::serial `factor`; its
 /// augmented block g when A has grown, else null), the held axes of `mask` (0) dropped from C.
-/// False (b.ok false) if S_E is not positive definite: the caller keeps the factor with the term
-/// beside it.
+/// False (b.ok false) if S_E is not positive definite (or, with a negative H, singular): the caller
+/// keeps the factor with the term beside it.
 bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, uint64_t factor, const FactorAugment* g,
                           const BesideBlock& block, double stiff_scale, const Eigen::VectorXd& mask, BesideAugment& b);
 

@@ -14,6 +14,7 @@
 #include <omp.h>
 
 #include "systems/solver/factor_augment.h"
+#include "systems/step_term.h"
 
 namespace xcut {
 
@@ -67,6 +68,9 @@ struct LinearFactor {
     /// and the augmented block use them.
     std::unique_ptr<LowerFactor> lower;
     FactorAugment augment;     ///< the grown system's block, when A has DOFs the factor has not
+    /// The jumping terms' block A held when it was factored (StepOperator::jump_blocks): a step
+    /// whose block differs solves through the difference (systems/solver/beside_augment.h).
+    BesideBlock jumps;
     /// What a successor computed off the step is copied from: the step's A, into storage handed on
     /// from factor to factor, so that asking for one allocates nothing in the step (fresh pages
     /// cost 4-10 ms on a virtual machine; the scalar copy is made off the step).

@@ -7,7 +7,7 @@
 namespace xcut {
 
 std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<LinearSystem> snapshot,
-                                                       int requested_step, int due_step) {
+                                                       BesideBlock jumps, int requested_step, int due_step) {
     if (!snapshot) snapshot = std::make_shared<LinearSystem>();
     if (snapshot->topology != A.topology || snapshot->value.size() != A.value.size()) {
         snapshot->row_offset = A.row_offset, snapshot->column = A.column, snapshot->diagonal = A.diagonal;
@@ -16,6 +16,7 @@ std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, st
     snapshot->value = A.value;
     auto f = std::make_shared<LinearFactor>(true);
     f->topology = A.topology, f->computed_step = requested_step, f->snapshot = snapshot;
+    f->jumps = std::move(jumps);
     auto pending = std::make_shared<PendingFactor>();
     pending->requested_step = requested_step, pending->due_step = due_step;
     pending->result = run_in_background<std::shared_ptr<LinearFactor>>([f]() {

@@ -33,9 +33,9 @@ struct PendingFactor : PendingResult<LinearFactor> {};
 
 /// Starts computing a factor of A, to be solved through views of its supernodes, due at `due_step`.
 /// A is copied into `snapshot` (storage handed on from factor to factor, or null): it changes from
-/// the next step on.
+/// the next step on. `jumps`: the jumping terms' block A holds now (LinearFactor::jumps).
 std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<LinearSystem> snapshot,
-                                                       int requested_step, int due_step);
+                                                       BesideBlock jumps, int requested_step, int due_step);
 /// Lets the background thread free a factor no longer in use (its pages given back off the step).
 void retire_factor(std::shared_ptr<LinearFactor> f);
 

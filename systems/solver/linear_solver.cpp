@@ -297,53 +297,61 @@ public:
         const bool failed_off_step = take_due_factor();
         LinearFactor* f = A_.factor.get();
         bool augmented = off_step && f && f->ok && f->topology != A_.topology && augment_for_grown_system(w_, *f, mask_);
+        // A term whose stiffness jumped since the factor was made (grasps): solved beside it, and a
+        // successor asked for at once.
+        const BesideBlock jumps = op_.jump_blocks(w_);
+        const bool jumped = f && f->ok && !same_block(jumps, f->jumps);
         const bool aged = f && (A_.factor_age >= s.refactor_every || f->last_iterations > s.refactor_iterations);
         // Off the step the renewal costs the step nothing, so it is asked for at half the count
         // (kFactorEarlyFraction): the successor arrives about when the kept one would have aged.
         const bool aging = f && f->last_iterations > kFactorEarlyFraction * s.refactor_iterations;
         const bool augment_grew = augmented && f->augment.columns() > kFactorAugmentLimit;
-        if (off_step && f && f->ok && (augment_grew || aged || aging) && !A_.pending_factor && !failed_off_step) {
-            A_.pending_factor = start_background_factor(A_, f->snapshot, w_.step, w_.step + s.factor_delay);
+        if (off_step && f && f->ok && (augment_grew || aged || aging || jumped) && !A_.pending_factor && !failed_off_step) {
+            A_.pending_factor = start_background_factor(A_, f->snapshot, jumps, w_.step, w_.step + s.factor_delay);
             ++A_.background_builds;
         }
         // Renewed in the step all the same when its successor would come too late: CG needed more
         // than kFactorInStepGrowth x refactor_iterations (a large step that turned the elements).
         const bool spent = f && f->last_iterations > kFactorInStepGrowth * s.refactor_iterations;
         const bool stale = !f || !f->ok || A_.method == "direct" || failed_off_step ||
-                           (f->topology != A_.topology && !augmented) || (aged && !off_step) || spent;
+                           (f->topology != A_.topology && !augmented) || ((aged || jumped) && !off_step) || spent;
         if (A_.pending_factor) A_.step_preconditioner = std::max(A_.step_preconditioner, 1);
         if (augmented) ++A_.augmented_steps;
-        // A term's block that moves (a blade carrying its tip): one more augmented block on the
-        // factor in use, made again for each factor, augmented block and zone
-        // (systems/solver/beside_augment.h).
-        BesideAugment* tips = nullptr;
-        const auto prepare_tips = [&] {
-            tips = nullptr;
-            if (!moving_term_ || !f || !f->ok || !f->lower || (f->topology != A_.topology && !augmented)) return;
-            BesideFactor& bf = *A_.beside_factor;
+        // A term's block that moves (a blade carrying its tip) and the jumps since the factor was
+        // made: one more augmented block on the factor in use, made again for each factor,
+        // augmented block, zone and jump (systems/solver/beside_augment.h).
+        BesideAugment* beside = nullptr;
+        const auto prepare_beside = [&] {
+            beside = nullptr;
+            const bool jump = jumped && f->ok && !same_block(jumps, f->jumps);  // a factor renewed in the step holds them
+            if ((!moving_term_ && !jump) || !f || !f->ok || !f->lower || (f->topology != A_.topology && !augmented)) return;
+            if (!A_.beside_factor) A_.beside_factor = std::make_shared<BesideFactor>();
             const FactorAugment* g = augmented ? &f->augment : nullptr;
-            const uint64_t version = moving_term_->beside_version(w_);
-            BesideAugment& t = bf.moving;
-            const bool same = t.factor == f->serial && t.version == version &&
+            const uint64_t version = moving_term_ ? moving_term_->beside_version(w_) : 0;
+            BesideAugment& t = A_.beside_factor->moving;
+            const bool same = t.factor == f->serial && t.version == version && t.with_term == (moving_term_ != nullptr) &&
                               t.topology == A_.topology && t.phantom_columns == (g ? g->columns() : 0) &&
-                              t.stiff_scale == stiff_scale_;
+                              t.stiff_scale == stiff_scale_ && same_block(t.jumps, jump ? jumps : BesideBlock{});
             if (!same) {
                 BesideBlock block;
-                if (!moving_term_->beside_block(w_, block)) return;
-                t.version = version, t.topology = A_.topology;
+                if (moving_term_ && !moving_term_->beside_block(w_, block)) return;
+                if (jump) append_block(block, jumps, 1.0), append_block(block, f->jumps, -1.0);
+                t.version = version, t.topology = A_.topology, t.with_term = moving_term_ != nullptr;
+                t.jumps = jump ? jumps : BesideBlock{};
                 build_beside_augment(A_, *f->lower, f->serial, g, block, stiff_scale_, mask_, t);
                 t.phantom_columns = g ? g->columns() : 0, t.stiff_scale = stiff_scale_;
             }
-            if (t.ok) tips = &t, ++t.solves;
+            if (t.ok) beside = &t, ++t.solves;
         };
         const auto solve_factor = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-            if (tips) return apply_augmented(*f->lower, augmented ? &f->augment : nullptr, tips, r, z);
+            if (beside) return apply_augmented(*f->lower, augmented ? &f->augment : nullptr, beside, r, z);
             if (f->lower) return solve_with_factor(*f, augmented, r, z);  // no BLAS
             with_cholmod_blas([&] { f->solve(r, z); });
         };
         const auto renew = [&] {
             const bool ok = factorize(w_);
             f = A_.factor.get();
+            f->jumps = jumps;
             augmented = false;
             return ok;
         };
@@ -353,7 +361,7 @@ public:
         };
         with_kept(stale, renew, [&] { return f && f->ok; },
                   [&] {
-                      prepare_tips();
+                      prepare_beside();
                       return cg(Preconditioning::kSingle, no_rows, solve_factor);
                   },
                   solved);
@@ -509,7 +517,7 @@ void prepare_linear_solver(World& w, const StepOperator& op) {
     op.linearize(w);
     fill_step_matrix(w, op, scales.mass, scales.stiffness);
     if (A.method == "amg") build_hierarchy(w, free_mask(w), scales.stiffness / scales.mass);
-    else factorize(w);
+    else factorize(w), A.factor->jumps = op.jump_blocks(w);
     A.load_setup_ms = 1e3 * (wall_seconds() - start);
 }
 

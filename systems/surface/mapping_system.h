@@ -12,6 +12,7 @@
 #include "engine/scheduler.h"
 #include "engine/world.h"
 #include "systems/surface/surface_cut.h"
+#include "systems/xfem_queries.h"
 
 namespace xcut {
 
@@ -27,14 +28,6 @@ inline int side_element(const World& w, int c, const CutPlaneInfo& cp, const Eig
     const int h = side_of_cut(w, cp, w.cuts.element[c], b);
     if (side) *side = static_cast<int8_t>(h);
     return w.virtual_elements.element[w.cuts.virtual_element[c][h > 0 ? 0 : 1]];
-}
-/// Current position of the point at barycentric `b` of force element `element` (eq. 4, 6), as
-/// update_surface_positions places a surface vertex.
-inline Vec3 bound_position(const World& w, int element, const Eigen::Vector4d& b) {
-    const auto& nodes = w.elements.nodes[element];
-    Vec3 p = Vec3::Zero();
-    for (int a = 0; a < w.elements.nodes_per_element(); ++a) p += b[a] * w.nodes.position[nodes[a]];
-    return p;
 }
 /// Maps the cuts made since the last call onto `surface`: re-binds the vertices of newly cut
 /// elements and cuts the surface; returns how many vertices were re-bound.

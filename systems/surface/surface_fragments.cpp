@@ -116,7 +116,7 @@ namespace xcut {
 void bind_to_fragments(World& w, SurfaceMesh& s, int c) {
     using namespace surface_cut_detail;
     const int e = w.cuts.element[c];
-    const std::vector<int> frags = fragments_of(w, c);
+    const std::span<const int> frags = fragments_of(w, c);
     for (int u : s.bound_to[e]) {
         const Vec3 x = rest_of(w, e, local_bary(w, s, e, u));
         for (int v : frags)

@@ -4,6 +4,7 @@
 // fixed step, the same bits for any thread count and load, every step at the scene's tolerance,
 // and close to factoring in the step.
 #include <Eigen/SparseCholesky>
+#include <array>
 #include <random>
 
 #include "systems/kernels/solver/block_sparse.h"
@@ -198,6 +199,59 @@ TEST(BesideAugment, ExactOverAFactorWithPhantomsAndHeldAxes) {
 
 TEST(BesideAugment, ExactOverAFactorAlone) { expect_beside_exact(9, {}, Eigen::VectorXd::Ones(27)); }
 
+/// A grasp's block (GraspTerm::jump_block's form): one row per held point and axis, C = w^T (x)
+/// e_axis over three nodes, H = -1/k; C returned dense.
+BesideBlock grasp_block(int n, const std::vector<std::array<int, 3>>& points, double k, Eigen::MatrixXd& C) {
+    BesideBlock block;
+    C = Eigen::MatrixXd::Zero(3 * static_cast<int>(points.size()), n);
+    for (const auto& nodes : points)
+        for (int c = 0; c < 3; ++c, ++block.rows)
+            for (int a = 0; a < 3; ++a) {
+                const double w = 0.2 + 0.3 * a;  // barycentric weights 0.2, 0.5, 0.8 (normalized below)
+                C(block.rows, 3 * nodes[a] + c) = w / 1.5;
+                block.coupling.emplace_back(block.rows, 3 * nodes[a] + c, w / 1.5);
+            }
+    for (int i = 0; i < block.rows; ++i) block.stiffness.emplace_back(i, i, -1.0 / k);
+    return block;
+}
+
+// Jaws that closed and others that opened since the factor was made: the factor of A + s K_then
+// solves A + s K_now through the difference beside it (K_now's block with its H < 0, K_then's with
+// H negated), exactly up to the regularization of H; over a factor with phantoms and held axes.
+TEST(BesideAugment, AJumpOfHeldStiffnessIsSolvedExactly) {
+    Eigen::VectorXd mask = Eigen::VectorXd::Ones(33);
+    mask[0] = mask[1] = 0.0;
+    const int n = 33;
+    const double s = 0.4, k_then = 50.0, k_now = 80.0;
+    Eigen::MatrixXd C_then, C_now;
+    const BesideBlock then = grasp_block(n, {{0, 3, 4}, {4, 5, 6}}, k_then, C_then);
+    const BesideBlock now = grasp_block(n, {{1, 2, 7}, {9, 2, 10}, {8, 6, 7}}, k_now, C_now);
+    const Eigen::MatrixXd mask_m = mask * mask.transpose();
+    const Eigen::MatrixXd A0 = dense_spd(11, mask);
+    const Eigen::MatrixXd factored = A0 + (s * k_then * C_then.transpose() * C_then).cwiseProduct(mask_m);
+    const Eigen::MatrixXd target = A0 + (s * k_now * C_now.transpose() * C_now).cwiseProduct(mask_m);
+    JumpFactor jf;
+    make_jump_factor(factored, 8, {0, 5, 2}, mask, jf);
+    const LinearSystem A = block_system(target, 11);
+    FactorAugment g;
+    ASSERT_TRUE(extend_augment(block_system(factored, 11), jf.lf, jf.parent, g));
+    BesideBlock jump;
+    append_block(jump, now, 1.0), append_block(jump, then, -1.0);
+    EXPECT_EQ(jump.rows, 15);
+    EXPECT_TRUE(same_block(then, then));
+    EXPECT_FALSE(same_block(jump, now));
+    BesideAugment b;
+    ASSERT_TRUE(build_beside_augment(A, jf.lf, 1, &g, jump, s, mask, b));
+    EXPECT_TRUE(b.indefinite) << "a stiffness that adds: H < 0";
+    const Eigen::VectorXd r = Eigen::VectorXd::Random(n).cwiseProduct(mask);
+    Eigen::VectorXd z, without;
+    apply_augmented(jf.lf, &g, &b, r, z);
+    apply_augmented(jf.lf, &g, nullptr, r, without);
+    const Eigen::VectorXd expected = target.llt().solve(r);
+    EXPECT_GT((without - expected).norm(), 1e-2 * expected.norm()) << "the jump changes the solve";
+    EXPECT_LE((z - expected).norm(), 1e-7 * expected.norm()) << "largest difference " << (z - expected).cwiseAbs().maxCoeff();
+}
+
 // The step's solve through views of CHOLMOD's supernodes (Eigen's dense kernels, no BLAS) is
 // CHOLMOD's own solve, on a 3D grid Laplacian large enough for supernodes of many columns.
 TEST(FactorBackground, SupernodeViewsSolveAsCholmodDoes) {
@@ -232,7 +286,7 @@ TEST(FactorBackground, SupernodeViewsSolveAsCholmodDoes) {
 TEST(FactorBackground, AFailedFactorIsReported) {
     Eigen::MatrixXd M = 2.0 * Eigen::MatrixXd::Identity(6, 6);
     M(3, 3) = -1.0;
-    auto pending = start_background_factor(block_system(M, 2), nullptr, 0, 3);
+    auto pending = start_background_factor(block_system(M, 2), nullptr, {}, 0, 3);
     double wait = -1.0;
     const std::shared_ptr<LinearFactor> f = take_when_due(*pending, wait);
     EXPECT_FALSE(f->ok);
