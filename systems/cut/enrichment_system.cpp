@@ -52,13 +52,15 @@ bool other_incision(const World& w, const CutEvent& ev, CutLine& line) {
 }
 
 /// Splits one element as `ev` asks; returns false if it is already cut or the signs do not differ.
-bool record_cut(World& w, const CutEvent& ev) {
-    const int e = ev.element;
+bool record_cut(World& w, const CutEvent& event) {
+    const int e = event.element;
     if (e < 0 || e >= w.mesh_elements || w.cuts.cut_of_element[e] >= 0) return false;
     const Elements& el = w.elements;
     const int dim = el.dim, npe = el.nodes_per_element();
     const auto& c = el.nodes[e];
     EnrichedDofs& en = w.enriched;
+    CutEvent ev = event;  // another incision meets the earlier cracks on its edges (recut.h, kJoinFraction)
+    if (recut_allowed(w) && dim == 2) join_earlier_points(w, ev);
     CutLine own_line;
     const bool own = other_incision(w, ev, own_line);
     std::array<int8_t, 4> H{};

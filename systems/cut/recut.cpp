@@ -121,6 +121,24 @@ bool event_line(const CutEvent& ev, const std::array<Vec3, 3>& X, CutLine& line)
     return true;
 }
 
+int join_earlier_points(const World& w, CutEvent& ev) {
+    const int e = ev.element;
+    if (e < 0 || e >= w.mesh_elements || w.elements.dim != 2) return 0;
+    const auto& n = w.elements.nodes[e];
+    int moved = 0;
+    for (int k = 0; k < 3; ++k) {
+        const int i = kTriEdges[k][0], j = kTriEdges[k][1];
+        const double li = ev.level[i], lj = ev.level[j];
+        if ((li >= 0.0) == (lj >= 0.0)) continue;
+        const double t = ev.edge_has_t[k] ? ev.edge_t[k] : li / (li - lj);
+        const double earlier = crack_edge_param(w, n[i], n[j]);
+        if (earlier <= 0.0 || earlier >= 1.0 || std::abs(earlier - t) > kJoinFraction || earlier == t) continue;
+        ev.edge_t[k] = earlier, ev.edge_has_t[k] = 1;
+        ++moved;
+    }
+    return moved;
+}
+
 bool record_recut(World& w, const CutEvent& ev) {
     const int e = ev.element;
     if (e < 0 || e >= w.mesh_elements || w.elements.dim != 2) return false;

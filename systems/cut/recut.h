@@ -66,6 +66,17 @@ bool signed_by_other_incision(const World& world, int e, const Vec3& normal);
 /// fragment between the wound and that edge). False if `start` is not inside e.
 bool stem_event(const World& world, int e, int crossed, double t, const Vec3& start, CutEvent& ev);
 
+/// Fraction of an edge [-] within which another incision's crossing of it is the point an earlier
+/// crack put there: a scalpel closing a loop meets its own wound where the tissue has moved since
+/// (0.05-0.3 mm on 2 mm skin), and two points apart on one edge leave the wedge between them joining
+/// both sides (a bridge: docs/xfem.md, Limits).
+inline constexpr double kJoinFraction = 0.1;
+
+/// Another incision's event (2D, an element not cut yet): each edge it crosses within kJoinFraction
+/// of the earlier crack's point there (crack_edge_param) takes that point, so its crack meets the
+/// earlier one. Returns how many points it moved.
+int join_earlier_points(const World& world, CutEvent& ev);
+
 /// The line of a cut event's levels through a triangle with rest corners X (the points where they
 /// change sign on its edges, ev.edge_t where given), its normal toward positive levels; false if
 /// the levels cross fewer than two edges at distinct points.
