@@ -90,6 +90,12 @@ public:
             }
         });
     }
+    /// The held set changes only as jaws close or open (a tool's state, and what it holds).
+    uint64_t jump_version(const World& w) const override {
+        uint64_t v = 0;
+        for (int i = 0; i < w.grasps.count(); ++i) v = (v * 31u + static_cast<uint64_t>(w.grasps.state[i])) * 1000003u + w.grasps.vertex[i].size();
+        return v;
+    }
     /// k w_a w_b I between the held vertex's element nodes, scaled.
     void add_scattered(const World& w, double scale, LinearSystem& A) const override {
         const int npe = w.elements.nodes_per_element();

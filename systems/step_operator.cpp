@@ -87,6 +87,13 @@ BesideBlock StepOperator::jump_blocks(const World& world) const {
     return out;
 }
 
+uint64_t StepOperator::jump_version(const World& world) const {
+    uint64_t out = 0;
+    in_order(terms, world, [](const StepTerm& t) { return t.gives_jump_block(); },
+             [&](StepTerm& t, bool) { out = out * 1000003u + t.jump_version(world) + 1u; });
+    return out;
+}
+
 StepTerm* StepOperator::block_term(const World& world) const {
     StepTerm* one = nullptr;
     int count = 0;

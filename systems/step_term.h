@@ -84,6 +84,10 @@ public:
     virtual bool gives_jump_block() const { return false; }
     /// Appends its block now to `out` (its rows after out's).
     virtual void jump_block(const World&, BesideBlock&) const {}
+    /// A number that changes whenever its jump_block does, but for a change of A's pattern (a cut
+    /// re-binds what the block couples only where it adds DOFs): the solver builds the block and
+    /// compares it only when this number or the pattern changed.
+    virtual uint64_t jump_version(const World&) const { return 0; }
     /// Whether a scheduled system computes its force at the step's start (the elastic term's: the
     /// ForceSystem; the contacts': the CollisionSystem). A term without one (the crack tips) has it
     /// added by the SolverSystem as the step begins (StepOperator::add_start_forces).
@@ -142,6 +146,8 @@ struct StepOperator {
     /// The blocks of the active terms that give one (jump_block), stacked in order: the jumping
     /// part of the stiffness A is assembled with now.
     BesideBlock jump_blocks(const World& world) const;
+    /// The jumping terms' versions (jump_version) combined, in order.
+    uint64_t jump_version(const World& world) const;
     /// The active term kept beside the assembly, if it is the only one and gives its block
     /// (several are not combined); null otherwise.
     StepTerm* block_term(const World& world) const;

@@ -121,11 +121,10 @@ bool event_line(const CutEvent& ev, const std::array<Vec3, 3>& X, CutLine& line)
     return true;
 }
 
-int join_earlier_points(const World& w, CutEvent& ev) {
+void join_earlier_points(const World& w, CutEvent& ev) {
     const int e = ev.element;
-    if (e < 0 || e >= w.mesh_elements || w.elements.dim != 2) return 0;
+    if (e < 0 || e >= w.mesh_elements || w.elements.dim != 2) return;
     const auto& n = w.elements.nodes[e];
-    int moved = 0;
     for (int k = 0; k < 3; ++k) {
         const int i = kTriEdges[k][0], j = kTriEdges[k][1];
         const double li = ev.level[i], lj = ev.level[j];
@@ -134,9 +133,7 @@ int join_earlier_points(const World& w, CutEvent& ev) {
         const double earlier = crack_edge_param(w, n[i], n[j]);
         if (earlier <= 0.0 || earlier >= 1.0 || std::abs(earlier - t) > kJoinFraction || earlier == t) continue;
         ev.edge_t[k] = earlier, ev.edge_has_t[k] = 1;
-        ++moved;
     }
-    return moved;
 }
 
 bool record_recut(World& w, const CutEvent& ev) {

@@ -74,8 +74,8 @@ inline constexpr double kJoinFraction = 0.1;
 
 /// Another incision's event (2D, an element not cut yet): each edge it crosses within kJoinFraction
 /// of the earlier crack's point there (crack_edge_param) takes that point, so its crack meets the
-/// earlier one. Returns how many points it moved.
-int join_earlier_points(const World& world, CutEvent& ev);
+/// earlier one.
+void join_earlier_points(const World& world, CutEvent& ev);
 
 /// The line of a cut event's levels through a triangle with rest corners X (the points where they
 /// change sign on its edges, ev.edge_t where given), its normal toward positive levels; false if

@@ -37,6 +37,7 @@ struct BesideFactor {
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt;
     uint64_t topology = 0;      ///< A's pattern it was made for
     uint64_t version = 0;       ///< the term's beside_version it was made for
+    uint64_t jumps = 0;         ///< the jumping terms' jump_version it was made for (grasps)
     // Whether the block moves (a blade that carries its tip rebuilds the zone every step it moves):
     uint64_t seen_version = 0;  ///< the version at the last solve
     int changed_step = -1000;   ///< the step it last changed at

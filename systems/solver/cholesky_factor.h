@@ -71,6 +71,10 @@ struct LinearFactor {
     /// The jumping terms' block A held when it was factored (StepOperator::jump_blocks): a step
     /// whose block differs solves through the difference (systems/solver/beside_augment.h).
     BesideBlock jumps;
+    /// The terms' jump_version and A's pattern `jumps` was last found equal to the step's block
+    /// at (jumps_keyed): a step with the same key has the same block, unbuilt.
+    uint64_t jumps_key = 0;
+    bool jumps_keyed = false;
     /// What a successor computed off the step is copied from: the step's A, into storage handed on
     /// from factor to factor, so that asking for one allocates nothing in the step (fresh pages
     /// cost 4-10 ms on a virtual machine; the scalar copy is made off the step).

@@ -299,15 +299,18 @@ public:
         bool augmented = off_step && f && f->ok && f->topology != A_.topology && augment_for_grown_system(w_, *f, mask_);
         // A term whose stiffness jumped since the factor was made (grasps): solved beside it, and a
         // successor asked for at once.
-        const BesideBlock jumps = op_.jump_blocks(w_);
-        const bool jumped = f && f->ok && !same_block(jumps, f->jumps);
+        StepJumps now;
+        now.key = op_.jump_version(w_) * 1000003u + A_.topology;
+        const BesideBlock& jumps = now.block;
+        const auto current_jumps = [&]() -> const BesideBlock& { return built(now); };
+        const bool jumped = jumped_since(f, now);
         const bool aged = f && (A_.factor_age >= s.refactor_every || f->last_iterations > s.refactor_iterations);
         // Off the step the renewal costs the step nothing, so it is asked for at half the count
         // (kFactorEarlyFraction): the successor arrives about when the kept one would have aged.
         const bool aging = f && f->last_iterations > kFactorEarlyFraction * s.refactor_iterations;
         const bool augment_grew = augmented && f->augment.columns() > kFactorAugmentLimit;
         if (off_step && f && f->ok && (augment_grew || aged || aging || jumped) && !A_.pending_factor && !failed_off_step) {
-            A_.pending_factor = start_background_factor(A_, f->snapshot, jumps, w_.step, w_.step + s.factor_delay);
+            A_.pending_factor = start_background_factor(A_, f->snapshot, current_jumps(), w_.step, w_.step + s.factor_delay);
             ++A_.background_builds;
         }
         // Renewed in the step all the same when its successor would come too late: CG needed more
@@ -321,9 +324,10 @@ public:
         // made: one more augmented block on the factor in use, made again for each factor,
         // augmented block, zone and jump (systems/solver/beside_augment.h).
         BesideAugment* beside = nullptr;
+        bool renewed = false;
         const auto prepare_beside = [&] {
             beside = nullptr;
-            const bool jump = jumped && f->ok && !same_block(jumps, f->jumps);  // a factor renewed in the step holds them
+            const bool jump = jumped && f->ok && !renewed;  // a factor renewed in the step holds them
             if ((!moving_term_ && !jump) || !f || !f->ok || !f->lower || (f->topology != A_.topology && !augmented)) return;
             if (!A_.beside_factor) A_.beside_factor = std::make_shared<BesideFactor>();
             const FactorAugment* g = augmented ? &f->augment : nullptr;
@@ -351,8 +355,8 @@ public:
         const auto renew = [&] {
             const bool ok = factorize(w_);
             f = A_.factor.get();
-            f->jumps = jumps;
-            augmented = false;
+            f->jumps = current_jumps(), f->jumps_key = now.key, f->jumps_keyed = true;
+            augmented = false, renewed = true;
             return ok;
         };
         const auto solved = [&](int iterations) {
@@ -384,14 +388,15 @@ public:
         if (version != f->seen_version) f->changed_before = f->changed_step, f->changed_step = w_.step, f->seen_version = version;
         if (f->changed_step == w_.step && w_.step - f->changed_before <= 2) return moving_term_ = term, false;  // a moving block
         const double ratio = mass_scale > 0.0 ? stiff_scale_ / mass_scale : -stiff_scale_;  // static solves: -s
-        const bool stale = !f->ok || f->version != version || f->topology != A_.topology ||
+        const uint64_t jumps = op_.jump_version(w_);  // M holds A's grasps as they were: made again as they jump
+        const bool stale = !f->ok || f->version != version || f->jumps != jumps || f->topology != A_.topology ||
                            f->base != 3 * A_.rows() || f->ratio != ratio || f->age >= s.refactor_every ||
                            f->last_iterations > s.refactor_iterations || A_.method == "direct";
         const auto renew = [&] {
             BesideBlock block;
             if (!term->beside_block(w_, block)) return false;
             const bool ok = factor_beside(A_, block, stiff_scale_, mask_, *f);
-            f->ratio = ratio, f->version = version;
+            f->ratio = ratio, f->version = version, f->jumps = jumps;
             ++A_.factorizations;
             A_.factor_age = 0;
             A_.factor_nonzeros = f->lnz;
@@ -433,6 +438,25 @@ public:
     }
 
 private:
+    /// The jumping terms' block at this step (StepOperator::jump_blocks), built on first use.
+    struct StepJumps {
+        uint64_t key = 0;  ///< the terms' jump_version and A's pattern
+        BesideBlock block;
+        bool built = false;
+    };
+    const BesideBlock& built(StepJumps& j) {
+        if (!j.built) j.block = op_.jump_blocks(w_), j.built = true;
+        return j.block;
+    }
+    /// Whether the jumping terms' block differs from the one factor f was made with: built and
+    /// compared only when the key moved since it last matched.
+    bool jumped_since(LinearFactor* f, StepJumps& j) {
+        if (!f || !f->ok || (f->jumps_keyed && f->jumps_key == j.key)) return false;
+        if (!same_block(built(j), f->jumps)) return true;
+        f->jumps_key = j.key, f->jumps_keyed = true;
+        return false;
+    }
+
     /// A step's wait for a preconditioner computed off the step [ms].
     void record_wait(double wait) {
         A_.step_wait_ms += wait, A_.wait_ms_total += wait, A_.wait_ms_max = std::max(A_.wait_ms_max, wait);

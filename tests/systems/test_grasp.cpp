@@ -101,6 +101,42 @@ TEST(Grasp, JawsThatCloseOrOpenKeepTheFactorInUse) {
     }
 }
 
+// Beside a crack tip that stands (the blade stopped inside the sheet) the step's CG is
+// preconditioned by the factor of the whole system with the tip's block, made in the step
+// (systems/solver/beside_factor.h). That factor holds the grasps as they were, so it is made
+// again at the step the jaws close: that step needs no more CG iterations than the steps before.
+TEST(Grasp, JawsThatCloseBesideAStandingCrackTipRenewTheWholeSystemsFactor) {
+    const std::string text = R"({
+      "mesh": {"generator": "plate", "size": [0.01, 0.01, 0], "element_size": 0.001},
+      "visual": {"subdivisions": 0},
+      "material": {"young": 1e4, "poisson": 0.3, "density": 1000, "thickness": 0.002},
+      "constraints": {"fixed_boxes": [{"min": [-1, -1, -1], "max": [1e-6, 1, 1]}]},
+      "cutter": {"tip": {}},
+      "tools": [{"name": "scalpel", "blade": {"tip": [0, 0, 0], "heel": [0, 0, 0.001]},
+                 "trajectory": [{"time": 0, "position": [0.0045, 0.0105, 0]}, {"time": 0.03, "position": [0.0045, 0.0055, 0]}]},
+                {"name": "grasper", "grasp": {"radius": 0.0015, "close": 0.08, "open": 1, "stiffness": 5},
+                 "trajectory": [{"time": 0, "position": [0.008, 0.004, 0]}]}],
+      "solver": {"linear": "cholesky", "cg_tolerance": 1e-8, "dt": 0.01},
+      "steps": 12
+    })";
+    auto sim = make_simulation(load_scene_text(text, "grasped sheet with a tip", "."), /*with_output=*/false);
+    World& w = sim->world;
+    std::vector<int> iterations, preconditioner;
+    while (w.time < 0.11 - 1e-9) {
+        step_simulation(*sim);
+        iterations.push_back(w.metrics.current.cg_iterations);
+        preconditioner.push_back(w.metrics.current.preconditioner);
+        EXPECT_LE(w.metrics.current.cg_residual, 1e-8) << "t = " << w.time;
+    }
+    ASSERT_EQ(w.grasps.state[1], Grasps::kHolding);
+    ASSERT_FALSE(w.grasps.vertex[1].empty());
+    ASSERT_TRUE(w.linear.beside_factor && w.linear.beside_factor->ok) << "solved beside the tip's block";
+    // Step 9 starts at 0.08 s, as the jaws close; the blade stood from 0.03 s.
+    const int before = *std::max_element(iterations.begin() + 5, iterations.begin() + 8);
+    EXPECT_EQ(preconditioner[8], 3) << "the factor made again as the jaws close";
+    EXPECT_LE(iterations[8], before + 1);
+}
+
 struct Excision {
     Vec3 pull;               ///< on the jaws at t = 3.5 s, halfway through the draw [N]
     Vec3 moved;              ///< mean displacement of the mesh nodes within 3 mm of the lesion [m]
