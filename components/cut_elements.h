@@ -44,6 +44,7 @@ struct CutElements {
     std::vector<double> entered_time;            ///< simulated time the blade first crossed it [s]
     std::vector<double> entered_wall;            ///< wall time of that crossing [s]
     std::vector<uint8_t> opened;                 ///< a virtual vertex is a phantom: the wound can open here
+    std::vector<int> tool;                       ///< the bladed tool whose cut split it, -1 a scripted cut
 
     /// Per cut element, once it opened: time from the blade's first crossing to the opening
     /// (simulated [s], wall [s]). The crossing delay a user sees.
@@ -117,6 +118,7 @@ struct CutEvent {
     std::array<double, 4> level{};        ///< per local node; sign gives H_j unless already set
     std::array<double, 6> edge_t{};       ///< per local edge: crossing parameter in [0, 1] from its first node
     std::array<uint8_t, 6> edge_has_t{};  ///< edge_t is given (else taken from the levels)
+    int tool = -1;                        ///< the bladed tool whose blade made it, -1 a scripted cut
     /// A further cut through an element already cut (2D): the line where its levels change sign
     /// divides the element's fragments it crosses from side to side within `extent`
     /// (systems/cut/recut.h).

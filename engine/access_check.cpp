@@ -40,11 +40,11 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
             for (const ScriptedCut& c : w.cut_plan.cuts) h.all(c.applied);
             return;
         case kCutEvents:
-            for (const CutEvent& e : w.pending_cuts) h.all(e.element, e.crossed, e.level, e.edge_t, e.edge_has_t);
+            for (const CutEvent& e : w.pending_cuts) h.all(e.element, e.crossed, e.level, e.edge_t, e.edge_has_t, e.tool);
             return h.add(w.pending_cuts.size());
         case kXfem: {
             const CutElements& c = w.cuts;
-            h.all(c.element, c.fraction_above, c.points, c.point_edge, c.virtual_element, c.crossed, c.opened,
+            h.all(c.element, c.fraction_above, c.points, c.point_edge, c.virtual_element, c.crossed, c.opened, c.tool,
                   c.crossed_log, c.cut_of_element, c.lines, c.fragments, c.recut_log);
             h.all(w.virtual_elements.parent, w.virtual_elements.side, w.virtual_elements.element, w.virtual_elements.mask);
             const CrackTips& t = w.tips;

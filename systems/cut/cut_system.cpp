@@ -7,6 +7,7 @@
 #include "engine/parallel.h"
 #include "engine/quadratic_setup.h"
 #include "systems/cut/edge_geometry.h"
+#include "systems/cut/quad_reach.h"
 #include "systems/cut/recut.h"
 #include "systems/cut/skin_flap.h"
 #include "systems/kernels/intersection.h"
@@ -18,73 +19,6 @@ namespace {
 
 /// The world's mesh elements at their current positions, as the BVH takes them.
 MeshView mesh_view(const World& w) { return {&w.elements, &w.nodes.position, w.mesh_elements, w.mesh_nodes}; }
-
-/// Where the quads of one update can reach (the edge's sweep, the blade's face): their box, and the
-/// planes of their triangles (a non-planar quad is two triangles; an element a quad crosses
-/// straddles one of their planes), each as a point and a normal.
-struct QuadReach {
-    Vec3 lo, hi;
-    std::vector<std::pair<Vec3, Vec3>> planes;
-};
-
-/// Whether element e's box at current positions meets the quad's box and straddles the plane of one
-/// of its triangles: a necessary condition for the quad to cross it. A quadratic element's edge
-/// p(s) = chord(s) + 4 s (1 - s) d (d: its mid-edge node's offset from the chord's midpoint) lies
-/// within the corners' box grown by the largest |d|.
-bool may_reach(const World& w, int e, const QuadReach& q) {
-    const auto& n = w.elements.nodes[e];
-    const Vec3* x = w.nodes.position.data();
-    Vec3 elo = x[n[0]], ehi = elo;
-    for (int a = 1; a < w.elements.nodes_per_element(); ++a) {
-        elo = elo.cwiseMin(x[n[a]]);
-        ehi = ehi.cwiseMax(x[n[a]]);
-    }
-    if (const int t = quadratic_entry(w, e); t >= 0) {
-        const auto& qn = w.quadratic.nodes[t];
-        double bulge = 0.0;
-        for (int k = 0; k < 6; ++k)
-            bulge = std::max(bulge, (x[qn[4 + k]] - 0.5 * (x[qn[kTet10Edges[k][0]]] + x[qn[kTet10Edges[k][1]]])).norm());
-        elo.array() -= bulge, ehi.array() += bulge;
-    }
-    if (!((elo.array() <= q.hi.array()).all() && (ehi.array() >= q.lo.array()).all())) return false;
-    const Vec3 centre = 0.5 * (elo + ehi), half = 0.5 * (ehi - elo);
-    for (const auto& [point, normal] : q.planes) {
-        const double reach = normal.cwiseAbs().dot(half), offset = normal.dot(centre - point);
-        if (std::abs(offset) <= reach * (1.0 + 1e-9) + 1e-12 * normal.norm()) return true;
-    }
-    return false;
-}
-
-/// Elements sharing a vertex with `seeds`, `depth` levels deep (seeds included), and beyond that
-/// every element connected to them through elements the swept quad may reach (may_reach): the
-/// depth is sized by the mean edge, which on a graded mesh is many of its small elements, so the
-/// quad's own extent decides where the search ends. Sorted.
-std::vector<int> neighbourhood(const World& w, const std::vector<int>& seeds, int depth, const QuadReach& quad) {
-    const Incidence& inc = w.incidence;
-    const int npe = w.elements.nodes_per_element();
-    std::vector<int> frontier = seeds, all = seeds;
-    std::vector<uint8_t> seen(w.mesh_elements, 0);
-    for (int e : seeds) seen[e] = 1;
-    for (int level = 0; !frontier.empty(); ++level) {
-        std::vector<int> next;
-        for (int e : frontier) {
-            // Past the depth, only from elements the quad may cross: the ring at the depth is checked
-            // once each, not every neighbour of it.
-            if (level == depth && !may_reach(w, e, quad)) continue;
-            for (int a = 0; a < npe; ++a) {
-                const int j = w.elements.nodes[e][a];
-                for (int p = inc.offset[j]; p < inc.offset[j + 1]; ++p) {
-                    const int f = inc.entry[p] >> 2;
-                    if (!seen[f] && (level < depth || may_reach(w, f, quad))) seen[f] = 1, next.push_back(f);
-                }
-            }
-        }
-        all.insert(all.end(), next.begin(), next.end());
-        frontier.swap(next);
-    }
-    std::sort(all.begin(), all.end());
-    return all;
-}
 
 /// Side of x relative to the crossing surface: +1 or -1 (0 counts as +1, the fixed tie-break).
 int side_of(const Vec3& x, const Vec3& point, const Vec3& normal) {
@@ -134,7 +68,10 @@ bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) 
         const int s = sign.empty() ? 0 : sign[el.nodes[e][a]];
         if (s == 0) continue;
         const int implied = colour(a) == 0 ? s : -s;
-        if (colour0_sign != 0 && implied != colour0_sign) return false;  // contradicts fixed signs
+        if (colour0_sign != 0 && implied != colour0_sign) {  // contradicts fixed signs
+            if (!recut_allowed(w)) return false;
+            break;  // where elements are cut again its line decides (record_cut: sides_disagree)
+        }
         colour0_sign = implied;
     }
     const Vec3* x = w.nodes.position.data();
@@ -264,17 +201,24 @@ std::array<Vec3, 2> quad_normals(int dim, const CutQuad& q) {
 }
 
 /// Tests the candidate's edges against the quads (the edge's sweep, and the blade's face when it
-/// has one); returns how many new distinct edges it crossed.
+/// has one); returns how many new distinct edges it crossed. `beside`: a cut element the blade
+/// passes along its cut, whose crossings count only if one of them is away from its cut (recut.h).
 int test_element(World& w, BladeCut& bc, int e, const std::vector<const CutQuad*>& quads,
-                 const std::vector<std::array<Vec3, 2>>& normals) {
-    int found = 0;
-    for (int k = 0; k < edge_count(w.elements.dim); ++k) {
+                 const std::vector<std::array<Vec3, 2>>& normals, bool beside) {
+    const int edges = edge_count(w.elements.dim);
+    std::array<std::optional<double>, 6> t{};
+    std::array<const Vec3*, 6> normal{};
+    bool away = !beside;
+    for (int k = 0; k < edges; ++k) {
         int tri = 0;
-        std::optional<double> t;
         size_t which = 0;
-        for (; which < quads.size() && !t; ++which) t = edge_crossing(w, e, k, *quads[which], tri);
-        if (!t) continue;
-        const Vec3& normal = normals[which - 1][tri];
+        for (; which < quads.size() && !t[k]; ++which) t[k] = edge_crossing(w, e, k, *quads[which], tri);
+        if (t[k]) normal[k] = &normals[which - 1][tri], away = away || !crosses_near_its_cut(w, e, k, *t[k]);
+    }
+    if (!away) return 0;
+    int found = 0;
+    for (int k = 0; k < edges; ++k) {
+        if (!t[k]) continue;
         auto it = bc.crossing.find(e);
         if (it == bc.crossing.end()) {
             ElementCrossings fresh;
@@ -285,8 +229,8 @@ int test_element(World& w, BladeCut& bc, int e, const std::vector<const CutQuad*
         ElementCrossings& c = it->second;
         if (c.mask >> k & 1) continue;  // this edge already counted: a trembling blade
         c.mask |= uint8_t(1u << k);
-        c.t[k] = *t;
-        c.normal[k] = normal;
+        c.t[k] = *t[k];
+        c.normal[k] = *normal[k];
         ++found;
     }
     return found;
@@ -331,7 +275,7 @@ void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed, int 
             CutEvent ev;
             const bool stem = count == 1 && stem_event(w, e, __builtin_ctz(c.mask), c.t[__builtin_ctz(c.mask)], start, ev);
             if ((full && make_event(w, e, c, ev)) || stem) {
-                ev.again = true;
+                ev.again = true, ev.tool = tool;
                 w.pending_cuts.push_back(ev);
                 ++cs.elements_split;
             }
@@ -363,6 +307,7 @@ void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed, int 
             }
             if (made) {
                 ev.crossed = full ? 0xFF : c.mask;
+                ev.tool = tool;
                 ev.entered_time = c.first_time;
                 ev.entered_wall = c.first_wall;
                 w.pending_cuts.push_back(ev);
@@ -408,14 +353,7 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
     std::vector<int> candidates;
     if (!bc.front.empty() && !cs.bvh_every_quad) {
         const int depth = cs.min_depth + static_cast<int>(std::ceil(length / std::max(cs.mean_edge, 1e-300)));
-        QuadReach reach{q.corner[0], q.corner[0], {}};
-        for (size_t k = 0; k < quads.size(); ++k) {
-            for (const Vec3& v : quads[k]->corner) reach.lo = reach.lo.cwiseMin(v), reach.hi = reach.hi.cwiseMax(v);
-            for (const Vec3& n : normals[k]) reach.planes.emplace_back(quads[k]->corner[0], n);
-        }
-        const Vec3 pad = Vec3::Constant(1e-9 * std::max(1.0, (reach.hi - reach.lo).norm()));  // rounding only
-        reach.lo -= pad, reach.hi += pad;
-        candidates = neighbourhood(w, bc.front, depth, reach);
+        candidates = neighbourhood(w, bc.front, depth, quad_reach(quads, normals));
     } else {
         Vec3 centre = Vec3::Zero();
         for (const CutQuad* c : quads)
@@ -431,16 +369,25 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
     const auto& cut = w.cuts.cut_of_element;
     std::vector<int> crossed;
     for (int e : candidates) {
+        bool beside = false;
         if ((!cut.empty() && cut[e] >= 0) || (!cs.queued.empty() && cs.queued[e])) {
             const auto tip = bc.crossing.find(e);  // a progressive front's tip element is still tested
-            const bool again = recut_allowed(w) && !cut.empty() && cut[e] >= 0 && cuts_across(w, e, normals[0][0]);
-            if (!again && (!cs.progressive || tip == bc.crossing.end() || !tip->second.split)) {
+            // A cut element this blade entered is followed out of it, though the blade then turns
+            // along the cut (a loop closing on its own wound); one it passes along its cut counts
+            // the crossings away from the cut alone (beside).
+            const bool recut = recut_allowed(w) && !cut.empty() && cut[e] >= 0;
+            const bool entered = tip != bc.crossing.end() && !tip->second.split;
+            const bool again = recut && (entered || cuts_across(w, e, normals[0][0]));
+            beside = recut && !again;
+            if (!again && !beside && (!cs.progressive || tip == bc.crossing.end() || !tip->second.split)) {
                 for (size_t k = 0; k < quads.size(); ++k) note_recut(w, e, *quads[k], normals[k][0], tool);
                 continue;
             }
         }
         ++cs.elements_tested;
-        const int found = test_element(w, bc, e, quads, normals);
+        const int found = test_element(w, bc, e, quads, normals, beside);
+        if (beside && found == 0)
+            for (size_t k = 0; k < quads.size(); ++k) note_recut(w, e, *quads[k], normals[k][0], tool);
         cs.crossings_found += found;
         if (found > 0) crossed.push_back(e);
     }
@@ -498,7 +445,7 @@ void end_stems(World& w, int tool, const Vec3& end) {
         const ElementCrossings& c = bc.crossing.at(e);
         const int k = __builtin_ctz(c.mask);
         CutEvent ev;
-        if (stem_event(w, e, k, c.t[k], end, ev)) w.pending_cuts.push_back(ev);
+        if (stem_event(w, e, k, c.t[k], end, ev)) ev.tool = tool, w.pending_cuts.push_back(ev);
     }
 }
 

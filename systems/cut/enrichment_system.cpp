@@ -41,6 +41,40 @@ void prepare_enrichment(World& w) {
 
 namespace {
 
+/// Whether the sides the element's nodes already have cannot be the event's levels' in either
+/// orientation: a loop that closes beside its first pass leaves on the outside a node that pass put
+/// inside (the tissue moved under the blade). The cut's own line then decides, as for another
+/// incision's.
+bool sides_disagree(const World& w, const CutEvent& ev) {
+    int orientation = 0;
+    for (int a = 0; a < w.elements.nodes_per_element(); ++a) {
+        const int s = w.enriched.sign[w.elements.nodes[ev.element][a]];
+        if (s == 0) continue;
+        const int o = (ev.level[a] >= 0.0) == (s > 0) ? 1 : -1;
+        if (orientation != 0 && o != orientation) return true;
+        orientation = o;
+    }
+    return false;
+}
+
+/// Where the sides of an element's nodes disagree with its own line (sides_disagree, not another
+/// incision's): +1 or -1, how a node without a side turns the side its level gives, as the sides of
+/// the node farthest from the line (that node's side is surest): a blade's levels follow its
+/// normal, which a loop reverses. +1 for another incision's line (its sides are not these nodes').
+int new_sides_orientation(const World& w, const CutEvent& ev, const CutLine& line) {
+    if (signed_by_other_incision(w, ev.element, line.normal)) return 1;
+    const auto& c = w.elements.nodes[ev.element];
+    int orient = 1;
+    double farthest = -1.0;
+    for (int a = 0; a < w.elements.nodes_per_element(); ++a) {
+        const double d = std::abs(line.normal.dot(w.nodes.rest[c[a]] - line.origin));
+        if (w.enriched.sign[c[a]] == 0 || d <= farthest) continue;
+        farthest = d;
+        orient = (ev.level[a] >= 0.0) == (w.enriched.sign[c[a]] > 0) ? 1 : -1;
+    }
+    return orient;
+}
+
 /// Whether event ev is a cut of another incision than the one that gave one of its element's nodes
 /// its side: its line is more than 30 degrees from the cut that fixed it (kRecutCos). Such an element
 /// takes its sides and its points from the event, not from the nodes' sides and the edges' earlier
@@ -48,7 +82,7 @@ namespace {
 /// elements again.
 bool other_incision(const World& w, const CutEvent& ev, CutLine& line) {
     return recut_allowed(w) && event_line(ev, corners(w, ev.element), line) &&
-           signed_by_other_incision(w, ev.element, line.normal);
+           (signed_by_other_incision(w, ev.element, line.normal) || sides_disagree(w, ev));
 }
 
 /// Splits one element as `ev` asks; returns false if it is already cut or the signs do not differ.
@@ -66,6 +100,7 @@ bool record_cut(World& w, const CutEvent& event) {
     std::array<int8_t, 4> H{};
     for (int a = 0; a < npe; ++a)
         H[a] = en.sign[c[a]] != 0 && !own ? en.sign[c[a]] : (ev.level[a] >= 0.0 ? 1 : -1);
+    const int orient = own ? new_sides_orientation(w, ev, own_line) : 1;
     bool mixed = false;
     for (int a = 1; a < npe; ++a) mixed = mixed || H[a] != H[0];
     if (!mixed) return false;
@@ -98,7 +133,7 @@ bool record_cut(World& w, const CutEvent& event) {
     for (int a = 0; a < npe; ++a) toward += H[a] * (X[a] - points[0]).dot(normal);
     if (toward < 0.0) normal = -normal;
     for (int a = 0; a < npe; ++a) {
-        if (en.sign[c[a]] == 0) en.sign_normal[c[a]] = normal, en.sign[c[a]] = H[a];
+        if (en.sign[c[a]] == 0) en.sign_normal[c[a]] = orient * normal, en.sign[c[a]] = static_cast<int8_t>(orient * H[a]);
         en.enriched[c[a]] = 1;
     }
     const double total = dim == 3 ? tet_side_volume(X, H, t, 1) + tet_side_volume(X, H, t, -1)
@@ -114,6 +149,7 @@ bool record_cut(World& w, const CutEvent& event) {
     ce.entered_time.push_back(ev.entered_time >= 0.0 ? ev.entered_time : w.time);
     ce.entered_wall.push_back(ev.entered_wall >= 0.0 ? ev.entered_wall : wall_seconds());
     ce.opened.push_back(0);
+    ce.tool.push_back(ev.tool);
     ce.lines.emplace_back();
     ce.fragments.emplace_back();
     if (own) ce.lines.back().push_back(own_line);
@@ -186,8 +222,9 @@ int apply_cut_events(World& w) {
     std::vector<int> affected;  // nodes whose hold is looked at again
     std::vector<int> update;    // cut elements whose virtual vertices change
     int recut = 0;
-    for (const CutEvent& ev : w.pending_cuts) {
+    for (CutEvent& ev : w.pending_cuts) {
         if (ev.again) {
+            join_earlier_points(w, ev);  // a crack that ends on one of its edges: the new one meets it there
             if (!record_recut(w, ev)) continue;
             ++recut;
             update.push_back(w.cuts.cut_of_element[ev.element]);

@@ -74,6 +74,18 @@ bool cuts_across(const World& w, int e, const Vec3& normal) {
     return true;
 }
 
+bool crosses_near_its_cut(const World& w, int e, int k, double t) {
+    const int c = w.cuts.cut_of_element[e];
+    if (c < 0 || w.elements.dim != 2) return false;
+    const std::array<Vec3, 3> X = corners(w, e);
+    const Vec3 &a = X[kTriEdges[k][0]], &b = X[kTriEdges[k][1]];
+    for (const CutLine& l : lines_of(w, c)) {
+        const double da = l.normal.dot(a - l.origin), db = l.normal.dot(b - l.origin);
+        if ((da >= 0.0) != (db >= 0.0) && std::abs(da / (da - db) - t) <= kAlongFraction) return true;
+    }
+    return false;
+}
+
 bool signed_by_other_incision(const World& w, int e, const Vec3& normal) {
     const double n = normal.norm();
     if (!(n > 0.0) || w.enriched.sign.empty()) return false;
@@ -121,17 +133,55 @@ bool event_line(const CutEvent& ev, const std::array<Vec3, 3>& X, CutLine& line)
     return true;
 }
 
+namespace {
+
+/// The mesh triangle other than e with edge (a, b), or -1 (a border edge).
+int across_edge(const World& w, int e, int a, int b) {
+    for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
+        const int f = w.incidence.entry[p] >> 2;
+        if (f == e || f >= w.mesh_elements) continue;
+        const auto& m = w.elements.nodes[f];
+        if (m[0] == b || m[1] == b || m[2] == b) return f;
+    }
+    return -1;
+}
+
+/// Whether `tool`'s blade has crossed the edge (a, b) of mesh triangle f and is still inside f
+/// (CutState: f among its partly crossed elements, that edge crossed).
+bool blade_entered_across(const World& w, int tool, int f, int a, int b) {
+    const auto& blades = w.cut_state.blade;
+    if (tool < 0 || tool >= static_cast<int>(blades.size())) return false;
+    const auto it = blades[tool].crossing.find(f);
+    if (it == blades[tool].crossing.end()) return false;
+    const auto& m = w.elements.nodes[f];
+    for (int k = 0; k < 3; ++k) {
+        const int p = m[kTriEdges[k][0]], q = m[kTriEdges[k][1]];
+        if ((p == a && q == b) || (p == b && q == a)) return it->second.mask >> k & 1;
+    }
+    return false;
+}
+
+}  // namespace
+
 void join_earlier_points(const World& w, CutEvent& ev) {
     const int e = ev.element;
-    if (e < 0 || e >= w.mesh_elements || w.elements.dim != 2) return;
+    if (e < 0 || e >= w.mesh_elements || w.elements.dim != 2 || ev.bounded) return;
     const auto& n = w.elements.nodes[e];
+    const auto& cut = w.cuts.cut_of_element;
     for (int k = 0; k < 3; ++k) {
         const int i = kTriEdges[k][0], j = kTriEdges[k][1];
         const double li = ev.level[i], lj = ev.level[j];
         if ((li >= 0.0) == (lj >= 0.0)) continue;
         const double t = ev.edge_has_t[k] ? ev.edge_t[k] : li / (li - lj);
         const double earlier = crack_edge_param(w, n[i], n[j]);
-        if (earlier <= 0.0 || earlier >= 1.0 || std::abs(earlier - t) > kJoinFraction || earlier == t) continue;
+        if (earlier <= 0.0 || earlier >= 1.0 || earlier == t) continue;
+        // The element's own crack ends on this edge, where the same blade went into the uncut
+        // element across, and the blade comes back out through it: the crack runs along the edge
+        // between (a path that grazes a mesh line dips into the element beyond by a hair).
+        const int f = across_edge(w, e, n[i], n[j]);
+        const bool back = cut[e] >= 0 && f >= 0 && cut[f] < 0 && ev.tool >= 0 && w.cuts.tool[cut[e]] == ev.tool &&
+                          blade_entered_across(w, ev.tool, f, n[i], n[j]);
+        if (!back && std::abs(earlier - t) > kJoinFraction) continue;
         ev.edge_t[k] = earlier, ev.edge_has_t[k] = 1;
     }
 }

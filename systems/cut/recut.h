@@ -56,6 +56,15 @@ bool recut_allowed(const World& world);
 /// (a stem that stopped inside it, which goes on), and e can hold one more line.
 bool cuts_across(const World& world, int e, const Vec3& normal);
 
+/// Fraction of an edge [-] within which a blade passing along a cut element's cut crosses the edge
+/// at the cut (its own wound retraced, the tissue moved under it): such a crossing is not a new one.
+inline constexpr double kAlongFraction = 0.2;
+
+/// Whether local edge k of cut element e (2D), crossed at parameter t, is crossed within
+/// kAlongFraction of where one of e's lines meets it. A blade along the cut that crosses an edge
+/// away from it (a loop closing beside its first pass, a path grazing a mesh line) cuts again.
+bool crosses_near_its_cut(const World& world, int e, int k, double t);
+
 /// Whether a node of element e has its side from a cut more than 30 degrees from a cut with normal
 /// `normal` (another incision's).
 bool signed_by_other_incision(const World& world, int e, const Vec3& normal);
@@ -66,15 +75,17 @@ bool signed_by_other_incision(const World& world, int e, const Vec3& normal);
 /// fragment between the wound and that edge). False if `start` is not inside e.
 bool stem_event(const World& world, int e, int crossed, double t, const Vec3& start, CutEvent& ev);
 
-/// Fraction of an edge [-] within which another incision's crossing of it is the point an earlier
-/// crack put there: a scalpel closing a loop meets its own wound where the tissue has moved since
-/// (0.05-0.3 mm on 2 mm skin), and two points apart on one edge leave the wedge between them joining
-/// both sides (a bridge: docs/xfem.md, Limits).
+/// Fraction of an edge [-] within which a later crossing of it (another incision's, or the same
+/// blade's later pass) is the point an earlier crack put there: a scalpel closing a loop meets its
+/// own wound where the tissue has moved since (0.05-0.3 mm on 2 mm skin), and two points apart on
+/// one edge leave the wedge between them joining both sides (a bridge: docs/xfem.md, Limits).
 inline constexpr double kJoinFraction = 0.1;
 
-/// Another incision's event (2D, an element not cut yet): each edge it crosses within kJoinFraction
-/// of the earlier crack's point there (crack_edge_param) takes that point, so its crack meets the
-/// earlier one.
+/// An event of another incision or a later pass (2D): each edge it crosses within kJoinFraction of
+/// an earlier crack's point there (crack_edge_param) takes that point, so its crack meets the
+/// earlier one. So does, wherever on the edge, a blade's cut again of an element its own crack ends
+/// on an edge of, where the blade went through that edge into the uncut element beyond and comes
+/// back out through it (a path that grazes a mesh line). A bounded cut (a stem) keeps its points.
 void join_earlier_points(const World& world, CutEvent& ev);
 
 /// The line of a cut event's levels through a triangle with rest corners X (the points where they
