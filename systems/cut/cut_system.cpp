@@ -37,26 +37,50 @@ Vec3 crossing_normal(const ElementCrossings& c) {
     return sum.norm() > 0.0 ? Vec3(sum.normalized()) : sum;
 }
 
+/// The edges (bit k) whose nodes the 2-colouring `pattern` parts (bit a - 1: node a's colour; node 0
+/// has colour 0).
+int parted_edges(int dim, int pattern) {
+    int differ = 0;
+    for (int k = 0; k < edge_count(dim); ++k) {
+        const int* ed = edge_nodes(dim, k);
+        const int ci = ed[0] == 0 ? 0 : (pattern >> (ed[0] - 1)) & 1;
+        const int cj = ed[1] == 0 ? 0 : (pattern >> (ed[1] - 1)) & 1;
+        if (ci != cj) differ |= 1 << k;
+    }
+    return differ;
+}
+
+/// A triangle crossed on all three edges (2D): a path that clipped a corner and came back, grazing
+/// a mesh line. The colouring whose cut joins the two crossings farthest apart; the third, beside
+/// one of them at the clipped corner, is left.
+int widest_pair(const World& w, int e, const ElementCrossings& c) {
+    int best = -1;
+    double widest = -1.0;
+    for (int pattern = 1; pattern < 4; ++pattern) {
+        const int differ = parted_edges(2, pattern), k0 = __builtin_ctz(differ), k1 = 31 - __builtin_clz(differ);
+        const double apart = (edge_point(w, e, k0, c.t[k0]) - edge_point(w, e, k1, c.t[k1])).norm();
+        if (apart > widest) widest = apart, best = pattern;
+    }
+    return best;
+}
+
 /// Builds the split of an element from its crossed edges: node signs (the 2-colouring whose
 /// differing edges contain the crossed ones with the fewest extra, oriented by the quad's normal or
 /// by signs already fixed) and the crossing parameter of every differing edge. False if no
 /// consistent split exists (a curved sweep crossing all edges of one face).
-bool make_event(const World& w, int e, const ElementCrossings& c, CutEvent& ev) {
+bool make_event(const World& w, int e, const ElementCrossings& crossings, CutEvent& ev) {
     const Elements& el = w.elements;
     const int dim = el.dim, npe = el.nodes_per_element(), ne = edge_count(dim);
+    ElementCrossings c = crossings;
     int best = -1, best_extra = 99;
     for (int pattern = 1; pattern < (1 << (npe - 1)); ++pattern) {  // node 0 keeps colour 0
-        int differ = 0;
-        for (int k = 0; k < ne; ++k) {
-            const int* ed = edge_nodes(dim, k);
-            const int ci = ed[0] == 0 ? 0 : (pattern >> (ed[0] - 1)) & 1;
-            const int cj = ed[1] == 0 ? 0 : (pattern >> (ed[1] - 1)) & 1;
-            if (ci != cj) differ |= 1 << k;
-        }
+        const int differ = parted_edges(dim, pattern);
         if ((differ & c.mask) != c.mask) continue;
         const int extra = __builtin_popcount(differ & ~c.mask);
         if (extra < best_extra) best_extra = extra, best = pattern;
     }
+    if (best < 0 && dim == 2 && recut_allowed(w) && c.mask == 7)  // where elements are cut again
+        best = widest_pair(w, e, c), c.mask = static_cast<uint8_t>(parted_edges(dim, best));
     if (best < 0) return false;
     auto colour = [&](int a) { return a == 0 ? 0 : (best >> (a - 1)) & 1; };
     // Orientation: signs already fixed win (not another incision's, where elements are cut again:

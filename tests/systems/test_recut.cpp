@@ -466,14 +466,17 @@ TEST(Recut, OneScalpelClosingAnEllipseFreesItsLens) {
 // an edge away from the cut (crosses_near_its_cut), and followed out once entered; its crack runs
 // along an edge where it dipped into the element beyond and came back (join_earlier_points); an
 // element whose nodes' sides the first pass set against the closing line's takes the line's
-// (sides_disagree); a node without a side takes the levels turned to its neighbours' sides.
+// (sides_disagree); a node without a side takes the levels turned to its neighbours' sides; a
+// triangle whose corner the path clipped, crossed on all three edges, is cut between the two
+// crossings farthest apart (make_event).
 TEST(Recut, OneScalpelDrawnRoundAnEllipseFreesItsLensFromOtherStarts) {
     const double pi = 3.14159265358979;
     struct Case {
         double a, b, start;
     };
-    const std::vector<Case> all{{0.012, 0.005, 4 * pi / 3}, {0.012, 0.005, pi / 3},  {0.012, 0.007, 0.0},
-                                {0.012, 0.007, 5 * pi / 3}, {0.010, 0.008, pi},      {0.010, 0.008, 0.0}};
+    const std::vector<Case> all{{0.012, 0.005, 4 * pi / 3}, {0.012, 0.005, pi / 3}, {0.012, 0.007, 0.0},
+                                {0.012, 0.007, 5 * pi / 3}, {0.010, 0.008, pi},     {0.010, 0.008, 0.0},
+                                {0.012, 0.007, pi / 3}};
     const size_t runs = testing::kInstrumented ? 2 : all.size();
     for (size_t n = 0; n < runs; ++n) {
         const Case& c = all[n];
