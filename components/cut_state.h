@@ -78,6 +78,11 @@ struct CutState {
     /// split (no flap that thin), and the end of the run says so.
     std::vector<int> on_skin_ignored;
     std::unordered_set<int64_t> on_skin_seen;  ///< element * 64 + tool, counted once
+    /// Per tool (2D): its blade's path as cut, the quads' tip points in world [m], the simulated
+    /// time it began, and the time it first crossed itself (a closed loop; -1: never) [s]. The end of
+    /// the run says when such a loop freed no piece.
+    std::vector<std::vector<Vec3>> path;
+    std::vector<double> path_time, loop_time;
 };
 
 /// A cut whose every point in an element lies closer than this fraction of the element's shortest

@@ -236,6 +236,20 @@ std::vector<std::string> end_of_run_notes(const World& w) {
         out.push_back(fmt::format("the scripted cuts crossed {} element{} already cut along another plane and did not "
                                   "cut them again: {}", w.cut_plan.recut_ignored,
                                   w.cut_plan.recut_ignored == 1 ? "" : "s", kRecutLimits));
+    // A blade whose path closed a loop (2D) while no piece was freed: a bridge still joins it. (The
+    // material closes where the tissue has moved to, so a piece may come free before the path in
+    // the world crosses itself: any piece since the path began counts.)
+    const CutState& cs = w.cut_state;
+    for (int i = 0; i < static_cast<int>(cs.loop_time.size()) && i < w.tools.count(); ++i) {
+        if (cs.loop_time[i] < 0.0 || i >= static_cast<int>(cs.split_by_tool.size()) || cs.split_by_tool[i] == 0) continue;
+        const bool freed = std::any_of(w.pieces.log.begin(), w.pieces.log.end(),
+                                       [&](const PieceEvent& p) { return p.time >= cs.path_time[i] - 1e-12; });
+        if (!freed)
+            out.push_back(fmt::format("tool \"{}\"'s path crossed its own incision at {:g} s (a closed loop), but no "
+                                      "piece was freed: tissue still joins the inside to the outside somewhere along "
+                                      "the loop (docs/xfem.md, Limits: a scalpel drawn round an ellipse)",
+                                      w.tools.name[i], cs.loop_time[i]));
+    }
     const Grasps& g = w.grasps;  // jaws that closed on nothing
     for (int i = 0; i < g.count() && i < w.tools.count(); ++i)
         if (g.radius[i] > 0.0 && g.state[i] != Grasps::kWaiting && g.held_at_close[i] == 0)

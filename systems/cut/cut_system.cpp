@@ -436,6 +436,20 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
 
 namespace {
 
+/// Appends the blade tip's segment a -> b (world, 2D) to tool i's path, and notes the time the path
+/// first crosses an earlier segment of itself (not the one before, which it continues).
+void note_loop(World& w, int i, const Vec3& a, const Vec3& b) {
+    CutState& cs = w.cut_state;
+    if (static_cast<int>(cs.path.size()) <= i)
+        cs.path.resize(i + 1), cs.path_time.resize(i + 1, w.time), cs.loop_time.resize(i + 1, -1.0);
+    std::vector<Vec3>& path = cs.path[i];
+    if (path.empty()) cs.path_time[i] = w.time;
+    if (path.empty() || path.back() != a) path.push_back(a);
+    for (size_t k = 0; cs.loop_time[i] < 0.0 && k + 2 < path.size(); ++k)
+        if (segment_segment_2d(path[k], path[k + 1], a, b)) cs.loop_time[i] = w.time;
+    path.push_back(b);
+}
+
 /// The blade at one point of its path: its edge, and its face from the edge to its back (zero: none) [m].
 struct BladeAt {
     Vec3 tip, heel, back;
@@ -445,6 +459,7 @@ struct BladeAt {
 /// passes through: a stab pushed along the edge sweeps no surface with its edge).
 void cut_to(World& w, ElementBvh& bvh, int i, const BladeAt& b) {
     CutState& cs = w.cut_state;
+    if (w.elements.dim == 2) note_loop(w, i, cs.anchor_tip[i], b.tip);
     const CutQuad face{{b.tip, b.heel, b.heel + b.back, b.tip + b.back}};
     process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], b.heel, b.tip}}, i,
                      b.back == Vec3::Zero() ? nullptr : &face);
