@@ -4,6 +4,7 @@
 // in the paper's lists L1, L2, L3 by how many distinct edges are crossed.
 #include <array>
 #include <cstdint>
+#include <map>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -79,10 +80,14 @@ struct CutState {
     std::vector<int> on_skin_ignored;
     std::unordered_set<int64_t> on_skin_seen;  ///< element * 64 + tool, counted once
     /// Per tool (2D): its blade's path as cut, the quads' tip points in world [m], the simulated
-    /// time it began, and the time it first crossed itself (a closed loop; -1: never) [s]. The end of
-    /// the run says when such a loop freed no piece.
+    /// time it began, and the time it first closed a loop (-1: never) [s]: it crossed itself, or
+    /// crossed another blade's path a second time (loop_with: that blade, or itself). The end of the
+    /// run says when such a loop freed no piece.
     std::vector<std::vector<Vec3>> path;
     std::vector<double> path_time, loop_time;
+    std::vector<int> loop_with;
+    /// Where two blades' paths cross (tools i < j), distinct points [m].
+    std::map<std::pair<int, int>, std::vector<Vec3>> paths_meet;
 };
 
 /// A cut whose every point in an element lies closer than this fraction of the element's shortest

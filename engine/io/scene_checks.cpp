@@ -242,13 +242,18 @@ std::vector<std::string> end_of_run_notes(const World& w) {
     const CutState& cs = w.cut_state;
     for (int i = 0; i < static_cast<int>(cs.loop_time.size()) && i < w.tools.count(); ++i) {
         if (cs.loop_time[i] < 0.0 || i >= static_cast<int>(cs.split_by_tool.size()) || cs.split_by_tool[i] == 0) continue;
+        const int j = cs.loop_with[i];
+        if (j < i && cs.loop_with[j] == i && cs.loop_time[j] >= 0.0 && cs.split_by_tool[j] > 0) continue;  // said for j
+        const double since = std::min(cs.path_time[i], cs.path_time[j]);
         const bool freed = std::any_of(w.pieces.log.begin(), w.pieces.log.end(),
-                                       [&](const PieceEvent& p) { return p.time >= cs.path_time[i] - 1e-12; });
-        if (!freed)
-            out.push_back(fmt::format("tool \"{}\"'s path crossed its own incision at {:g} s (a closed loop), but no "
-                                      "piece was freed: tissue still joins the inside to the outside somewhere along "
-                                      "the loop (docs/xfem.md, Limits: a scalpel drawn round an ellipse)",
-                                      w.tools.name[i], cs.loop_time[i]));
+                                       [&](const PieceEvent& p) { return p.time >= since - 1e-12; });
+        if (freed) continue;
+        const std::string loop = j == i ? fmt::format("tool \"{}\"'s path crossed its own incision", w.tools.name[i])
+                                        : fmt::format("the paths of tools \"{}\" and \"{}\" crossed a second time",
+                                                      w.tools.name[j], w.tools.name[i]);
+        out.push_back(fmt::format("{} at {:g} s (a closed loop), but no piece was freed: tissue still joins the inside "
+                                  "to the outside somewhere along the loop (docs/xfem.md, Limits: a scalpel drawn round "
+                                  "an ellipse)", loop, cs.loop_time[i]));
     }
     const Grasps& g = w.grasps;  // jaws that closed on nothing
     for (int i = 0; i < g.count() && i < w.tools.count(); ++i)

@@ -437,16 +437,34 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
 namespace {
 
 /// Appends the blade tip's segment a -> b (world, 2D) to tool i's path, and notes the time the path
-/// first crosses an earlier segment of itself (not the one before, which it continues).
+/// first closes a loop: it crosses an earlier segment of itself (not the one before, which it
+/// continues), or another blade's path at a second point (two arcs crossing at both tips).
 void note_loop(World& w, int i, const Vec3& a, const Vec3& b) {
     CutState& cs = w.cut_state;
-    if (static_cast<int>(cs.path.size()) <= i)
-        cs.path.resize(i + 1), cs.path_time.resize(i + 1, w.time), cs.loop_time.resize(i + 1, -1.0);
+    if (static_cast<int>(cs.path.size()) <= i) {
+        cs.path.resize(i + 1), cs.path_time.resize(i + 1, w.time);
+        cs.loop_time.resize(i + 1, -1.0), cs.loop_with.resize(i + 1, -1);
+    }
     std::vector<Vec3>& path = cs.path[i];
     if (path.empty()) cs.path_time[i] = w.time;
     if (path.empty() || path.back() != a) path.push_back(a);
+    const auto closes = [&](int j) { cs.loop_time[i] = w.time, cs.loop_with[i] = j; };
     for (size_t k = 0; cs.loop_time[i] < 0.0 && k + 2 < path.size(); ++k)
-        if (segment_segment_2d(path[k], path[k + 1], a, b)) cs.loop_time[i] = w.time;
+        if (segment_segment_2d(path[k], path[k + 1], a, b)) closes(i);
+    for (int j = 0; j < static_cast<int>(cs.path.size()) && cs.loop_time[i] < 0.0; ++j) {
+        if (j == i) continue;
+        std::vector<Vec3>& meet = cs.paths_meet[{std::min(i, j), std::max(i, j)}];
+        const std::vector<Vec3>& other = cs.path[j];
+        for (size_t k = 0; k + 1 < other.size(); ++k) {
+            const std::optional<double> s = segment_segment_2d(other[k], other[k + 1], a, b);
+            if (!s) continue;
+            const Vec3 x = other[k] + *s * (other[k + 1] - other[k]);
+            // One crossing met at a path's vertex is found on both its segments: once.
+            if (std::none_of(meet.begin(), meet.end(), [&](const Vec3& m) { return (m - x).norm() < 0.25 * cs.mean_edge; }))
+                meet.push_back(x);
+        }
+        if (meet.size() >= 2) closes(j);
+    }
     path.push_back(b);
 }
 
