@@ -41,6 +41,13 @@ void prepare_enrichment(World& w) {
 
 namespace {
 
+/// How event ev's level at local node a is turned against the side the node has: +1 alike, -1
+/// opposite, 0 the node has no side yet.
+int level_against_side(const World& w, const CutEvent& ev, int a) {
+    const int s = w.enriched.sign[w.elements.nodes[ev.element][a]];
+    return s == 0 ? 0 : (ev.level[a] >= 0.0) == (s > 0) ? 1 : -1;
+}
+
 /// Whether the sides the element's nodes already have cannot be the event's levels' in either
 /// orientation: a loop that closes beside its first pass leaves on the outside a node that pass put
 /// inside (the tissue moved under the blade). The cut's own line then decides, as for another
@@ -48,11 +55,9 @@ namespace {
 bool sides_disagree(const World& w, const CutEvent& ev) {
     int orientation = 0;
     for (int a = 0; a < w.elements.nodes_per_element(); ++a) {
-        const int s = w.enriched.sign[w.elements.nodes[ev.element][a]];
-        if (s == 0) continue;
-        const int o = (ev.level[a] >= 0.0) == (s > 0) ? 1 : -1;
-        if (orientation != 0 && o != orientation) return true;
-        orientation = o;
+        const int o = level_against_side(w, ev, a);
+        if (o != 0 && orientation != 0 && o != orientation) return true;
+        if (o != 0) orientation = o;
     }
     return false;
 }
@@ -68,9 +73,8 @@ int new_sides_orientation(const World& w, const CutEvent& ev, const CutLine& lin
     double farthest = -1.0;
     for (int a = 0; a < w.elements.nodes_per_element(); ++a) {
         const double d = std::abs(line.normal.dot(w.nodes.rest[c[a]] - line.origin));
-        if (w.enriched.sign[c[a]] == 0 || d <= farthest) continue;
-        farthest = d;
-        orient = (ev.level[a] >= 0.0) == (w.enriched.sign[c[a]] > 0) ? 1 : -1;
+        const int o = level_against_side(w, ev, a);
+        if (o != 0 && d > farthest) farthest = d, orient = o;
     }
     return orient;
 }
@@ -86,15 +90,13 @@ bool other_incision(const World& w, const CutEvent& ev, CutLine& line) {
 }
 
 /// Splits one element as `ev` asks; returns false if it is already cut or the signs do not differ.
-bool record_cut(World& w, const CutEvent& event) {
-    const int e = event.element;
+bool record_cut(World& w, const CutEvent& ev) {
+    const int e = ev.element;
     if (e < 0 || e >= w.mesh_elements || w.cuts.cut_of_element[e] >= 0) return false;
     const Elements& el = w.elements;
     const int dim = el.dim, npe = el.nodes_per_element();
     const auto& c = el.nodes[e];
     EnrichedDofs& en = w.enriched;
-    CutEvent ev = event;  // another incision meets the earlier cracks on its edges (recut.h, kJoinFraction)
-    if (recut_allowed(w) && dim == 2) join_earlier_points(w, ev);
     CutLine own_line;
     const bool own = other_incision(w, ev, own_line);
     std::array<int8_t, 4> H{};
@@ -223,8 +225,9 @@ int apply_cut_events(World& w) {
     std::vector<int> update;    // cut elements whose virtual vertices change
     int recut = 0;
     for (CutEvent& ev : w.pending_cuts) {
+        // A later crack meets the earlier ones on its edges (2D, where elements are cut again).
+        if (recut_allowed(w)) join_earlier_points(w, ev);
         if (ev.again) {
-            join_earlier_points(w, ev);  // a crack that ends on one of its edges: the new one meets it there
             if (!record_recut(w, ev)) continue;
             ++recut;
             update.push_back(w.cuts.cut_of_element[ev.element]);

@@ -301,8 +301,6 @@ public:
         // successor asked for at once.
         StepJumps now;
         now.key = op_.jump_version(w_) * 1000003u + A_.topology;
-        const BesideBlock& jumps = now.block;
-        const auto current_jumps = [&]() -> const BesideBlock& { return built(now); };
         const bool jumped = jumped_since(f, now);
         const bool aged = f && (A_.factor_age >= s.refactor_every || f->last_iterations > s.refactor_iterations);
         // Off the step the renewal costs the step nothing, so it is asked for at half the count
@@ -310,7 +308,7 @@ public:
         const bool aging = f && f->last_iterations > kFactorEarlyFraction * s.refactor_iterations;
         const bool augment_grew = augmented && f->augment.columns() > kFactorAugmentLimit;
         if (off_step && f && f->ok && (augment_grew || aged || aging || jumped) && !A_.pending_factor && !failed_off_step) {
-            A_.pending_factor = start_background_factor(A_, f->snapshot, current_jumps(), w_.step, w_.step + s.factor_delay);
+            A_.pending_factor = start_background_factor(A_, f->snapshot, built(now), w_.step, w_.step + s.factor_delay);
             ++A_.background_builds;
         }
         // Renewed in the step all the same when its successor would come too late: CG needed more
@@ -335,13 +333,13 @@ public:
             BesideAugment& t = A_.beside_factor->moving;
             const bool same = t.factor == f->serial && t.version == version && t.with_term == (moving_term_ != nullptr) &&
                               t.topology == A_.topology && t.phantom_columns == (g ? g->columns() : 0) &&
-                              t.stiff_scale == stiff_scale_ && same_block(t.jumps, jump ? jumps : BesideBlock{});
+                              t.stiff_scale == stiff_scale_ && same_block(t.jumps, jump ? built(now) : BesideBlock{});
             if (!same) {
                 BesideBlock block;
                 if (moving_term_ && !moving_term_->beside_block(w_, block)) return;
-                if (jump) append_block(block, jumps, 1.0), append_block(block, f->jumps, -1.0);
+                if (jump) append_block(block, built(now), 1.0), append_block(block, f->jumps, -1.0);
                 t.version = version, t.topology = A_.topology, t.with_term = moving_term_ != nullptr;
-                t.jumps = jump ? jumps : BesideBlock{};
+                t.jumps = jump ? built(now) : BesideBlock{};
                 build_beside_augment(A_, *f->lower, f->serial, g, block, stiff_scale_, mask_, t);
                 t.phantom_columns = g ? g->columns() : 0, t.stiff_scale = stiff_scale_;
             }
@@ -355,7 +353,7 @@ public:
         const auto renew = [&] {
             const bool ok = factorize(w_);
             f = A_.factor.get();
-            f->jumps = current_jumps(), f->jumps_key = now.key, f->jumps_keyed = true;
+            f->jumps = built(now), f->jumps_key = now.key, f->jumps_keyed = true;
             augmented = false, renewed = true;
             return ok;
         };
