@@ -3,8 +3,8 @@
 // §4.1-4.2; systems/cut/snap_cut_system.h). The mesh elements [0, mesh_elements) keep their node ids,
 // so the CutSystem decides on the same mesh for both cutters; a mesh element the cutter touched
 // gets weight 0 and is carried by its *pieces*, force elements appended after the mesh elements.
-// New DOF nodes (edge points and the copies made when a node is duplicated across a cut) are
-// appended after the mesh nodes.
+// New DOF nodes (edge points, the copies made when a node is duplicated across a cut, and the
+// mid-edge nodes of quadratic pieces' new edges) are appended after the mesh nodes.
 //
 // Each piece remembers its nodes as *roots* (mesh nodes and edge points, before duplication) and
 // its side of the cut; which copy of a root it uses is looked up per (root, mesh element, side).
@@ -46,14 +46,18 @@ struct SnapMesh {
 
     // Edge points and copies.
     std::unordered_map<uint64_t, int> edge_point;   ///< mesh edge (sorted node pair) -> its point's node
-    std::vector<std::array<int, 2>> extra_edge;     ///< per node beyond the mesh nodes: edge of a point, {-1,-1} for a copy
-    std::vector<int> extra_root;                    ///< per node beyond the mesh nodes: the root it copies (itself for a point)
+    std::vector<std::array<int, 2>> extra_edge;     ///< per node beyond the mesh nodes: edge of a point, {-1,-1} for a copy or a mid-edge node
+    std::vector<int> extra_root;                    ///< per node beyond the mesh nodes: the root it copies (itself for a point or a mid-edge node)
     std::map<std::array<int, 3>, int> copy;         ///< (root, mesh element, side) -> DOF node used there
+    /// Quadratic elements (systems/cut/snap_quadratic.h): the mid-edge node of the pieces' edge between
+    /// two DOF nodes (sorted pair), the mesh's own mid-edge nodes first.
+    std::unordered_map<uint64_t, int> mid_node;
 
     // Figures.
     int snaps = 0;                     ///< nodes moved onto a cut
     int points = 0;                    ///< edge points made
     int copies = 0;                    ///< nodes duplicated
+    int mid_nodes = 0;                 ///< mid-edge nodes made for the pieces of quadratic elements
     /// Pieces whose rest shape came out inverted: snaps of two nodes of one element in one step
     /// can turn a sliver over. They keep |V| (a positive mass and a positive semi-definite
     /// stiffness; their current shape is inverted with them, so they exert no spurious force).

@@ -84,7 +84,7 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
         case kSnap: {
             const SnapMesh& s = w.snap;
             return h.all(s.snapped, s.split, s.level, s.pieces, s.piece_parent, s.piece_side, s.piece_live, s.extra_root,
-                         s.snaps, s.points, s.copies, s.elements_split);
+                         s.snaps, s.points, s.copies, s.mid_nodes, s.elements_split);
         }
         case kPieces: {
             const Pieces& p = w.pieces;

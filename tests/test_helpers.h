@@ -107,6 +107,17 @@ inline void step_world(World& world) {
     implicit_euler_step(world, xcut_step_terms());
 }
 
+/// Holds `world` at x <= 0 under gravity, stepped with dt 2 ms and CG to 1e-12: the tests where a
+/// piece cut off falls as implicit Euler moves a free body.
+inline void hold_for_fall(World& world) {
+    world.gravity = Vec3(0.0, 0.0, -9.81);
+    world.solver.dt = 2e-3;
+    world.solver.cg_tolerance = 1e-12;
+    world.solver.cg_max_iterations = 2000;
+    world.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
+    apply_constraints(world);
+}
+
 /// A square of half-size `half` on the plane through `centre` with normal `normal`.
 inline std::vector<Vec3> square_on_plane(const Vec3& centre, const Vec3& normal, double half) {
     const Vec3 n = normal.normalized(), u = n.unitOrthogonal() * half, v = n.cross(n.unitOrthogonal()) * half;

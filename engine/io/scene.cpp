@@ -476,38 +476,18 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
     return scene;
 }
 
-/// A quadratic material where xcut has no quadratic element yet: a 2D mesh, the snapping cutter (it
-/// moves nodes onto the cut, off the mid-edge nodes' edges). XFEM cuts quadratic elements
-/// (docs/elements.md), by blades and scripted cuts.
+/// A quadratic material on a 2D mesh, where xcut has no quadratic element (no 6-node triangle). Both
+/// cutters cut quadratic tetrahedra (docs/elements.md).
 void refuse_quadratic_where_unsupported(const World& world, const Scene& scene, int dim) {
-    bool blade = false;
-    for (int i = 0; i < scene.tools.count(); ++i) blade = blade || scene.tools.has_blade[i];
-    for (const Material& m : world.materials.list) {
-        if (!m.quadratic) continue;
-        const std::string what = fmt::format("material \"{}\" asks for quadratic elements, ", m.name);
-        if (dim != 3)
-            throw InputError(scene.file, "material.element", what + "which are tetrahedra: the mesh is 2D (use \"linear\")");
-        if ((blade || !scene.cuts.empty()) && !cutter_cuts_quadratic(scene))
+    if (dim == 3) return;
+    for (const Material& m : world.materials.list)
+        if (m.quadratic)
             throw InputError(scene.file, "material.element",
-                             what + "which the snapping cutter cannot take: it moves nodes onto the cut, off the "
-                                    "mid-edge nodes' edges (use \"linear\", or the XFEM cutter, which cuts quadratic "
-                                    "elements: docs/elements.md)");
-    }
+                             fmt::format("material \"{}\" asks for quadratic elements, which are tetrahedra: the mesh "
+                                         "is 2D (use \"linear\")", m.name));
 }
 
 }  // namespace
-
-SceneElementOrders scene_element_orders(const Scene& scene) {
-    SceneElementOrders o;
-    auto note = [&](const Material& m) { (m.quadratic ? o.quadratic : o.linear) = true; };
-    auto body = [&](const Material& m, const std::vector<RegionMaterial>& regions) {
-        note(m);
-        for (const RegionMaterial& r : regions) note(r.material);
-    };
-    body(scene.material, scene.region_materials);
-    for (const BodySpec& b : scene.more_bodies) body(b.material, b.region_materials);
-    return o;
-}
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
     const std::string text = read_input_file(path, "file", "scene", kMaxSceneBytes);

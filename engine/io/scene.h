@@ -96,14 +96,6 @@ struct Scene {
     double max_output_gb = kDefaultMaxOutputBytes / 1e9;  ///< "output.max_gb": what a run may write [GB]
 };
 
-/// Which element orders the scene's materials (every body's and region's) ask for.
-struct SceneElementOrders {
-    bool linear = false, quadratic = false;
-};
-SceneElementOrders scene_element_orders(const Scene& scene);
-/// Whether the scene's cutter cuts quadratic elements: the XFEM cutter does (docs/elements.md); the
-/// snapping cutter cannot (it moves nodes onto the cut, off the mid-edge nodes' edges).
-inline bool cutter_cuts_quadratic(const Scene& scene) { return scene.cutter != "snap"; }
 
 /// Reads a recorded trajectory: CSV with header time,x,y,z,qw,qx,qy,qz (SI units; quaternion
 /// tool -> world). Throws InputError naming the file and line.

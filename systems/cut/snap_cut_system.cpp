@@ -12,6 +12,7 @@
 #include "systems/kernels/disjoint_sets.h"
 #include "systems/surface/mapping_system.h"
 #include "systems/kernels/snap_split_patterns.h"
+#include "systems/cut/snap_quadratic.h"
 
 namespace xcut {
 namespace {
@@ -65,8 +66,9 @@ std::vector<std::array<int, 4>> root_pieces(const World& w, int f) {
     return bisect_simplex(el.nodes[f], el.dim, splits);
 }
 
-/// Appends a DOF node with the state of `from`, or interpolated from a to b at t if b >= 0.
-int add_node(World& w, int from, int b = -1, double t = 0.0) {
+}  // namespace
+
+int add_snap_node(World& w, int from, int b, double t) {
     Nodes& n = w.nodes;
     const int p = n.count();
     auto lerp = [&](const std::vector<Vec3>& v) { return b < 0 ? Vec3(v[from]) : Vec3(v[from] + t * (v[b] - v[from])); };
@@ -85,9 +87,11 @@ int add_node(World& w, int from, int b = -1, double t = 0.0) {
     return p;
 }
 
+namespace {
+
 int add_edge_point(World& w, int a, int b, double t) {
     SnapMesh& s = w.snap;
-    const int p = add_node(w, a, b, t);
+    const int p = add_snap_node(w, a, b, t);
     s.edge_point[edge_key(a, b)] = p;
     s.extra_edge.push_back({std::min(a, b), std::max(a, b)});
     s.extra_root.push_back(p);
@@ -96,7 +100,7 @@ int add_edge_point(World& w, int a, int b, double t) {
 }
 
 int add_copy(World& w, int root, int from) {
-    const int p = add_node(w, from);
+    const int p = add_snap_node(w, from);
     w.snap.extra_edge.push_back({-1, -1});
     w.snap.extra_root.push_back(root);
     ++w.snap.copies;
@@ -413,11 +417,13 @@ int apply_snap_events(World& w) {
     SnapMesh& s = w.snap;
     const int points_before = w.nodes.count();
     const std::vector<double> mass_before = w.nodes.mass;
+    const SnapQuadraticField field = keep_quadratic_field(w);
     std::vector<int> moved, split;
     for (const CutEvent& ev : w.pending_cuts)
         if (record_split(w, ev, moved)) split.push_back(ev.element);
     w.pending_cuts.clear();
     if (split.empty()) return 0;
+    place_on_quadratic_field(w, field, moved, points_before);
 
     // Every mesh element the cut changed: split ones, those around a new point, those around a
     // moved node.
@@ -459,6 +465,7 @@ int apply_snap_events(World& w) {
         for (int q : s.pieces[f])
             if (!s.piece_live[q - w.mesh_elements]) compute_rest_shape(w, q);
 
+    build_quadratic_pieces(w, field, rewritten);
     build_virtual_incidence(w);
     relump_conserving(w, mass_before);
     rebuild_surface(w, w.visual, s.visual_subdivisions);

@@ -36,6 +36,10 @@ int snap_root(const World& world, int node);
 /// Whether a root lies on a cut surface (an edge point or a snapped node).
 bool snap_surface_root(const World& world, int root);
 
+/// Appends a DOF node with the state of `from`, or interpolated from `from` to b at t if b >= 0
+/// (rest, position, velocity, CG's first guess; held on the axes both are held on); no mass yet.
+int add_snap_node(World& world, int from, int b = -1, double t = 0.0);
+
 /// The system; prepares the world's cutter state at once (scene load), so a cut does not pay it.
 SystemDesc snap_cut_system(World& world);
 

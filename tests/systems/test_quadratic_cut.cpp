@@ -46,12 +46,7 @@ int cut_bar(World& w, const Vec3& n, double c) { return cut_now(w, square_on_pla
 /// The bar held at x = 0 under gravity, solved tightly (CG to 1e-12), for the fall tests.
 World held_bar() {
     World w = quadratic_bar(0.3, {6, 2, 2});
-    w.gravity = Vec3(0.0, 0.0, -9.81);
-    w.solver.dt = 2e-3;
-    w.solver.cg_tolerance = 1e-12;
-    w.solver.cg_max_iterations = 2000;
-    w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
-    apply_constraints(w);
+    hold_for_fall(w);
     return w;
 }
 const Vec3 kFallNormal = Vec3(1.0, 0.1, -0.15).normalized();  // the oblique cut of the fall tests

@@ -4,6 +4,7 @@
 // what the record says.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include <cstdlib>
@@ -27,7 +28,10 @@ TEST(LockingBench, TinyRunScoresBothElementsAgainstCalculix) {
     o.cache_dir = std::string(XCUT_BUILD_DIR) + "/accuracy_cache";
     std::vector<std::string> notes;
     const std::vector<LockingBenchRow> rows = run_locking_bench(o, &notes);
-    ASSERT_EQ(rows.size(), 24u) << "the beam: two ratios, three elements (linear, quadratic, quadratic-p0), two "
+    // The quadratic snapping cutter's row at nu 0.3 (9.05 %) lies at the edge of this run's scoring
+    // rule (10 x the reference's own 0.9 %): whether it is scored is not what this test checks.
+    const auto scored = std::count_if(rows.begin(), rows.end(), [](const LockingBenchRow& r) { return r.element != "snap-quadratic"; });
+    ASSERT_EQ(scored, 24) << "the beam: two ratios, three elements (linear, quadratic, quadratic-p0), two "
                                    "levels; Cook's membrane: nu 0.49; "
                                    "the block: two ratios, two cutters, two levels; notes:\n"
                                 << fmt::format("{}", fmt::join(notes, "\n"));
@@ -37,7 +41,7 @@ TEST(LockingBench, TinyRunScoresBothElementsAgainstCalculix) {
         if (r.problem == "block") {
             EXPECT_NE(r.reference_source.find("CalculiX C3D20"), std::string::npos);
             EXPECT_GT(r.error, 0.0);
-            block[{r.element, r.poisson, r.n}] = r.error;
+            if (r.element != "snap-quadratic") block[{r.element, r.poisson, r.n}] = r.error;
             continue;
         }
         if (r.problem == "cook") {  // plane strain at nu 0.49, 4 x 4 cells: both lock, the linear one far more
@@ -91,11 +95,18 @@ TEST(LockingBench, TinyRunScoresBothElementsAgainstCalculix) {
         const double quadratic = cut_block_run(spec, 4, "xfem-quadratic", reference_points(ref)).error;
         const double linear = block[{"xfem", nu, 8}];
         EXPECT_LT(quadratic, (nu < 0.4 ? 0.7 : 0.5) * linear);
+        // The snapping cutter on the same quadratic tetrahedra: as far below the linear snapping's
+        // error, and within 10 % of the quadratic XFEM's (measured 9.05 against 8.33 % at nu 0.3,
+        // 13.7 against 12.9 % at 0.49; on linear tetrahedra at 8 cells 17.9 against 17.0 %).
+        const double snap_quadratic = cut_block_run(spec, 4, "snap-quadratic", reference_points(ref)).error;
+        const double snap_linear = block[{"snap", nu, 8}];
+        EXPECT_LT(snap_quadratic, (nu < 0.4 ? 0.7 : 0.5) * snap_linear);
+        EXPECT_NEAR(snap_quadratic, quadratic, 0.1 * quadratic);
         // With a constant pressure per element (quadratic-p0): at nu 0.49 the full suite measured
         // 8.0 % against 12.9 % at 4 cells; here against the coarser reference, the margin above its error.
         const double constant_pressure = cut_block_run(spec, 4, "xfem-quadratic-p0", reference_points(ref)).error;
-        std::printf("block nu %.2f, 4 cells: quadratic %.3g %%, with a constant pressure %.3g %%\n", nu, 100 * quadratic,
-                    100 * constant_pressure);
+        std::printf("block nu %.2f, 4 cells: quadratic %.3g %%, with a constant pressure %.3g %%, snapped %.3g %%\n", nu,
+                    100 * quadratic, 100 * constant_pressure, 100 * snap_quadratic);
         if (nu > 0.4) EXPECT_LT(constant_pressure, 0.85 * quadratic);
     }
     bool met = false;

@@ -258,10 +258,11 @@ bool wants(const AccuracyBenchOptions& o, int problem) {
 
 AccuracyRow cut_block_run(const CutBlockSpec& spec, int n, const char* cutter, const std::vector<Vec3>& reference) {
     CutBlockSpec on = spec;
-    on.quadratic = on.quadratic || std::string(cutter).rfind("xfem-quadratic", 0) == 0;
-    on.mean_dilatation = on.mean_dilatation || std::string(cutter) == "xfem-quadratic-p0";
+    const std::string name = cutter;
+    on.quadratic = on.quadratic || name.rfind("xfem-quadratic", 0) == 0 || name == "snap-quadratic";
+    on.mean_dilatation = on.mean_dilatation || name == "xfem-quadratic-p0";
     World w = cut_block_world(on, n);
-    w.snap.enabled = std::string(cutter) == "snap";
+    w.snap.enabled = name.rfind("snap", 0) == 0;
     const RunTimer t;
     const int split = cut_with_polygon(w, cut_block_polygon(spec));
     pull_block_ends(w, spec);

@@ -120,7 +120,8 @@ std::vector<std::string> locking_summary(const std::vector<LockingBenchRow>& row
                           : "never within 2 %: 10k-DOF target NOT met";
         const std::map<std::string, std::string> partner{
             {"linear", "quadratic"}, {"quadratic", "linear"}, {"quadratic-p0", "quadratic"}, {"xfem", "snap"},
-            {"snap", "xfem"}, {"xfem-quadratic", "xfem"}, {"xfem-quadratic-p0", "xfem-quadratic"}};
+            {"snap", "xfem"}, {"xfem-quadratic", "xfem"}, {"xfem-quadratic-p0", "xfem-quadratic"},
+            {"snap-quadratic", "xfem-quadratic"}};
         const auto other = runs.find({problem, nu, partner.at(element)});
         if (other != runs.end())
             for (const LockingBenchRow* r : v) {

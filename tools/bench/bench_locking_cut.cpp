@@ -1,6 +1,6 @@
 // Problem 5 (the block with a partial planar cut, pulled apart: docs/verification.md) at nu 0.3, 0.45
 // and 0.49 for `xcut bench --suite locking`: what near incompressibility costs a cut scene, with either
-// cutter on linear tetrahedra and XFEM on quadratic ones (docs/elements.md), against CalculiX's C3D20
+// cutter on linear tetrahedra and on quadratic ones (docs/elements.md), against CalculiX's C3D20
 // reference for each ratio (tools/reference/calculix_reference.py, extrapolated). Error: relative L2
 // norm of the displacement at the suite's sample points (tools/bench/bench_accuracy.h).
 #include <fmt/format.h>
@@ -41,6 +41,7 @@ void cut_block_rows(const LockingBenchOptions& o, const std::string& cache, std:
             for (const char* cutter : {"xfem", "snap"}) runs.emplace_back(cutter, n);
         for (int n : quadratic_levels) runs.emplace_back("xfem-quadratic", n);
         for (int n : quadratic_levels) runs.emplace_back("xfem-quadratic-p0", n);
+        for (int n : quadratic_levels) runs.emplace_back("snap-quadratic", n);
         for (const auto& [cutter, n] : runs) {
             const AccuracyRow a = median_if_short([&] { return cut_block_run(spec, n, cutter, reference); });
             LockingBenchRow row;

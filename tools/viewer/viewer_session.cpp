@@ -24,22 +24,14 @@ HandSizes sizes_of(const MeshData& mesh) {
     return s;
 }
 
-/// Whether a hand scalpel has tissue to cut: the XFEM cutter cuts both elements; the snapping
-/// cutter, linear ones alone (it refuses a scene with a quadratic material, docs/elements.md).
-bool cuttable(const Scene& scene) {
-    const SceneElementOrders o = scene_element_orders(scene);
-    return !o.quadratic || cutter_cuts_quadratic(scene);
-}
-
 }  // namespace
 
 ViewerSession::ViewerSession(const ViewerOptions& o) : options(o), overrides(o.overrides) {
     const Scene base = load_scene(o.scene, overrides);
     const MeshData mesh = load_scene_mesh(base);
-    const bool cut = cuttable(base);
     if (mesh.dim == 3) {  // the hand scalpel; the probe where there is a collision surface to touch
         sizes = sizes_of(mesh);
-        for (const std::string& t : hand_tool_overrides(sizes, cut, base.collision_subdivisions >= 0)) overrides.push_back(t);
+        for (const std::string& t : hand_tool_overrides(sizes, true, base.collision_subdivisions >= 0)) overrides.push_back(t);
     }
     scene = load_scene(o.scene, overrides);
     std::vector<LiveDevice*> made;  // the hand tools' devices, made by build_simulation through this factory
@@ -68,9 +60,7 @@ ViewerSession::ViewerSession(const ViewerOptions& o) : options(o), overrides(o.o
     physics = std::make_unique<PhysicsThread>(*sim, buffer);
     fmt::print("view {} ({}): {} nodes, {} elements, {} tools ({}), {} threads\n", scene.name, o.scene,
                sim->world.nodes.count(), sim->world.elements.count(), sim->world.tools.count(),
-               scalpel ? "hand scalpel on the left button"
-               : cut   ? "2D: no hand scalpel"
-                       : "no hand scalpel: the scene's cutter cannot cut its quadratic elements",
+               scalpel ? "hand scalpel on the left button" : "2D: no hand scalpel",
                o.threads);
 }
 

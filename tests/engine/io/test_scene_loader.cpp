@@ -129,11 +129,6 @@ std::vector<BadScene> bad_scenes() {
          "!{ \"mesh\": { \"generator\": \"plate\", \"size\": [0.01, 0.01, 0], \"cells\": [2, 2, 1] }, \"gravity\": [0, 0, 0], "
          "\"material\": { \"element\": \"quadratic\" } }",
          "material.element", "the mesh is 2D"},
-        {"quadratic element with the snapping cutter",
-         "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
-         "\"material\": { \"element\": \"quadratic\" }, \"cutter\": { \"type\": \"snap\" }, "
-         "\"tools\": [{\"blade\":{\"tip\":[0,0,0],\"heel\":[0,0,1]},\"trajectory\":[{\"time\":0,\"position\":[0,0,0]}]}] }",
-         "material.element", "the snapping cutter cannot take"},
         {"key given twice", "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
                             "\"solver\": { \"dt\": 0.01, \"dt\": 0.02 } }",
          "solver.dt", "given twice"},
