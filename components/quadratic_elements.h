@@ -13,6 +13,13 @@
 
 namespace xcut {
 
+/// HRZ lumped mass share of a corner and of a mid-edge node [-] (of rho V; Hinton, Rock & Zienkiewicz
+/// 1976, systems/kernels/quadratic_tet.h): the consistent mass's diagonal scaled to the element's
+/// mass. Tetrahedron: 1/36 and 4/27. Triangle: its diagonal is A/30 at a corner and 8A/45 at a
+/// mid-edge node (their sum 19A/30), so 1/19 and 16/57.
+inline constexpr double kTet10CornerMass = 1.0 / 36.0, kTet10EdgeMass = 4.0 / 27.0;
+inline constexpr double kTri6CornerMass = 1.0 / 19.0, kTri6EdgeMass = 16.0 / 57.0;
+
 /// Local corner pairs of the mid-edge nodes 4..9 (VTK order, cell type 24).
 inline constexpr int kTet10Edges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};
 
@@ -25,7 +32,15 @@ struct TetSideRule {
     std::array<double, kMaxPoints> weight{};    ///< fractions of the parent's rest volume [-]
 };
 
+/// The local nodes a 6-node triangle uses of the 10 (corners 0-2, mid-edge nodes of kTet10Edges'
+/// first three edges); the others stand for the absent fourth corner and its edges.
+inline constexpr int kTri6Locals[6] = {0, 1, 2, 4, 5, 6};
+
 struct QuadraticElements {
+    /// 2D: the elements are 6-node triangles (VTK cell type 22), kept as 10-node tetrahedra without
+    /// their fourth corner (systems/kernels/quadratic_tet.h, tri3_gradients): their nodes 3, 7, 8 and
+    /// 9 repeat node 0 and 4, take no part in the incidence and have zero shape functions.
+    bool planar = false;
     std::vector<int> element;                  ///< its corner element in Elements
     std::vector<std::array<int, 10>> nodes;    ///< VTK order: corners, then edges (01 12 02 03 13 23)
     /// per element in Elements (a cut element's virtual ones too): its index here, -1 if linear
@@ -45,6 +60,9 @@ struct QuadraticElements {
     std::vector<std::array<double, 10>> side_masses;
 
     int count() const { return static_cast<int>(element.size()); }
+    /// Nodes an element uses (6 or 10) and the local index of the k-th of them.
+    int node_count() const { return planar ? 6 : 10; }
+    int local(int k) const { return planar ? kTri6Locals[k] : k; }
 };
 
 }  // namespace xcut

@@ -6,7 +6,11 @@
 namespace xcut {
 namespace {
 
-constexpr double kEdgeMass = 4.0 / 27.0;
+/// A whole element's mid-edge node share of rho V (HRZ: systems/kernels/quadratic_tet.h).
+double edge_mass(const QuadraticElements& q) { return q.planar ? kTri6EdgeMass : kTet10EdgeMass; }
+
+/// The edges (local corner pairs of kTet10Edges) an element has: 6, or a triangle's 3.
+int edge_count_of(const QuadraticElements& q) { return q.planar ? 3 : 6; }
 
 }  // namespace
 
@@ -21,8 +25,8 @@ void build_quadratic_elements(World& world) {
     q = QuadraticElements{};
     if (!has_quadratic_material(world)) return;
     Elements& el = world.elements;
-    if (el.dim != 3)
-        throw std::invalid_argument("quadratic elements are tetrahedra: the mesh is 2D (use the linear triangle)");
+    q.planar = el.dim == 2;
+    const int edges_per = edge_count_of(q);
     q.of_element.assign(world.mesh_elements, -1);
     // Every edge of a quadratic element, as (low node, high node), sorted: the mid-edge nodes are
     // numbered in this order, the same on any machine and thread count.
@@ -31,8 +35,8 @@ void build_quadratic_elements(World& world) {
         if (!world.materials.list[el.material[e]].quadratic) continue;
         q.of_element[e] = q.count();
         q.element.push_back(e);
-        for (const auto& k : kTet10Edges) {
-            const int a = el.nodes[e][k[0]], b = el.nodes[e][k[1]];
+        for (int k = 0; k < edges_per; ++k) {
+            const int a = el.nodes[e][kTet10Edges[k][0]], b = el.nodes[e][kTet10Edges[k][1]];
             edges.push_back({std::min(a, b), std::max(a, b)});
         }
     }
@@ -42,8 +46,8 @@ void build_quadratic_elements(World& world) {
     // while the linear element holds it straight: the mesh would tear there.
     for (int e = 0; e < world.mesh_elements; ++e) {
         if (q.of_element[e] >= 0) continue;
-        for (const auto& k : kTet10Edges) {
-            const int a = el.nodes[e][k[0]], b = el.nodes[e][k[1]];
+        for (int k = 0; k < edges_per; ++k) {
+            const int a = el.nodes[e][kTet10Edges[k][0]], b = el.nodes[e][kTet10Edges[k][1]];
             if (std::binary_search(edges.begin(), edges.end(), std::array<int, 2>{std::min(a, b), std::max(a, b)}))
                 throw std::invalid_argument(
                     "a linear element shares an edge with a quadratic one (materials \"" +
@@ -66,9 +70,13 @@ void build_quadratic_elements(World& world) {
     for (int t = 0; t < q.count(); ++t) {
         const auto& c = el.nodes[q.element[t]];
         for (int a = 0; a < 4; ++a) q.nodes[t][a] = c[a];
-        for (int k = 0; k < 6; ++k) {
+        for (int k = 0; k < edges_per; ++k) {
             const std::array<int, 2> key{std::min(c[kTet10Edges[k][0]], c[kTet10Edges[k][1]]), std::max(c[kTet10Edges[k][0]], c[kTet10Edges[k][1]])};
             q.nodes[t][4 + k] = q.first_edge_node + static_cast<int>(std::lower_bound(edges.begin(), edges.end(), key) - edges.begin());
+        }
+        if (q.planar) {  // the absent fourth corner and its edges: nodes of the element, zero shape functions
+            q.nodes[t][3] = c[0];
+            q.nodes[t][7] = q.nodes[t][8] = q.nodes[t][9] = q.nodes[t][4];
         }
     }
     build_quadratic_incidence(world);
@@ -80,12 +88,15 @@ void build_quadratic_incidence(World& world) {
     Incidence& inc = q.incidence;
     inc.offset.assign(nodes + 1, 0);
     for (const auto& ids : q.nodes)
-        for (int id : ids) ++inc.offset[id + 1];
+        for (int k = 0; k < q.node_count(); ++k) ++inc.offset[ids[q.local(k)] + 1];
     for (int i = 0; i < nodes; ++i) inc.offset[i + 1] += inc.offset[i];
     inc.entry.resize(inc.offset.back());
     std::vector<int> fill(inc.offset.begin(), inc.offset.end() - 1);
     for (int t = 0; t < q.count(); ++t)  // elements in increasing order per node
-        for (int a = 0; a < 10; ++a) inc.entry[fill[q.nodes[t][a]]++] = t * 16 + a;
+        for (int k = 0; k < q.node_count(); ++k) {
+            const int a = q.local(k);
+            inc.entry[fill[q.nodes[t][a]]++] = t * 16 + a;
+        }
 }
 
 double quadratic_node_mass(const World& world, int i) {
@@ -100,7 +111,7 @@ double quadratic_node_mass(const World& world, int i) {
         if (s >= 0)
             m += q.side_masses[s][a] * rho * el.rest_volume[e];
         else if (a >= 4)
-            m += kEdgeMass * rho * el.rest_volume[e] * el.weight[e];
+            m += edge_mass(q) * rho * el.rest_volume[e] * el.weight[e];
     }
     return m;
 }
@@ -113,7 +124,7 @@ int quadratic_entry(const World& world, int e) {
 int mid_edge_node(const World& world, int e, int i, int j) {
     const int t = quadratic_entry(world, e);
     if (t < 0) return -1;
-    for (int k = 0; k < 6; ++k)
+    for (int k = 0; k < edge_count_of(world.quadratic); ++k)
         if ((kTet10Edges[k][0] == i && kTet10Edges[k][1] == j) || (kTet10Edges[k][0] == j && kTet10Edges[k][1] == i))
             return world.quadratic.nodes[t][4 + k];
     return -1;

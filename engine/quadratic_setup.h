@@ -9,8 +9,8 @@ namespace xcut {
 /// Whether any material of the world is quadratic.
 bool has_quadratic_material(const World& world);
 /// Appends a mid-edge node per edge of the mesh elements of quadratic materials (rest and position
-/// at the edge's midpoint) as mesh nodes, and fills world.quadratic. Called by build_bodies before
-/// the masses are lumped; a 2D mesh with a quadratic material is refused (std::invalid_argument).
+/// at the edge's midpoint) as mesh nodes, and fills world.quadratic (10-node tetrahedra; on a 2D
+/// mesh, 6-node triangles). Called by build_bodies before the masses are lumped.
 void build_quadratic_elements(World& world);
 /// The node -> quadratic element incidence, over every DOF node (phantoms included), from
 /// QuadraticElements::nodes: made again when elements are added (a cut's sides).

@@ -73,7 +73,8 @@ double element_mass_share(const World& world, int e) {
     // mid-edge nodes the rest (quadratic_node_mass); a side of a cut one has all its masses there.
     if (m.quadratic && is_quadratic_side(world, e)) return 0.0;
     const double mass = m.density * el.rest_volume[e] * el.weight[e];
-    return m.quadratic ? mass / 36.0 : mass / el.nodes_per_element();
+    if (m.quadratic) return mass / (el.dim == 3 ? 36.0 : 19.0);  // kTet10CornerMass, kTri6CornerMass
+    return mass / el.nodes_per_element();
 }
 
 void relump_nodes(World& world, const std::vector<int>& nodes) {

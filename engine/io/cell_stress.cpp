@@ -34,7 +34,7 @@ Mat3 cell_cauchy_stress(const World& w, int e) {
         // integrates L exactly: L_c = sum_q w_q L_q / sum_q w_q).
         const QuadraticElements& q = w.quadratic;
         const int r = t < static_cast<int>(q.side_rule.size()) ? q.side_rule[t] : -1;
-        Eigen::Vector4d L = Eigen::Vector4d::Constant(0.25);
+        Eigen::Vector4d L = q.planar ? Eigen::Vector4d(1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 0.0) : Eigen::Vector4d::Constant(0.25);
         if (r >= 0 && q.side_rules[r].count > 0) {
             const TetSideRule& rule = q.side_rules[r];
             double sum = 0.0;
@@ -43,12 +43,14 @@ Mat3 cell_cauchy_stress(const World& w, int e) {
             if (sum > 0.0) L /= sum;
         }
         std::array<Vec3, 4> g;  // the linear element's shape gradients: rows of Dm^-1, g_0 = -sum
-        for (int a = 0; a < 4; ++a)
-            g[a] = a == 0 ? Vec3(-el.dm_inv[e].colwise().sum().transpose()) : Vec3(el.dm_inv[e].row(a - 1).transpose());
+        for (int a = 1; a < 4; ++a) g[a] = el.dm_inv[e].row(a - 1).transpose();
+        if (q.planar) g[1].z() = g[2].z() = 0.0, g[3].setZero();  // a 6-node triangle (quadratic_tet.h, tri3_gradients)
+        g[0] = -(g[1] + g[2] + g[3]);
         std::array<Vec3, 10> grad;
         tet10_gradients_at(g, L, grad);
         F.setZero();
         for (int j = 0; j < 10; ++j) F += x[q.nodes[t][j]] * grad[j].transpose();
+        if (q.planar) F(2, 2) = 1.0;
     }
     const Mat3 eps = 0.5 * (R.transpose() * F + F.transpose() * R) - Mat3::Identity();
     const Material& m = w.materials.list[el.material[e]];

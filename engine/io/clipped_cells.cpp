@@ -76,9 +76,10 @@ void add_edge_points(ClippedCells& out, const World& w, Source& s, size_t first)
     if (!s.quadratic) return;
     const auto& v = w.elements.nodes[s.element];
     std::vector<std::pair<std::pair<int, int>, int>> made;
+    const int npe = w.elements.nodes_per_element(), edges = npe == 4 ? 6 : 3;  // a triangle: kTet10Edges' first 3
     for (size_t c = first; c < out.cells.size(); ++c) {
-        std::array<int, 6> mid;
-        for (int k = 0; k < 6; ++k) {
+        std::array<int, 6> mid{};
+        for (int k = 0; k < edges; ++k) {
             const int a = out.cells[c][kTet10Edges[k][0]], b = out.cells[c][kTet10Edges[k][1]];
             const std::pair<int, int> key(std::min(a, b), std::max(a, b));
             const auto it = std::find_if(made.begin(), made.end(), [&](const auto& m) { return m.first == key; });
@@ -88,7 +89,7 @@ void add_edge_points(ClippedCells& out, const World& w, Source& s, size_t first)
             }
             const Eigen::Vector4d L = 0.5 * (coordinates_of(w, s, a) + coordinates_of(w, s, b));
             Vec3 X = Vec3::Zero();
-            for (int i = 0; i < 4; ++i) X += L[i] * w.nodes.rest[v[i]];
+            for (int i = 0; i < npe; ++i) X += L[i] * w.nodes.rest[v[i]];
             mid[k] = add_point(out, w, s, L, X);
             made.push_back({key, mid[k]});
         }

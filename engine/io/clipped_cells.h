@@ -22,9 +22,10 @@ struct ClippedCells {
     std::vector<Vec3> velocity;      ///< [m/s]; a cut point's is interpolated along its edge
     std::vector<std::array<int, 4>> cells;  ///< tetrahedra (2D: triangles, [3] = -1), positively oriented
     std::vector<int> element;        ///< the force element (mesh or virtual) each cell shows
-    /// per cell: its index in edge_points if it is a quadratic tetrahedron, -1 if it is linear
+    /// per cell: its index in edge_points if it is quadratic (a 10-node tetrahedron, 2D a 6-node
+    /// triangle), -1 if it is linear
     std::vector<int> quadratic;
-    std::vector<std::array<int, 6>> edge_points;  ///< a quadratic cell's mid-edge points (kTet10Edges order)
+    std::vector<std::array<int, 6>> edge_points;  ///< a quadratic cell's mid-edge points (kTet10Edges order; a triangle's first 3)
 };
 
 /// Every element carrying material (weight > 0), virtual ones clipped to their side. A virtual

@@ -77,11 +77,12 @@ void write_vtu(const World& world, const std::string& path) {
         mises.push_back(von_mises(sigma));
         for (int r = 0; r < 3; ++r)
             for (int k = 0; k < 3; ++k) stress.push_back(sigma(r, k));
-        // A quadratic piece is written as one (VTK_QUADRATIC_TETRA: corners, then mid-edge points).
+        // A quadratic piece is written as one (VTK_QUADRATIC_TETRA, 2D VTK_QUADRATIC_TRIANGLE: corners,
+        // then mid-edge points).
         const int t = shown.quadratic[c];
         for (int a = 0; a < el.nodes_per_element(); ++a) conn.push_back(shown.cells[c][a]);
-        if (t >= 0) conn.insert(conn.end(), shown.edge_points[t].begin(), shown.edge_points[t].end());
-        types.push_back(static_cast<uint8_t>(t >= 0 ? 24 : vtk_cell_type(el.dim)));
+        if (t >= 0) conn.insert(conn.end(), shown.edge_points[t].begin(), shown.edge_points[t].begin() + (el.dim == 3 ? 6 : 3));
+        types.push_back(static_cast<uint8_t>(t < 0 ? vtk_cell_type(el.dim) : el.dim == 3 ? 24 : 22));
         offsets.push_back(static_cast<int32_t>(conn.size()));
     }
     vtu.cell_data("side", side_of);

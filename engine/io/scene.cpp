@@ -476,15 +476,15 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
     return scene;
 }
 
-/// A quadratic material on a 2D mesh, where xcut has no quadratic element (no 6-node triangle). Both
-/// cutters cut quadratic tetrahedra (docs/elements.md).
+/// A quadratic material on a 2D mesh (6-node triangles) with crack tips, which they do not carry yet
+/// (docs/elements.md). Both cutters cut quadratic elements, 2D and 3D.
 void refuse_quadratic_where_unsupported(const World& world, const Scene& scene, int dim) {
-    if (dim == 3) return;
+    if (dim == 3 || scene.tip_radius < 0.0) return;
     for (const Material& m : world.materials.list)
         if (m.quadratic)
             throw InputError(scene.file, "material.element",
-                             fmt::format("material \"{}\" asks for quadratic elements, which are tetrahedra: the mesh "
-                                         "is 2D (use \"linear\")", m.name));
+                             fmt::format("material \"{}\" asks for quadratic elements on a 2D mesh (6-node triangles), "
+                                         "which carry no crack tips yet (use \"linear\" with \"cutter.tip\")", m.name));
 }
 
 }  // namespace

@@ -19,8 +19,15 @@ uint64_t pair_key(int a, int b) {
     return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
 }
 
-/// Barycentric coordinates of X in the tetrahedron of corners c at the kept rest positions.
-Eigen::Vector4d barycentric_in(const std::vector<Vec3>& rest, const std::array<int, 4>& c, const Vec3& X) {
+/// Barycentric coordinates of X in the tetrahedron (`planar`: the triangle, L_3 = 0) of corners c at
+/// the kept rest positions.
+Eigen::Vector4d barycentric_in(const std::vector<Vec3>& rest, const std::array<int, 4>& c, const Vec3& X, bool planar) {
+    if (planar) {
+        Eigen::Matrix2d D;
+        for (int k = 0; k < 2; ++k) D.col(k) = (rest[c[k + 1]] - rest[c[0]]).head<2>();
+        const Eigen::Vector2d l = D.partialPivLu().solve((X - rest[c[0]]).head<2>());
+        return {1.0 - l.sum(), l[0], l[1], 0.0};
+    }
     Mat3 D;
     for (int k = 0; k < 3; ++k) D.col(k) = rest[c[k + 1]] - rest[c[0]];
     const Vec3 l = D.partialPivLu().solve(X - rest[c[0]]);
@@ -32,8 +39,10 @@ Eigen::Vector4d barycentric_in(const std::vector<Vec3>& rest, const std::array<i
 int side_before(const SnapQuadraticField& b, const World& w, int e) {
     if (e >= w.mesh_elements) return b.piece_side[e - w.mesh_elements];
     bool above = false, below = false;
-    for (int a : b.corners[e])
+    for (int k = 0; k < w.elements.nodes_per_element(); ++k) {
+        const int a = b.corners[e][k];
         if (a < static_cast<int>(b.sign.size())) above |= b.sign[a] > 0, below |= b.sign[a] < 0;
+    }
     return above == below ? 0 : (above ? 1 : -1);
 }
 
@@ -49,7 +58,7 @@ void consider(const SnapQuadraticField& b, const World& w, int f, int side, cons
     auto test = [&](int e) {
         const int t = e < static_cast<int>(b.of_element.size()) ? b.of_element[e] : -1;
         if (t < 0 || side * side_before(b, w, e) < 0) return;
-        const Eigen::Vector4d L = barycentric_in(b.rest, b.corners[e], X);
+        const Eigen::Vector4d L = barycentric_in(b.rest, b.corners[e], X, w.quadratic.planar);
         if (L.minCoeff() > best.inside) best = {t, L, L.minCoeff()};
     };
     if (b.weight[f] > 0.0) {
@@ -99,7 +108,7 @@ int mid_node_of(World& w, const SnapQuadraticField& b, int f, int side, int u, i
     Holder h;
     consider(b, w, f, side, X, h);
     if (h.inside < kInside)
-        for (int a : w.elements.nodes[f]) consider_around(b, w, a, side, X, h);
+        for (int k = 0; k < w.elements.nodes_per_element(); ++k) consider_around(b, w, w.elements.nodes[f][k], side, X, h);
     take_field(w, b, h, m);
     // Held axes: at the midpoint of the corners' prescribed positions (constrain_edge_nodes).
     const uint8_t held = w.nodes.fixed[u] & w.nodes.fixed[v] & 7;
@@ -151,9 +160,10 @@ void build_quadratic_pieces(World& w, const SnapQuadraticField& b, const std::ve
             q.nodes.emplace_back();
         }
         const std::array<int, 4> c = w.elements.nodes[e];
-        for (int a = 0; a < 4; ++a) q.nodes[t][a] = c[a];
-        for (int k = 0; k < 6; ++k)
+        for (int a = 0; a < w.elements.nodes_per_element(); ++a) q.nodes[t][a] = c[a];
+        for (int k = 0; k < (q.planar ? 3 : 6); ++k)
             q.nodes[t][4 + k] = mid_node_of(w, b, f, s.piece_side[slot], c[kTet10Edges[k][0]], c[kTet10Edges[k][1]]);
+        if (q.planar) q.nodes[t][3] = c[0], q.nodes[t][7] = q.nodes[t][8] = q.nodes[t][9] = q.nodes[t][4];
     }
     build_quadratic_incidence(w);
 }

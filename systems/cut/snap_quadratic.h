@@ -1,10 +1,12 @@
 #pragma once
-// The snapping cutter on quadratic tetrahedra (docs/elements.md, "The snapping baseline on quadratic
-// tetrahedra"). The cutter works on the corners as for linear elements (moves nodes onto the cut,
+// The snapping cutter on quadratic elements, 10-node tetrahedra and 6-node triangles (docs/elements.md,
+// "The snapping baseline on quadratic tetrahedra"). The cutter works on the corners as for linear elements (moves nodes onto the cut,
 // adds edge points, subdivides, duplicates across the cut); this part keeps the quadratic field:
 //   - a node moved onto the cut and an edge point take the position and velocity the field had at
 //     their new rest point (the curved edge's, not the chord's);
-//   - every piece is a quadratic element of its own: a mid-edge node per edge of its final DOF nodes,
+//   - every piece is a quadratic element of its own (a triangle's piece: a 6-node triangle, its slots
+//     3 and 7-9 repeating nodes 0 and 4 as QuadraticElements keeps them): a mid-edge node per edge of
+//     its final DOF nodes,
 //     at the edge's midpoint at rest, shared by the pieces that share the edge (so by pieces on one
 //     side of the cut only), its state the field's before the cut at that point, on the piece's side.
 // A quadratic field is its own interpolant on any sub-tetrahedron, so a cut changes no position

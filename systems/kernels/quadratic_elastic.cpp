@@ -23,30 +23,43 @@ double volume_of(const QuadraticView& v, int t) {
     return side_of(v, t) >= 0 ? v.elements.rest_volume[e] : v.elements.rest_volume[e] * v.elements.weight[e];
 }
 
-/// Calls f with element t's gradients: Keast's 4 points, or its side's rule.
+/// Element t's gradients at its rule's points when the rule is not Keast's 4: one side of a cut
+/// element, or a 6-node triangle (whole: tri6_rule).
+Tet10SideGradients rule_gradients(const QuadraticView& v, int t) {
+    const int e = v.quadratic.element[t], s = side_of(v, t);
+    const bool planar = v.quadratic.planar;
+    return tet10_side_gradients(v.elements.dm_inv[e], s >= 0 ? v.quadratic.side_rules[s] : tri6_rule(), planar);
+}
+
+/// Whether element t integrates by rule_gradients (else Keast's 4 points).
+bool by_rule(const QuadraticView& v, int t) { return v.quadratic.planar || side_of(v, t) >= 0; }
+
+/// Calls f with element t's gradients: Keast's 4 points, or its rule's.
 template <class F>
 auto with_gradients(const QuadraticView& v, int t, F f) {
-    const int e = v.quadratic.element[t], s = side_of(v, t);
-    if (s < 0) return f(tet10_gradients(v.elements.dm_inv[e]));
-    return f(tet10_side_gradients(v.elements.dm_inv[e], v.quadratic.side_rules[s]));
+    if (!by_rule(v, t)) return f(tet10_gradients(v.elements.dm_inv[v.quadratic.element[t]]));
+    return f(rule_gradients(v, t));
 }
 
 const Material& material_of(const QuadraticView& v, int t) {
     return v.materials.list[v.elements.material[v.quadratic.element[t]]];
 }
 
+LameParameters lame_of(const QuadraticView& v, int t) { return quadratic_lame(material_of(v, t), v.quadratic.planar); }
+
 /// Element t's forces at positions x with rotation R into f; returns its strain energy [J].
 double element_forces(const QuadraticView& v, const Vec3* x, int t, const Mat3& R, Tet10Vectors& f) {
     return with_gradients(v, t, [&](const auto& G) {
-        return tet10_forces(gather(v.quadratic.nodes[t], x), G, R, volume_of(v, t), quadratic_lame(material_of(v, t)), f);
+        return tet10_forces(gather(v.quadratic.nodes[t], x), G, R, volume_of(v, t), lame_of(v, t), f);
     });
 }
 
 }  // namespace
 
-LameParameters quadratic_lame(const Material& m) {
-    if (m.mean_dilatation) return {0.0, m.mu(), m.lambda()};
-    return {m.lambda(), m.mu()};
+LameParameters quadratic_lame(const Material& m, bool planar) {
+    const double lambda = planar ? m.lambda_plane_stress() : m.lambda();
+    if (m.mean_dilatation) return {0.0, m.mu(), lambda};
+    return {lambda, m.mu()};
 }
 
 double quadratic_forces(const QuadraticView& v, const Vec3* x, std::vector<Tet10Vectors>& buffer) {
@@ -66,7 +79,7 @@ void quadratic_product_element(const QuadraticView& v, const Vec3* p, int t, std
     const int e = v.quadratic.element[t];
     with_gradients(v, t, [&](const auto& G) {
         tet10_stiffness_product(gather(v.quadratic.nodes[t], p), G, v.elements.rotation[e], volume_of(v, t),
-                                quadratic_lame(material_of(v, t)), buffer[t]);
+                                lame_of(v, t), buffer[t]);
     });
 }
 
@@ -80,7 +93,7 @@ void quadratic_diagonals(const QuadraticView& v, std::vector<Tet10Vectors>& buff
     parallel_for(v.quadratic.count(), [&](int t) {
         const int e = v.quadratic.element[t];
         with_gradients(v, t, [&](const auto& G) {
-            tet10_stiffness_diagonal(G, v.elements.rotation[e], volume_of(v, t), quadratic_lame(material_of(v, t)), buffer[t]);
+            tet10_stiffness_diagonal(G, v.elements.rotation[e], volume_of(v, t), lame_of(v, t), buffer[t]);
         });
     });
 }
@@ -112,14 +125,14 @@ void quadratic_block_terms(const QuadraticView& v, double stiff_scale, Quadratic
     terms.side_of.assign(n, -1);
     int sides = 0;
     for (int t = 0; t < n; ++t)
-        if (side_of(v, t) >= 0) terms.side_of[t] = sides++;
+        if (by_rule(v, t)) terms.side_of[t] = sides++;
     terms.side.resize(sides);
     parallel_for(n, [&](int t) {
         const int e = v.quadratic.element[t];
-        const LameParameters lame = quadratic_lame(material_of(v, t));
+        const LameParameters lame = lame_of(v, t);
         const Mat3& R = v.elements.rotation[e];
         if (terms.side_of[t] >= 0) {
-            const Tet10SideGradients G = tet10_side_gradients(v.elements.dm_inv[e], v.quadratic.side_rules[side_of(v, t)]);
+            const Tet10SideGradients G = rule_gradients(v, t);
             QuadraticSideBlocks& b = terms.side[terms.side_of[t]];
             b.count = G.count;
             for (int q = 0; q < G.count; ++q) {

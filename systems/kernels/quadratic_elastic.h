@@ -21,8 +21,8 @@ struct QuadraticView {
     const Materials& materials;
 };
 
-/// The material's 3D Lamé parameters [Pa].
-LameParameters quadratic_lame(const Material& m);
+/// The material's Lamé parameters [Pa]: 3D, or plane stress for a 6-node triangle (`planar`).
+LameParameters quadratic_lame(const Material& m, bool planar = false);
 
 /// Forces at positions x into buffer (sized here); returns the strain energy [J] (a fixed-order sum).
 double quadratic_forces(const QuadraticView& v, const Vec3* x, std::vector<Tet10Vectors>& buffer);
@@ -47,7 +47,8 @@ struct QuadraticBlocks {
     std::array<Vec3, 10> rbar;
     double lambda_mean_w = 0.0;
 };
-/// The same for one side of a cut element, per point of its rule (weights w_q V scale).
+/// The same for an element integrated by a rule of its own (one side of a cut element, a 6-node
+/// triangle), per point (weights w_q V scale).
 struct QuadraticSideBlocks {
     int count = 0;
     std::array<std::array<Vec3, 10>, TetSideRule::kMaxPoints> r;
@@ -55,8 +56,8 @@ struct QuadraticSideBlocks {
     std::array<Vec3, 10> rbar;
     double lambda_mean_w = 0.0;
 };
-/// Every element's block makings: whole elements in `whole`, sides in `side` (side_of[t] its index,
-/// -1 for a whole element).
+/// Every element's block makings: whole tetrahedra in `whole`, the others in `side` (side_of[t] its
+/// index, -1 for a whole tetrahedron).
 struct QuadraticTerms {
     std::vector<QuadraticBlocks> whole;
     std::vector<QuadraticSideBlocks> side;

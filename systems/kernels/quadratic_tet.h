@@ -31,8 +31,8 @@
 
 namespace xcut {
 
-/// HRZ lumped mass share of a corner and of a mid-edge node [-] (of rho V).
-inline constexpr double kTet10CornerMass = 1.0 / 36.0, kTet10EdgeMass = 4.0 / 27.0;
+// HRZ lumped mass shares: kTet10CornerMass, kTet10EdgeMass, kTri6CornerMass, kTri6EdgeMass
+// (components/quadratic_elements.h).
 
 using Tet10Vectors = std::array<Vec3, 10>;
 
@@ -45,6 +45,9 @@ struct Tet10PointGradients {
     int count = 0;
     std::array<std::array<Vec3, 10>, P> grad;
     std::array<double, P> weight;
+    /// A 6-node triangle's (2D, the xy plane; tri3_gradients): the deformation gradient's z column is
+    /// e_z, so the out-of-plane strain is 0 and the plane-stress Lamé parameters give the in-plane law.
+    bool planar = false;
 };
 using Tet10Gradients = Tet10PointGradients<4>;
 
@@ -75,6 +78,19 @@ inline std::array<Vec3, 4> tet4_gradients(const Mat3& dm_inv) {
     return g;
 }
 
+/// The 6-node triangle (2D, the xy plane) as a 10-node tetrahedron without its fourth corner: the
+/// triangle's corner gradients (rows of its Dm^-1, g_0 = -g_1 - g_2) and g_3 = 0. With L_3 = 0 at
+/// every point, N_3 and the shape functions of the edges to corner 3 vanish with their gradients, and
+/// the other six are the triangle's N_i = L_i (2 L_i - 1), N_ab = 4 L_a L_b (VTK's cell type 22:
+/// corners 0-2, then the edges (0,1) (1,2) (2,0) = kTet10Edges' first three).
+inline std::array<Vec3, 4> tri3_gradients(const Mat3& dm_inv) {
+    std::array<Vec3, 4> g;
+    for (int j = 1; j < 3; ++j) g[j] = Vec3(dm_inv(j - 1, 0), dm_inv(j - 1, 1), 0.0);
+    g[0] = -(g[1] + g[2]);
+    g[3] = Vec3::Zero();
+    return g;
+}
+
 /// The gradients at Keast's 4 points (weights 1/4) from the linear element's Dm^-1.
 inline Tet10Gradients tet10_gradients(const Mat3& dm_inv) {
     const std::array<Vec3, 4> g = tet4_gradients(dm_inv);
@@ -97,6 +113,15 @@ XCUT_INLINE Mat3 tet10_gradient_of(const Tet10Vectors& v, const Tet10PointGradie
     Mat3 out = Mat3::Zero();
     for (int j = 0; j < 10; ++j) out.noalias() += v[j] * G.grad[q][j].transpose();
     return out;
+}
+
+/// The element's deformation gradient at point q from its node positions: sum_j x_j grad N_j^T, with
+/// e_z e_z^T added for a triangle (its nodes lie in the xy plane).
+template <size_t P>
+XCUT_INLINE Mat3 tet10_deformation_gradient(const std::array<Vec3, 10>& x, const Tet10PointGradients<P>& G, int q) {
+    Mat3 F = tet10_gradient_of(x, G, q);
+    if (G.planar) F(2, 2) += 1.0;
+    return F;
 }
 
 /// out_j = scale sum_q w_q R sigma_q grad N_j(q) (the rule's weights w_q; V in scale).
@@ -151,7 +176,7 @@ inline double tet10_forces(const Tet10Vectors& x, const Tet10PointGradients<P>& 
     std::array<double, P> trace;
     double energy = 0.0;
     for (int q = 0; q < tet10_points(G); ++q) {
-        const Mat3 H = R.transpose() * tet10_gradient_of(x, G, q) - Mat3::Identity();
+        const Mat3 H = R.transpose() * tet10_deformation_gradient(x, G, q) - Mat3::Identity();
         sigma[q] = linear_stress<3>(H, lame);
         trace[q] = H.trace();
         const Mat3 eps = 0.5 * (H + H.transpose());

@@ -154,17 +154,7 @@ Material quadratic_material(double poisson) {
 TEST(QuadraticTet, LumpedMassesKeepTotalAndCentre) {
     World w = testing::world_from_mesh(generate_box(grid({0.03, 0.02, 0.01}, {3, 2, 2}, 0.2)), quadratic_material(0.3));
     ASSERT_EQ(w.quadratic.count(), w.elements.count());
-    double mass = 0.0, volume = 0.0;
-    Vec3 centre = Vec3::Zero(), exact = Vec3::Zero();
-    for (int i = 0; i < w.nodes.count(); ++i) mass += w.nodes.mass[i], centre += w.nodes.mass[i] * w.nodes.rest[i];
-    for (int e = 0; e < w.elements.count(); ++e) {
-        Vec3 c = Vec3::Zero();
-        for (int a = 0; a < 4; ++a) c += 0.25 * w.nodes.rest[w.elements.nodes[e][a]];
-        volume += w.elements.rest_volume[e], exact += w.elements.rest_volume[e] * c;
-    }
-    EXPECT_NEAR(mass, 1000.0 * volume, 1e-12 * mass);
-    EXPECT_LT((centre / mass - exact / volume).norm(), 1e-12);
-    for (int i = 0; i < w.nodes.count(); ++i) EXPECT_GT(w.nodes.mass[i], 0.0) << i;
+    testing::expect_masses_keep_total_and_centre(w, 1000.0);
 }
 
 TEST(QuadraticTet, PatchTestHoldsOnAJitteredMesh) {
@@ -172,33 +162,7 @@ TEST(QuadraticTet, PatchTestHoldsOnAJitteredMesh) {
     World w = testing::world_from_mesh(generate_box(grid(size, {3, 2, 2}, 0.2)), quadratic_material(0.45));
     Eigen::Matrix3d A;
     A << 2e-3, -1e-3, 5e-4, 7e-4, -1.5e-3, 1e-3, -4e-4, 8e-4, 1.2e-3;
-    auto boundary = [&](const Vec3& p) {
-        for (int k = 0; k < 3; ++k)
-            if (std::abs(p[k]) < 1e-12 || std::abs(p[k] - size[k]) < 1e-12) return true;
-        return false;
-    };
-    int interior = 0;
-    for (int i = 0; i < w.nodes.count(); ++i) {
-        if (boundary(w.nodes.rest[i])) {
-            w.constraints.nodes.push_back(i);
-            w.nodes.position[i] = w.nodes.rest[i] + A * w.nodes.rest[i];
-        } else {
-            ++interior;
-        }
-    }
-    apply_constraints(w);
-    ASSERT_GT(interior, 10);
-    for (const std::string method : {"jacobi", "cholesky"}) {
-        w.solver.linear = method;
-        for (int i = 0; i < w.nodes.count(); ++i)
-            if (!w.nodes.fixed[i]) w.nodes.position[i] = w.nodes.rest[i];
-        const StaticResult r = static_solve(w, xcut_step_terms(), 1e-10, 10, 1e-12, 5000);
-        EXPECT_TRUE(r.converged) << method;
-        double worst = 0.0;
-        for (int i = 0; i < w.nodes.count(); ++i)
-            worst = std::max(worst, (w.nodes.position[i] - w.nodes.rest[i] - A * w.nodes.rest[i]).norm());
-        EXPECT_LT(worst, 1e-10 * (A * size).norm()) << method;
-    }
+    testing::expect_patch_test(w, A, size, 3);
 }
 
 // The visual surface of a quadratic element follows its shape functions: under a displacement
@@ -211,10 +175,7 @@ TEST(QuadraticTet, TheVisualSurfaceShowsTheBendTheMidEdgeNodesCarry) {
     World w = testing::world_from_mesh(generate_box(grid(size, {3, 2, 1}, 0.2)), quadratic_material(0.3));
     const double a = 20.0;  // u_z = a x^2 [m]: 18 mm at x = 30 mm, 2 mm across a 10 mm cell
     auto bent = [&](const Vec3& X) { return Vec3(X.x(), X.y(), X.z() + a * X.x() * X.x()); };
-    for (int i = 0; i < w.nodes.count(); ++i) w.nodes.position[i] = bent(w.nodes.rest[i]);
-    build_surface(w, w.visual, 2);
-    build_surface(w, w.collision, 2);
-    update_surface_positions(w);
+    testing::place_bent_with_surfaces(w, bent, 2);
     ASSERT_GT(w.visual.vertex_count(), 100);
     double visual = 0.0, collision = 0.0;
     for (int v = 0; v < w.visual.vertex_count(); ++v) {
@@ -246,15 +207,10 @@ double beam_deflection(bool quadratic, int n, double poisson, const std::string&
     w.constraints.boxes.push_back({Vec3(-1, -1, -1), Vec3(1e-9, 1, 1), 7});
     build_bodies(w, generate_box(grid({0.2, 0.01, 0.01}, {20 * n, n, n})));
     w.gravity = Vec3(0, 0, -9.81);
-    w.solver.linear = method;
-    const StaticResult r = static_solve(w, xcut_step_terms(), 1e-9, 10, 1e-12, 20000);
-    EXPECT_TRUE(r.converged) << method << " nu " << poisson << ": residual " << r.residual;
-    double sum = 0.0;
-    int count = 0;
-    for (int i = 0; i < w.nodes.count(); ++i)
-        if (std::abs(w.nodes.rest[i].x() - 0.2) < 1e-12) sum -= w.nodes.position[i].z() - w.nodes.rest[i].z(), ++count;
+    SCOPED_TRACE(poisson);
+    const double deflection = testing::clamped_tip_deflection(w, method, 0.2, 2);
     set_thread_count(kept);
-    return sum / count;
+    return deflection;
 }
 
 TEST(QuadraticTet, ABeamBendsAsBeamTheorySaysWhereTheLinearElementLocks) {

@@ -1,4 +1,4 @@
-// The snapping baseline on quadratic tetrahedra (systems/cut/snap_quadratic.h), checked against
+// The snapping baseline on quadratic elements (systems/cut/snap_quadratic.h), checked against
 // closed forms: a quadratic field is kept exactly at every node the cut moves or makes (a quadratic
 // field is its own interpolant on every piece), every piece is a quadratic element whose mid-edge
 // nodes lie at its edges' rest midpoints, a cut through frees two pieces that share no node (mid-edge
@@ -65,36 +65,43 @@ std::vector<int> components(const World& w, int& count) {
     return of;
 }
 
-// A quadratic displacement and velocity, then an oblique cut through the bar near nodes (so some
-// snap) and across edges (so some get points): every node of every live piece, the snapped ones,
-// the edge points, their copies and the new mid-edge nodes, carries the field at its rest point;
-// every mid-edge node sits at its edge's rest midpoint; two pieces that share no node; mass kept.
-TEST(SnapQuadratic, ACutKeepsAQuadraticFieldAtEveryNodeItMovesOrMakes) {
-    World w = snap_bar({6, 2, 2});
+/// Moves every node by the quadratic field (in 2D its in-plane part) and its velocity by half of it,
+/// cuts by `cut`, and checks what a cut through must keep: every node of every live piece (the
+/// snapped ones, the edge points, their copies and the new mid-edge nodes) carries the field at its
+/// rest point, every mid-edge node sits at its edge's rest midpoint, two pieces that share no node,
+/// the mass.
+template <class Cut>
+void expect_the_cut_keeps_the_field(World& w, Cut&& cut) {
+    const QuadraticElements& q = w.quadratic;
+    const int npe = w.elements.nodes_per_element(), edges = q.planar ? 3 : 6;
+    auto field = [&](const Vec3& X, double scale) {
+        Vec3 u = quadratic_field(X, scale);
+        if (q.planar) u.z() = 0.0;
+        return u;
+    };
     for (int i = 0; i < w.nodes.count(); ++i) {
-        w.nodes.position[i] = w.nodes.rest[i] + quadratic_field(w.nodes.rest[i], 1.0);
-        w.nodes.velocity[i] = quadratic_field(w.nodes.rest[i], 0.5);
+        w.nodes.position[i] = w.nodes.rest[i] + field(w.nodes.rest[i], 1.0);
+        w.nodes.velocity[i] = field(w.nodes.rest[i], 0.5);
     }
     double mass = 0.0;
     for (double m : w.nodes.mass) mass += m;
-    ASSERT_GT(cut_through(w, Vec3(1.0, 0.2, -0.3).normalized(), Vec3(0.0137, kBarSide / 2, kBarSide / 2)), 0);
+    ASSERT_GT(cut(w), 0);
     EXPECT_GT(w.snap.snaps, 0);
     EXPECT_GT(w.snap.points, 0);
     EXPECT_GT(w.snap.copies, 0);
     EXPECT_GT(w.snap.mid_nodes, 0);
-    const QuadraticElements& q = w.quadratic;
     double worst_x = 0.0, worst_v = 0.0, worst_mid = 0.0;
     for (int e : live_elements(w)) {
         ASSERT_LT(e, static_cast<int>(q.of_element.size()));
         const int t = q.of_element[e];
         ASSERT_GE(t, 0) << "live element " << e << " has no quadratic entry";
-        for (int a = 0; a < 4; ++a) EXPECT_EQ(q.nodes[t][a], w.elements.nodes[e][a]);
+        for (int a = 0; a < npe; ++a) EXPECT_EQ(q.nodes[t][a], w.elements.nodes[e][a]);
         for (int id : q.nodes[t]) {
             const Vec3& X = w.nodes.rest[id];
-            worst_x = std::max(worst_x, (w.nodes.position[id] - X - quadratic_field(X, 1.0)).norm());
-            worst_v = std::max(worst_v, (w.nodes.velocity[id] - quadratic_field(X, 0.5)).norm());
+            worst_x = std::max(worst_x, (w.nodes.position[id] - X - field(X, 1.0)).norm());
+            worst_v = std::max(worst_v, (w.nodes.velocity[id] - field(X, 0.5)).norm());
         }
-        for (int k = 0; k < 6; ++k) {
+        for (int k = 0; k < edges; ++k) {
             const Vec3 mid = 0.5 * (w.nodes.rest[q.nodes[t][kTet10Edges[k][0]]] + w.nodes.rest[q.nodes[t][kTet10Edges[k][1]]]);
             worst_mid = std::max(worst_mid, (w.nodes.rest[q.nodes[t][4 + k]] - mid).norm());
         }
@@ -110,6 +117,28 @@ TEST(SnapQuadratic, ACutKeepsAQuadraticFieldAtEveryNodeItMovesOrMakes) {
     EXPECT_NEAR(after, mass, 1e-12 * mass);
 }
 
+// An oblique cut through the bar, near nodes (so some snap) and across edges (so some get points).
+TEST(SnapQuadratic, ACutKeepsAQuadraticFieldAtEveryNodeItMovesOrMakes) {
+    World w = snap_bar({6, 2, 2});
+    expect_the_cut_keeps_the_field(w, [](World& v) {
+        return cut_through(v, Vec3(1.0, 0.2, -0.3).normalized(), Vec3(0.0137, kBarSide / 2, kBarSide / 2));
+    });
+}
+
+// The same on 6-node triangles: a plate cut through by an oblique line.
+TEST(SnapQuadratic, ACutKeepsTheFieldOnSixNodeTriangles) {
+    Material m;
+    m.young = 1e5, m.poisson = 0.3, m.density = 1000.0, m.quadratic = true;
+    World w = world_from_mesh(generate_plate(grid(Vec3(kBarLength, kBarSide, 0.0), {6, 2, 1}, 0.2)), m);
+    w.snap.enabled = true;
+    prepare_snap_cut(w);
+    ASSERT_TRUE(w.quadratic.planar);
+    expect_the_cut_keeps_the_field(w, [](World& v) {
+        queue_polygon_cut(v, {Vec3(0.0131, -1.0, 0.0), Vec3(0.0179, 1.0, 0.0)});
+        return apply_snap_events(v);
+    });
+}
+
 // The bar held at x = 0 under gravity and cut through by the snapping cutter: the piece cut off is
 // free, so every DOF node of it falls as implicit Euler moves a free body; the held one sags far less.
 TEST(SnapQuadratic, ThePieceCutOffFallsFreelyAndTheHeldOneStays) {
@@ -120,24 +149,10 @@ TEST(SnapQuadratic, ThePieceCutOffFallsFreelyAndTheHeldOneStays) {
     const std::vector<int> of = components(w, count);
     ASSERT_EQ(count, 2);
     const int held_piece = of[0];  // node 0 is at the origin, held
-    constexpr int kSteps = 20;
-    for (int s = 0; s < kSteps; ++s) step_world(w);
-    const double fall = 9.81 * w.solver.dt * w.solver.dt * kSteps * (kSteps + 1) / 2.0;
-    double worst = 0.0, held = 0.0;
-    int free_nodes = 0;
-    for (int d = 0; d < w.nodes.count(); ++d) {
-        if (of[d] < 0) continue;
-        const Vec3 u = w.nodes.position[d] - w.nodes.rest[d];
-        if (of[d] == held_piece) {
-            held = std::max(held, u.norm());
-        } else {
-            ++free_nodes;
-            worst = std::max(worst, (u - Vec3(0.0, 0.0, -fall)).norm());
-        }
-    }
-    EXPECT_GT(free_nodes, 40);
-    EXPECT_LT(worst, 1e-6 * fall) << "fall " << fall;
-    EXPECT_LT(held, 0.2 * fall);
+    const FallCheck f = step_and_fall(w, 20, [&](int d) { return of[d] < 0 ? -1 : of[d] == held_piece ? 0 : 1; });
+    EXPECT_GT(f.free_nodes, 40);
+    EXPECT_LT(f.worst, 1e-6 * f.fall) << "fall " << f.fall;
+    EXPECT_LT(f.held, 0.2 * f.fall);
 }
 
 // A scene of quadratic tissue cut by a blade with the snapping cutter runs (the scene loader took

@@ -94,14 +94,15 @@ TipZone tip_zone(int n, const EdgeCrackSpec& spec) { return TipZone{4.0 * spec.w
 /// negative) by `cutter`: xfem (split once crossed), progressive (xfem; also the element the cut
 /// ends in, as a tip element) or snap.
 AccuracyRow plate_run(int n, const char* cutter, double reference, const EdgeCrackSpec& spec = {}, double stop = -1.0) {
-    World w = edge_crack_world(spec, n);
-    w.snap.enabled = std::string(cutter) == "snap";
+    const std::string name = cutter;
+    World w = edge_crack_world(spec, n, name == "xfem-quadratic");
+    w.snap.enabled = name == "snap";
     EdgeCrackSpec cut = spec;
     if (stop >= 0.0) cut.crack = stop;
     const RunTimer t;
     const std::vector<Vec3> segment = edge_crack_segment(cut);
-    const int split = cut_with_polygon(w, segment, std::string(cutter) == "progressive");
-    if (std::string(cutter) == "xfem_tip") enrich_crack_tip(w, segment.back(), segment.back() - segment.front(), tip_zone(n, spec));
+    const int split = cut_with_polygon(w, segment, name == "progressive");
+    if (name == "xfem_tip") enrich_crack_tip(w, segment.back(), segment.back() - segment.front(), tip_zone(n, spec));
     const Eigen::VectorXd load = edge_crack_load(w, spec);
     const StaticResult r = solve_equilibrium(w, load);
     AccuracyRow row = row_of(6, cutter, n, spec.width / n, w, split, t, r);
@@ -240,6 +241,7 @@ void check_options(const AccuracyBenchOptions& o) {
     const CutBlockSpec block;
     for (int n : o.block_levels) cut_block_cells(block, n);  // throws on a level whose grid misses the crack front
     for (int n : o.plate_levels) edge_crack_cells(EdgeCrackSpec{}, n);
+    for (int n : o.plate_quadratic_levels) edge_crack_cells(EdgeCrackSpec{}, n);
     for (double ratio : o.crack_ratios) {
         if (!(ratio > 0.0 && ratio < 1.0)) throw std::invalid_argument(fmt::format("crack ratio {}: a / W in (0, 1)", ratio));
         EdgeCrackSpec spec;
@@ -301,6 +303,7 @@ AccuracyBenchOptions AccuracyBenchOptions::tiny() {
     o.block_levels = {4, 8, 12};
     o.block_reference = 24;
     o.plate_levels = {16, 32, 64};
+    o.plate_quadratic_levels = {4, 8};
     o.cantilever_reference_levels = {1, 2, 3};
     o.block_reference_levels = {4, 8, 16, 32};
     o.plate_reference_levels = {10, 20, 40, 80};  // its estimate under 1/10 of the tiny levels' errors
@@ -321,7 +324,7 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o, std::
     std::vector<ReferenceNote> notes;
     const std::string cache = o.cache_dir.empty() ? default_cache_dir() : o.cache_dir;
     const int total = (wants(o, 3) ? o.cantilever_levels.size() : 0) + (wants(o, 5) ? 2 * o.block_levels.size() + 1 : 0) +
-                      (wants(o, 6) ? 3 * o.plate_levels.size() : 0);
+                      (wants(o, 6) ? 3 * o.plate_levels.size() + o.plate_quadratic_levels.size() : 0);
     ProgressBar bar("accuracy", o.progress ? total : 0);
     int done = 0;
     if (wants(o, 3)) {
@@ -354,6 +357,8 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o, std::
         for (int n : o.plate_levels)
             for (const char* c : kPlateCutters)
                 rows.push_back(median_if_short([&] { return plate_run(n, c, value); })), bar.update(++done);
+        for (int n : o.plate_quadratic_levels)
+            rows.push_back(median_if_short([&] { return plate_run(n, "xfem-quadratic", value); })), bar.update(++done);
         if (ref.available) refuse_weak_reference(rows, 6, ref.error_estimate, notes);
         plate_sweep(o, cache, notes);
         if (o.stops > 0) stop_sweep(o, cache, notes);
@@ -376,20 +381,21 @@ void write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>&
     for (const std::string& line : summary) csv.print("# {}\n", line);
 }
 
-std::vector<FrontComparison> compare_fronts(const std::vector<AccuracyRow>& rows, int problem, const std::string& cutter) {
+std::vector<FrontComparison> compare_fronts(const std::vector<AccuracyRow>& rows, int problem, const std::string& cutter,
+                                            const std::string& other) {
     std::map<std::string, std::vector<const AccuracyRow*>> front;
     for (const AccuracyRow& r : rows)
-        if (r.problem == problem && (r.cutter == cutter || r.cutter == "snap")) front[r.cutter].push_back(&r);
+        if (r.problem == problem && (r.cutter == cutter || r.cutter == other)) front[r.cutter].push_back(&r);
     for (auto& [cutter, runs] : front)
         std::sort(runs.begin(), runs.end(), [](auto* a, auto* b) { return a->cpu_s < b->cpu_s; });
     std::vector<FrontComparison> out;
     for (const AccuracyRow& x : rows) {
-        if (x.problem != problem || (x.cutter != cutter && x.cutter != "snap")) continue;
+        if (x.problem != problem || (x.cutter != cutter && x.cutter != other)) continue;
         FrontComparison c;
         c.run = &x;
-        const auto& other = front[x.cutter == cutter ? std::string("snap") : cutter];
-        for (size_t k = 1; k < other.size(); ++k) {
-            const AccuracyRow &a = *other[k - 1], &b = *other[k];
+        const auto& them = front[x.cutter == cutter ? other : cutter];
+        for (size_t k = 1; k < them.size(); ++k) {
+            const AccuracyRow &a = *them[k - 1], &b = *them[k];
             if (x.cpu_s < a.cpu_s || x.cpu_s > b.cpu_s || !(b.cpu_s > a.cpu_s)) continue;
             const double t = std::log(x.cpu_s / a.cpu_s) / std::log(b.cpu_s / a.cpu_s);
             c.other_error = std::exp((1.0 - t) * std::log(a.error) + t * std::log(b.error));
@@ -435,29 +441,46 @@ void front_lines(const std::vector<AccuracyRow>& rows, int problem, std::vector<
                                                      "under 10 %): NOT met: {}", fmt::join(short_of, ", ")));
 }
 
-/// Problem 6's tip-enriched XFEM: each of its runs against snapping's front at equal CPU time, and
-/// the targets: error <= 0.5 x snapping's at equal CPU time at every level, within 1 % at 40 cells.
-void tip_lines(const std::vector<AccuracyRow>& rows, std::vector<std::string>& out) {
+/// Problem 6's `cutter` runs, each against `other`'s front at equal CPU time (`other_name` in the
+/// lines), and the target `target`: its error at most `bound` x the other's at every level.
+void versus_lines(const std::vector<AccuracyRow>& rows, const std::string& cutter, const std::string& other,
+                  const std::string& other_name, double bound, const std::string& target, std::vector<std::string>& out) {
     std::vector<std::string> short_of;
-    for (const FrontComparison& c : compare_fronts(rows, 6, "xfem_tip")) {
+    for (const FrontComparison& c : compare_fronts(rows, 6, cutter, other)) {
         const AccuracyRow& r = *c.run;
-        if (r.cutter != "xfem_tip") continue;
+        if (r.cutter != cutter) continue;
         if (c.ratio == 0.0) {
-            out.push_back(fmt::format("problem 6 xfem_tip level {} ({:.3g} s CPU, error {:.3g} %): outside snapping's "
-                                      "CPU-time range", r.resolution, r.cpu_s, 100 * r.error));
+            out.push_back(fmt::format("problem 6 {} level {} ({:.3g} s CPU, error {:.3g} %): outside {}'s CPU-time range",
+                                      cutter, r.resolution, r.cpu_s, 100 * r.error, other_name));
             continue;
         }
-        if (c.ratio > 0.5) short_of.push_back(fmt::format("level {} at {:.2f} x", r.resolution, c.ratio));
-        out.push_back(fmt::format("problem 6 xfem_tip level {} ({:.3g} s CPU, error {:.3g} %): snap at equal CPU time "
-                                  "{:.3g} % -> {:.2f} x", r.resolution, r.cpu_s, 100 * r.error, 100 * c.other_error, c.ratio));
+        if (c.ratio > bound) short_of.push_back(fmt::format("level {} at {:.2f} x", r.resolution, c.ratio));
+        out.push_back(fmt::format("problem 6 {} level {} ({:.3g} s CPU, error {:.3g} %): {} at equal CPU time {:.3g} % -> "
+                                  "{:.2f} x", cutter, r.resolution, r.cpu_s, 100 * r.error, other, 100 * c.other_error,
+                                  c.ratio));
     }
-    out.push_back(short_of.empty() ? "problem 6 target (tip-enriched XFEM's error <= 0.5 x snapping's at equal CPU time): met"
-                                   : fmt::format("problem 6 target (tip-enriched XFEM's error <= 0.5 x snapping's at equal "
-                                                 "CPU time): NOT met: {}", fmt::join(short_of, ", ")));
-    for (const AccuracyRow& r : rows)
-        if (r.problem == 6 && r.cutter == "xfem_tip" && r.resolution == 40)
-            out.push_back(fmt::format("problem 6 target (tip-enriched XFEM within 1 % at 40 cells): {:+.3f} % -> {}",
-                                      100 * (r.value / r.reference - 1), r.error <= 0.01 ? "met" : "NOT met"));
+    out.push_back(short_of.empty() ? fmt::format("problem 6 target ({}): met", target)
+                                   : fmt::format("problem 6 target ({}): NOT met: {}", target, fmt::join(short_of, ", ")));
+}
+
+/// Problem 6's tip-enriched XFEM against snapping (error <= 0.5 x at equal CPU time, within 1 % at 40
+/// cells) and the XFEM on 6-node triangles against the linear one (no worse at equal CPU time:
+/// docs/elements.md).
+void plate_target_lines(const std::vector<AccuracyRow>& rows, std::vector<std::string>& out) {
+    auto has = [&](const char* cutter) {
+        return std::any_of(rows.begin(), rows.end(), [&](const AccuracyRow& r) { return r.problem == 6 && r.cutter == cutter; });
+    };
+    if (has("xfem_tip") && has("snap")) {
+        versus_lines(rows, "xfem_tip", "snap", "snapping", 0.5,
+                     "tip-enriched XFEM's error <= 0.5 x snapping's at equal CPU time", out);
+        for (const AccuracyRow& r : rows)
+            if (r.problem == 6 && r.cutter == "xfem_tip" && r.resolution == 40)
+                out.push_back(fmt::format("problem 6 target (tip-enriched XFEM within 1 % at 40 cells): {:+.3f} % -> {}",
+                                          100 * (r.value / r.reference - 1), r.error <= 0.01 ? "met" : "NOT met"));
+    }
+    if (has("xfem-quadratic") && has("xfem"))
+        versus_lines(rows, "xfem-quadratic", "xfem", "the linear XFEM", 1.0,
+                     "quadratic XFEM no worse than the linear XFEM at equal CPU time", out);
 }
 
 }  // namespace
@@ -484,7 +507,7 @@ std::vector<std::string> accuracy_summary(const std::vector<AccuracyRow>& rows, 
     }
     for (int problem : {5, 6})
         if (finest(problem, "xfem") && finest(problem, "snap")) front_lines(rows, problem, out);
-    if (finest(6, "xfem_tip") && finest(6, "snap")) tip_lines(rows, out);
+    plate_target_lines(rows, out);
     const double handbook = edge_crack_reference_cmod(EdgeCrackSpec{});
     for (const char* c : kPlateCutters)
         if (const AccuracyRow* f = finest(6, c))

@@ -30,6 +30,8 @@ struct AccuracyBenchOptions {
     std::vector<int> block_levels{8, 12, 16, 24, 32};    ///< cells along the block's length (multiples of 4)
     int block_reference = 80;                            ///< cells along L of the conforming reference
     std::vector<int> plate_levels{10, 20, 40, 80, 160, 320};  ///< cells across the plate's width (even)
+    /// Problem 6 on 6-node triangles (XFEM, `xfem-quadratic`): cells across the width (even).
+    std::vector<int> plate_quadratic_levels{4, 8, 16, 32, 64, 128};
     /// The independent references' levels (tools/studies/calculix_reference.h), coarse to fine:
     /// cells across the beam's height (3), along the block's length (5), across the plate (6).
     std::vector<int> cantilever_reference_levels{1, 2, 3, 4};
@@ -90,10 +92,11 @@ struct FrontComparison {
     double other_error = 0.0;  ///< the other cutter's error at this CPU time, interpolated log-log; 0: outside its range
     double ratio = 0.0;        ///< run's error / other_error (below 1: this run is the more accurate); 0: outside
 };
-/// Every `cutter` (an XFEM variant) and snapping run of `problem`, each against the other cutter's
-/// front (its runs sorted by CPU time, interpolated log-log between the two that bracket this run's).
+/// Every `cutter` (an XFEM variant) and `other` (snapping by default) run of `problem`, each against
+/// the other's front (its runs sorted by CPU time, interpolated log-log between the two that bracket
+/// this run's).
 std::vector<FrontComparison> compare_fronts(const std::vector<AccuracyRow>& rows, int problem,
-                                            const std::string& cutter = "xfem");
+                                            const std::string& cutter = "xfem", const std::string& other = "snap");
 /// The verdicts, one line each: problem 3's finest and Richardson-extrapolated deflection; for
 /// problems 5 and 6, every run against the other cutter at equal CPU time, and the levels where
 /// each cutter wins; problem 6's finest CMOD against the 5 % tolerance. No averaged verdict.

@@ -14,7 +14,7 @@ import os
 import sys
 
 STYLE = {"xfem": ("tab:blue", "o-"), "xfem_tip": ("tab:green", "D-"), "snap": ("tab:red", "s--"),
-         "uncut": ("tab:gray", "^-")}
+         "xfem-quadratic": ("tab:purple", "v-"), "uncut": ("tab:gray", "^-")}
 TITLES = {
     "3": "Problem 3: cantilever under its own weight (no cut)",
     "5": "Problem 5: partial cut, pulled apart",
@@ -44,7 +44,7 @@ def plot(plt, rows, outdir, band=None):
     written = []
     for problem in sorted({str(r["problem"]) for r in rows}):
         fig, ax = plt.subplots(figsize=(6.4, 4.6))
-        for cutter in ("xfem", "xfem_tip", "snap", "uncut"):
+        for cutter in ("xfem", "xfem_tip", "snap", "xfem-quadratic", "uncut"):
             sel = sorted((r for r in rows if str(r["problem"]) == problem and r["cutter"] == cutter),
                          key=lambda r: int(r["resolution"]))
             if not sel:

@@ -12,6 +12,7 @@
 #include "systems/surface/mapping_system.h"
 #include "systems/pipeline.h"
 #include "systems/cut/scripted_cut_system.h"
+#include "engine/quadratic_setup.h"
 #include "systems/cut/snap_cut_system.h"
 #include "systems/kernels/quadratic_tet.h"
 
@@ -195,6 +196,7 @@ std::vector<Vec3> cut_block_samples(const CutBlockSpec& s) {
 
 // ---- Problem 6 -----------------------------------------------------------------------------------------
 
+
 double edge_crack_reference_cmod(const EdgeCrackSpec& s) {
     const double x = s.crack / s.width, c = std::cos(std::numbers::pi * x / 2.0);
     const double V1 = (1.46 + 3.42 * (1.0 - c)) / (c * c);
@@ -209,12 +211,13 @@ Eigen::Vector3i edge_crack_cells(const EdgeCrackSpec& s, int n) {
     return Eigen::Vector3i(n, rows, 1);
 }
 
-World edge_crack_world(const EdgeCrackSpec& s, int n) {
+World edge_crack_world(const EdgeCrackSpec& s, int n, bool quadratic) {
     Material m;
     m.young = s.young;
     m.poisson = s.poisson;
     m.density = s.density;
     m.thickness = s.thickness;
+    m.quadratic = quadratic;
     return world_with(generate_plate(grid_of(Vec3(s.width, s.height, 0.0), edge_crack_cells(s, n))), m);
 }
 
@@ -240,9 +243,13 @@ Eigen::VectorXd edge_crack_load(World& w, const EdgeCrackSpec& s) {
             const double yi = w.nodes.rest[i].y(), yj = w.nodes.rest[j].y();
             const bool top = yi > s.height - eps && yj > s.height - eps, bottom = yi < eps && yj < eps;
             if (!top && !bottom) continue;
-            const double f = 0.5 * s.stress * s.thickness * std::abs(w.nodes.rest[i].x() - w.nodes.rest[j].x());
-            load[3 * i + 1] += top ? f : -f;
-            load[3 * j + 1] += top ? f : -f;
+            // sigma t times the edge's length, lumped as the edge's shape functions weigh it: 1/2 to each
+            // corner of a straight edge; 1/6, 2/3, 1/6 along a quadratic one (its mid-edge node).
+            const double f = (top ? 1.0 : -1.0) * s.stress * s.thickness * std::abs(w.nodes.rest[i].x() - w.nodes.rest[j].x());
+            const int m = mid_edge_node(w, e, ed[0], ed[1]);
+            load[3 * i + 1] += f * (m >= 0 ? 1.0 / 6.0 : 0.5);
+            load[3 * j + 1] += f * (m >= 0 ? 1.0 / 6.0 : 0.5);
+            if (m >= 0) load[3 * m + 1] += f * 2.0 / 3.0;
         }
     return load;
 }

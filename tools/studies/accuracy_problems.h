@@ -117,14 +117,17 @@ double edge_crack_reference_cmod(const EdgeCrackSpec& spec);
 /// row). n must be even: the crack tip x = a = W / 2 is then a grid line, where the cutter's
 /// "completely crossed" rule ends the crack exactly.
 Eigen::Vector3i edge_crack_cells(const EdgeCrackSpec& spec, int n);
-World edge_crack_world(const EdgeCrackSpec& spec, int n);
+/// The plate of 3-node triangles, or of 6-node triangles (`quadratic`, docs/elements.md).
+World edge_crack_world(const EdgeCrackSpec& spec, int n, bool quadratic = false);
 /// The crack segment, from outside the plate's left edge to the tip.
 std::vector<Vec3> edge_crack_segment(const EdgeCrackSpec& spec);
 /// Holds the plate against rigid motion only (the right edge node just below the crack: x and y;
-/// the bottom-right corner: x) and returns the load: sigma t over the top and bottom edges, lumped
-/// to their nodes (3 entries per DOF node [N]). Self-equilibrated, so the holds carry no reaction.
+/// the bottom-right corner: x) and returns the load: sigma t over the top and bottom edges, as the
+/// edges' shape functions weigh it (a 6-node triangle's mid-edge nodes included; 3 entries per DOF
+/// node [N]). Self-equilibrated, so the holds carry no reaction.
 Eigen::VectorXd edge_crack_load(World& world, const EdgeCrackSpec& spec);
 /// Opening of the crack mouth: u_y(0, H/2 + e) - u_y(0, H/2 - e), e = 1e-6 W [m].
 double edge_crack_cmod(const World& world, const EdgeCrackSpec& spec);
+
 
 }  // namespace xcut

@@ -125,10 +125,10 @@ std::vector<BadScene> bad_scenes() {
          "cutter.tip.radius", "out of range"},
         {"unknown tip field", "cutter.tip={\"size\": 1}", "cutter.tip.size", "unknown field"},
         {"unknown element", "material.element=\"cubic\"", "material.element", "is not one of \"linear\", \"quadratic\""},
-        {"quadratic element in 2D",
+        {"6-node triangles with crack tips",
          "!{ \"mesh\": { \"generator\": \"plate\", \"size\": [0.01, 0.01, 0], \"cells\": [2, 2, 1] }, \"gravity\": [0, 0, 0], "
-         "\"material\": { \"element\": \"quadratic\" } }",
-         "material.element", "the mesh is 2D"},
+         "\"material\": { \"element\": \"quadratic\" }, \"cutter\": { \"tip\": {} } }",
+         "material.element", "carry no crack tips yet"},
         {"key given twice", "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
                             "\"solver\": { \"dt\": 0.01, \"dt\": 0.02 } }",
          "solver.dt", "given twice"},
