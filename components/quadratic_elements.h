@@ -60,9 +60,11 @@ struct QuadraticElements {
     std::vector<std::array<double, 10>> side_masses;
 
     int count() const { return static_cast<int>(element.size()); }
-    /// Nodes an element uses (6 or 10) and the local index of the k-th of them.
+    /// Nodes an element uses (6 or 10), the local index of the k-th of them, its edges (kTet10Edges'
+    /// first 3 or all 6).
     int node_count() const { return planar ? 6 : 10; }
     int local(int k) const { return planar ? kTri6Locals[k] : k; }
+    int edge_count() const { return planar ? 3 : 6; }
 };
 
 }  // namespace xcut

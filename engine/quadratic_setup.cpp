@@ -9,9 +9,6 @@ namespace {
 /// A whole element's mid-edge node share of rho V (HRZ: systems/kernels/quadratic_tet.h).
 double edge_mass(const QuadraticElements& q) { return q.planar ? kTri6EdgeMass : kTet10EdgeMass; }
 
-/// The edges (local corner pairs of kTet10Edges) an element has: 6, or a triangle's 3.
-int edge_count_of(const QuadraticElements& q) { return q.planar ? 3 : 6; }
-
 }  // namespace
 
 bool has_quadratic_material(const World& world) {
@@ -26,7 +23,7 @@ void build_quadratic_elements(World& world) {
     if (!has_quadratic_material(world)) return;
     Elements& el = world.elements;
     q.planar = el.dim == 2;
-    const int edges_per = edge_count_of(q);
+    const int edges_per = q.edge_count();
     q.of_element.assign(world.mesh_elements, -1);
     // Every edge of a quadratic element, as (low node, high node), sorted: the mid-edge nodes are
     // numbered in this order, the same on any machine and thread count.
@@ -74,10 +71,7 @@ void build_quadratic_elements(World& world) {
             const std::array<int, 2> key{std::min(c[kTet10Edges[k][0]], c[kTet10Edges[k][1]]), std::max(c[kTet10Edges[k][0]], c[kTet10Edges[k][1]])};
             q.nodes[t][4 + k] = q.first_edge_node + static_cast<int>(std::lower_bound(edges.begin(), edges.end(), key) - edges.begin());
         }
-        if (q.planar) {  // the absent fourth corner and its edges: nodes of the element, zero shape functions
-            q.nodes[t][3] = c[0];
-            q.nodes[t][7] = q.nodes[t][8] = q.nodes[t][9] = q.nodes[t][4];
-        }
+        fill_absent_slots(q, q.nodes[t]);
     }
     build_quadratic_incidence(world);
 }
@@ -124,7 +118,7 @@ int quadratic_entry(const World& world, int e) {
 int mid_edge_node(const World& world, int e, int i, int j) {
     const int t = quadratic_entry(world, e);
     if (t < 0) return -1;
-    for (int k = 0; k < edge_count_of(world.quadratic); ++k)
+    for (int k = 0; k < world.quadratic.edge_count(); ++k)
         if ((kTet10Edges[k][0] == i && kTet10Edges[k][1] == j) || (kTet10Edges[k][0] == j && kTet10Edges[k][1] == i))
             return world.quadratic.nodes[t][4 + k];
     return -1;

@@ -12,6 +12,13 @@ bool has_quadratic_material(const World& world);
 /// at the edge's midpoint) as mesh nodes, and fills world.quadratic (10-node tetrahedra; on a 2D
 /// mesh, 6-node triangles). Called by build_bodies before the masses are lumped.
 void build_quadratic_elements(World& world);
+/// A triangle's slots for the absent fourth corner and its edges (QuadraticElements::planar): node 0
+/// and node 4 again (their shape functions are zero); nothing for a tetrahedron.
+inline void fill_absent_slots(const QuadraticElements& q, std::array<int, 10>& ids) {
+    if (!q.planar) return;
+    ids[3] = ids[0];
+    ids[7] = ids[8] = ids[9] = ids[4];
+}
 /// The node -> quadratic element incidence, over every DOF node (phantoms included), from
 /// QuadraticElements::nodes: made again when elements are added (a cut's sides).
 void build_quadratic_incidence(World& world);

@@ -76,7 +76,7 @@ void add_edge_points(ClippedCells& out, const World& w, Source& s, size_t first)
     if (!s.quadratic) return;
     const auto& v = w.elements.nodes[s.element];
     std::vector<std::pair<std::pair<int, int>, int>> made;
-    const int npe = w.elements.nodes_per_element(), edges = npe == 4 ? 6 : 3;  // a triangle: kTet10Edges' first 3
+    const int npe = w.elements.nodes_per_element(), edges = w.quadratic.edge_count();
     for (size_t c = first; c < out.cells.size(); ++c) {
         std::array<int, 6> mid{};
         for (int k = 0; k < edges; ++k) {

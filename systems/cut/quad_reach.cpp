@@ -23,7 +23,7 @@ bool may_reach(const World& w, int e, const QuadReach& q) {
     if (const int t = quadratic_entry(w, e); t >= 0) {
         const auto& qn = w.quadratic.nodes[t];
         double bulge = 0.0;
-        for (int k = 0; k < (w.quadratic.planar ? 3 : 6); ++k)
+        for (int k = 0; k < w.quadratic.edge_count(); ++k)
             bulge = std::max(bulge, (x[qn[4 + k]] - 0.5 * (x[qn[kTet10Edges[k][0]]] + x[qn[kTet10Edges[k][1]]])).norm());
         elo.array() -= bulge, ehi.array() += bulge;
     }

@@ -66,7 +66,7 @@ void sign_edge_nodes(World& w, int e) {
     if (t0 < 0) return;
     EnrichedDofs& en = w.enriched;
     const auto& q = w.quadratic.nodes[t0];
-    for (int k = 0; k < (w.quadratic.planar ? 3 : 6); ++k) {
+    for (int k = 0; k < w.quadratic.edge_count(); ++k) {
         const int m = q[4 + k], i = q[kTet10Edges[k][0]], j = q[kTet10Edges[k][1]];
         if (en.sign[m] != 0) continue;
         int8_t side = en.sign[i];
@@ -126,7 +126,7 @@ void sync_quadratic_sides(World& w, const std::vector<int>& cuts) {
             if (t < 0) continue;
             std::copy(w.elements.nodes[ve].begin(), w.elements.nodes[ve].begin() + w.elements.nodes_per_element(),
                       q.nodes[t].begin());
-            if (q.planar) q.nodes[t][3] = q.nodes[t][0], q.nodes[t][7] = q.nodes[t][8] = q.nodes[t][9] = q.nodes[t][4];
+            fill_absent_slots(q, q.nodes[t]);
             any = true;
         }
     if (any || static_cast<int>(q.incidence.offset.size()) != w.nodes.count() + 1) build_quadratic_incidence(w);

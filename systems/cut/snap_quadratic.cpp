@@ -65,8 +65,11 @@ void consider(const SnapQuadraticField& b, const World& w, int f, int side, cons
         test(f);
         return;
     }
-    for (int q : b.pieces[f])
-        if (b.piece_live[q - w.mesh_elements]) test(q);
+    // A mesh element's list of piece slots only grows, and the kept liveness covers the slots it had.
+    for (int q : w.snap.pieces[f]) {
+        const int slot = q - w.mesh_elements;
+        if (slot < static_cast<int>(b.piece_live.size()) && b.piece_live[slot]) test(q);
+    }
 }
 
 /// Considers the mesh elements around mesh node i.
@@ -76,12 +79,11 @@ void consider_around(const SnapQuadraticField& b, const World& w, int i, int sid
 }
 
 /// Node i takes the kept field's position and velocity at its rest point, from the element that
-/// holds it best; false (unchanged) if no quadratic element was found.
-bool take_field(World& w, const SnapQuadraticField& b, const Holder& h, int i) {
-    if (h.entry < 0) return false;
+/// holds it best (unchanged if no quadratic element was found).
+void take_field(World& w, const SnapQuadraticField& b, const Holder& h, int i) {
+    if (h.entry < 0) return;
     w.nodes.position[i] = tet10_point(b.nodes[h.entry], h.L, b.position.data());
     w.nodes.velocity[i] = tet10_point(b.nodes[h.entry], h.L, b.velocity.data());
-    return true;
 }
 
 /// The mid-edge node of the edge u-v of a piece of mesh element f on `side`: the one the pieces
@@ -126,7 +128,7 @@ SnapQuadraticField keep_quadratic_field(const World& w) {
     b.rest = w.nodes.rest, b.position = w.nodes.position, b.velocity = w.nodes.velocity;
     b.corners = w.elements.nodes, b.weight = w.elements.weight;
     b.of_element = w.quadratic.of_element, b.nodes = w.quadratic.nodes;
-    b.pieces = w.snap.pieces, b.piece_side = w.snap.piece_side, b.piece_live = w.snap.piece_live;
+    b.piece_side = w.snap.piece_side, b.piece_live = w.snap.piece_live;
     b.sign = w.enriched.sign;
     return b;
 }
@@ -161,9 +163,9 @@ void build_quadratic_pieces(World& w, const SnapQuadraticField& b, const std::ve
         }
         const std::array<int, 4> c = w.elements.nodes[e];
         for (int a = 0; a < w.elements.nodes_per_element(); ++a) q.nodes[t][a] = c[a];
-        for (int k = 0; k < (q.planar ? 3 : 6); ++k)
+        for (int k = 0; k < q.edge_count(); ++k)
             q.nodes[t][4 + k] = mid_node_of(w, b, f, s.piece_side[slot], c[kTet10Edges[k][0]], c[kTet10Edges[k][1]]);
-        if (q.planar) q.nodes[t][3] = c[0], q.nodes[t][7] = q.nodes[t][8] = q.nodes[t][9] = q.nodes[t][4];
+        fill_absent_slots(q, q.nodes[t]);
     }
     build_quadratic_incidence(w);
 }

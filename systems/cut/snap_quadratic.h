@@ -27,7 +27,6 @@ struct SnapQuadraticField {
     std::vector<double> weight;                        ///< per force element
     std::vector<int> of_element;                       ///< per force element: its quadratic entry, -1
     std::vector<std::array<int, 10>> nodes;            ///< per quadratic entry
-    std::vector<std::vector<int>> pieces;              ///< per mesh element: its pieces (SnapMesh::pieces)
     std::vector<int8_t> piece_side;                    ///< per piece slot (SnapMesh::piece_side)
     std::vector<uint8_t> piece_live;                   ///< per piece slot (SnapMesh::piece_live)
     std::vector<int8_t> sign;                          ///< per mesh node: its side (EnrichedDofs::sign)

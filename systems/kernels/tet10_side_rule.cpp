@@ -129,7 +129,7 @@ int tri_side_pieces(const std::array<int8_t, 3>& H, const std::array<double, 3>&
 TetSideRule tri_side_rule(const std::array<int8_t, 3>& H, const std::array<double, 3>& t, int side) {
     std::array<std::array<Bary, 3>, 2> pieces;
     const int n = tri_side_pieces(H, t, side, pieces);
-    const TetSideRule whole = tri6_rule();
+    const TetSideRule& whole = tri6_rule();
     TetSideRule rule;
     for (int p = 0; p < n; ++p) {
         const double fraction = tri_piece_fraction(pieces[p]);
@@ -205,14 +205,17 @@ Tet10SideGradients tet10_side_gradients(const Mat3& dm_inv, const TetSideRule& r
     return out;
 }
 
-TetSideRule tri6_rule() {
-    TetSideRule rule;
-    rule.count = 3;
-    for (int q = 0; q < 3; ++q) {
-        rule.L[q] = Eigen::Vector4d(1.0 / 6.0, 1.0 / 6.0, 1.0 / 6.0, 0.0);
-        rule.L[q][q] = 2.0 / 3.0;
-        rule.weight[q] = 1.0 / 3.0;
-    }
+const TetSideRule& tri6_rule() {
+    static const TetSideRule rule = [] {
+        TetSideRule r;
+        r.count = 3;
+        for (int q = 0; q < 3; ++q) {
+            r.L[q] = Eigen::Vector4d(1.0 / 6.0, 1.0 / 6.0, 1.0 / 6.0, 0.0);
+            r.L[q][q] = 2.0 / 3.0;
+            r.weight[q] = 1.0 / 3.0;
+        }
+        return r;
+    }();
     return rule;
 }
 

@@ -38,8 +38,8 @@ TetSideRule tet_side_rule(const std::array<int8_t, 4>& H, const std::array<doubl
 Tet10SideGradients tet10_side_gradients(const Mat3& dm_inv, const TetSideRule& rule, bool planar = false);
 
 /// The 6-node triangle's whole rule: Strang & Fix's 3 points of degree 2, L = (2/3, 1/6, 1/6) and
-/// its permutations (L_3 = 0), weights 1/3: the stiffness integrand is quadratic.
-TetSideRule tri6_rule();
+/// its permutations (L_3 = 0), weights 1/3: the stiffness integrand is quadratic. Made once.
+const TetSideRule& tri6_rule();
 
 /// HRZ lumped masses of one side (Hinton, Rock & Zienkiewicz, Earthq. Eng. Struct. Dyn. 4, 1976, as
 /// for the whole element in quadratic_tet.h): the diagonal of the side's consistent mass,

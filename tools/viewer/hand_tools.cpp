@@ -20,11 +20,10 @@ HandToolSizes hand_tool_sizes(const Vec3& lo, const Vec3& hi) {
     return s;
 }
 
-std::vector<std::string> hand_tool_overrides(const HandToolSizes& s, bool with_scalpel, bool with_probe) {
+std::vector<std::string> hand_tool_overrides(const HandToolSizes& s, bool with_probe) {
     auto vec = [](const Vec3& v) { return fmt::format("[{:.17g}, {:.17g}, {:.17g}]", v.x(), v.y(), v.z()); };
     std::vector<std::string> out;
-    if (with_scalpel)
-        out.push_back(fmt::format(R"(tools+={{"name": "{}", "blade": {{"tip": [0, 0, 0], "heel": [0, 0, {:.17g}]}}, )"
+    out.push_back(fmt::format(R"(tools+={{"name": "{}", "blade": {{"tip": [0, 0, 0], "heel": [0, 0, {:.17g}]}}, )"
                                   R"("trajectory": [{{"time": 0, "position": {}}}], "device": {{"type": "viewer"}}}})",
                                   kHandScalpel, s.max_depth + 2.0 * s.lift, vec(s.scalpel_park)));
     if (with_probe)

@@ -29,9 +29,9 @@ struct HandToolSizes {
 };
 HandToolSizes hand_tool_sizes(const Vec3& lo, const Vec3& hi);
 
-/// The "tools+=" overrides that add the hand scalpel (unless the tissue cannot be cut: a quadratic
-/// material, docs/elements.md) and the probe, when the scene has a collision surface it can touch.
-std::vector<std::string> hand_tool_overrides(const HandToolSizes& sizes, bool with_scalpel, bool with_probe);
+/// The "tools+=" overrides that add the hand scalpel and, when the scene has a collision surface it
+/// can touch, the probe.
+std::vector<std::string> hand_tool_overrides(const HandToolSizes& sizes, bool with_probe);
 inline constexpr const char* kHandScalpel = "hand_scalpel";
 inline constexpr const char* kHandProbe = "hand_probe";
 

@@ -31,7 +31,7 @@ ViewerSession::ViewerSession(const ViewerOptions& o) : options(o), overrides(o.o
     const MeshData mesh = load_scene_mesh(base);
     if (mesh.dim == 3) {  // the hand scalpel; the probe where there is a collision surface to touch
         sizes = sizes_of(mesh);
-        for (const std::string& t : hand_tool_overrides(sizes, true, base.collision_subdivisions >= 0)) overrides.push_back(t);
+        for (const std::string& t : hand_tool_overrides(sizes, base.collision_subdivisions >= 0)) overrides.push_back(t);
     }
     scene = load_scene(o.scene, overrides);
     std::vector<LiveDevice*> made;  // the hand tools' devices, made by build_simulation through this factory
