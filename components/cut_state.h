@@ -44,6 +44,10 @@ struct CutState {
     /// "cutter.front": false: semi-progressive (an element is split once fully crossed, paper §3.3);
     /// true: progressive (split when the blade enters it; its uncrossed edges are held, docs/xfem.md).
     bool progressive = false;
+    /// "cutter.recut": whether an element already cut is cut again (docs/xfem.md, Several cuts per
+    /// element): -1 as the dimension has it (2D on; 3D off: a cut that ends inside a 3D body can
+    /// leave its surface open where it meets an element cut again), 0 off, 1 on.
+    int8_t recut = -1;
     double mean_edge = 0.0;           ///< mean mesh edge length, rest [m]
     std::vector<uint8_t> anchored;    ///< per tool: the blade has an anchor (quad start)
     std::vector<Vec3> anchor_tip, anchor_heel;  ///< per tool: blade edge in world at the last quad [m]

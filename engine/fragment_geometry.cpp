@@ -1,5 +1,7 @@
 #include "engine/fragment_geometry.h"
 
+#include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 
@@ -31,10 +33,7 @@ double polygon_area(const std::vector<Vec3>& poly) {
 }
 
 std::vector<Vec3> fragment_polygon(const std::array<Vec3, 3>& tri, const CutLine* lines, int n, uint32_t mask) {
-    std::vector<Vec3> poly(tri.begin(), tri.end());
-    for (int k = 0; k < n && poly.size() >= 3; ++k)
-        if (mask & bound_by(k)) poly = clip_to_side(poly, lines[k], mask >> k & 1u);
-    return poly;
+    return clip_by_planes({tri.begin(), tri.end()}, lines, n, mask);
 }
 
 std::array<double, 2> segment_part(const Vec3& a, const Vec3& b, const CutLine* lines, int n, uint32_t mask) {
@@ -67,6 +66,70 @@ std::array<double, 2> segment_in_polygon(const Vec3& a, const Vec3& b, const std
     if (poly.size() < 3) return {1.0, 0.0};
     const uint32_t all = ~0u;  // every edge bounds it, on its inner side (at most 16 edges)
     return segment_part(a, b, edges.data(), static_cast<int>(std::min<size_t>(edges.size(), kBoundBit)), all);
+}
+
+}  // namespace xcut
+
+namespace xcut {
+
+double polygon_area_3d(const std::vector<Vec3>& poly) {
+    Vec3 n = Vec3::Zero();
+    for (size_t k = 0; k < poly.size(); ++k) n += poly[k].cross(poly[(k + 1) % poly.size()]);
+    return 0.5 * n.norm();
+}
+
+std::vector<Vec3> clip_by_planes(std::vector<Vec3> poly, const CutLine* planes, int n, uint32_t mask) {
+    for (int k = 0; k < n && poly.size() >= 3; ++k)
+        if (mask & bound_by(k)) poly = clip_to_side(poly, planes[k], mask >> k & 1u);
+    return poly;
+}
+
+std::vector<FragmentFace> fragment_faces(const std::array<Vec3, 4>& X, const CutLine* planes, int n, uint32_t mask) {
+    // The tetrahedron's faces as half-spaces: face a (opposite corner a), its normal toward a.
+    std::array<CutLine, 4> inside;
+    double size = 0.0;
+    for (int a = 0; a < 4; ++a) {
+        const Vec3 &p = X[(a + 1) % 4], &q = X[(a + 2) % 4], &r = X[(a + 3) % 4];
+        Vec3 normal = (q - p).cross(r - p).normalized();
+        if (normal.dot(X[a] - p) < 0.0) normal = -normal;
+        inside[a] = {p, normal};
+        for (int b = a + 1; b < 4; ++b) size = std::max(size, (X[b] - X[a]).norm());
+    }
+    std::vector<FragmentFace> faces;
+    for (int a = 0; a < 4; ++a) {  // the tetrahedron's faces, wound outward, clipped by the planes
+        std::vector<Vec3> tri{X[(a + 1) % 4], X[(a + 2) % 4], X[(a + 3) % 4]};
+        if ((tri[1] - tri[0]).cross(tri[2] - tri[0]).dot(inside[a].normal) > 0.0) std::swap(tri[1], tri[2]);
+        std::vector<Vec3> poly = clip_by_planes(std::move(tri), planes, n, mask);
+        if (poly.size() >= 3 && polygon_area_3d(poly) > 0.0) faces.push_back({std::move(poly), -inside[a].normal, -1 - a});
+    }
+    const Vec3 centroid = 0.25 * (X[0] + X[1] + X[2] + X[3]);
+    for (int k = 0; k < n; ++k) {  // each bounding plane: a square on it round the tetrahedron, clipped
+        if (!(mask & bound_by(k))) continue;
+        const Vec3 out = (mask >> k & 1u) ? Vec3(-planes[k].normal) : planes[k].normal;
+        const Vec3 c = centroid - out.dot(centroid - planes[k].origin) * out;
+        const Vec3 u = out.unitOrthogonal(), v = out.cross(u);  // u x v = out: counter-clockwise from outside
+        std::vector<Vec3> poly{c + 4.0 * size * u, c + 4.0 * size * v, c - 4.0 * size * u, c - 4.0 * size * v};
+        for (int a = 0; a < 4 && poly.size() >= 3; ++a) poly = clip_to_side(poly, inside[a], true);
+        for (int m = 0; m < n && poly.size() >= 3; ++m)
+            if (m != k && (mask & bound_by(m))) poly = clip_to_side(poly, planes[m], mask >> m & 1u);
+        if (poly.size() >= 3 && polygon_area_3d(poly) > 0.0) faces.push_back({std::move(poly), out, k});
+    }
+    return faces;
+}
+
+Eigen::Vector4d tet_barycentric(const std::array<Vec3, 4>& X, const Vec3& x) {
+    Eigen::Matrix3d D;
+    D << X[1] - X[0], X[2] - X[0], X[3] - X[0];
+    const Vec3 l = D.partialPivLu().solve(x - X[0]);
+    return {1.0 - l.sum(), l.x(), l.y(), l.z()};
+}
+
+double polyhedron_volume(const std::vector<FragmentFace>& faces) {
+    if (faces.empty()) return 0.0;
+    const Vec3 o = faces[0].polygon[0];
+    double v = 0.0;
+    for (const FragmentFace& f : faces) v += polygon_area_3d(f.polygon) * f.normal.dot(f.polygon[0] - o);
+    return std::max(v / 3.0, 0.0);
 }
 
 }  // namespace xcut

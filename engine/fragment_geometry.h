@@ -58,3 +58,38 @@ std::array<double, 2> segment_part(const Vec3& a, const Vec3& b, const CutLine* 
 std::array<double, 2> segment_in_polygon(const Vec3& a, const Vec3& b, const std::vector<Vec3>& poly);
 
 }  // namespace xcut
+
+namespace xcut {
+
+// --- 3D: a tetrahedron crossed by several cut planes (CutLine as a plane: a point and its unit
+// normal). A fragment is the tetrahedron's intersection with one half-space per plane that bounds
+// it, a convex polyhedron; its faces are convex polygons clipped as above, plane by plane, and its
+// volume is the divergence theorem's sum over them (V = 1/3 sum_f A_f n_f . (p_f - o)).
+
+/// A face of a convex fragment: its polygon (counter-clockwise seen from outside) and its outward
+/// unit normal; `plane` is the cut plane it lies on (k >= 0), or -1 - a for the tetrahedron's face
+/// opposite corner a.
+struct FragmentFace {
+    std::vector<Vec3> polygon;
+    Vec3 normal = Vec3::Zero();
+    int plane = -1;
+};
+
+/// Area of a planar polygon in space [m^2] (Newell's normal, half its length).
+double polygon_area_3d(const std::vector<Vec3>& poly);
+
+/// The faces of the fragment of tetrahedron X on the sides of planes[0..n) that `mask` names
+/// (bit k: plane k's side, for each plane that bounds it); faces of no area are left out.
+std::vector<FragmentFace> fragment_faces(const std::array<Vec3, 4>& X, const CutLine* planes, int n, uint32_t mask);
+
+/// Barycentric coordinates of point x in tetrahedron X.
+Eigen::Vector4d tet_barycentric(const std::array<Vec3, 4>& X, const Vec3& x);
+
+/// Volume of the convex polyhedron bounded by `faces` [m^3].
+double polyhedron_volume(const std::vector<FragmentFace>& faces);
+
+/// The part of convex polygon `poly` on the sides of planes (lines) [0..n) that `mask` names: the
+/// polygon clipped by each one that bounds it.
+std::vector<Vec3> clip_by_planes(std::vector<Vec3> poly, const CutLine* planes, int n, uint32_t mask);
+
+}  // namespace xcut

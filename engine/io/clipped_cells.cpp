@@ -183,12 +183,54 @@ bool add_clipped(ClippedCells& out, const World& w, Source& src, int parent, int
     return true;
 }
 
-/// Writes virtual element v of a triangle cut again (CutElements::lines): its fragment's polygon,
-/// fanned from its first corner; true if it has one.
+/// Writes virtual element v of a tetrahedron cut again: its fragment (a convex polyhedron) as the
+/// tetrahedra from its centroid to its faces' triangles, each face fanned from its first vertex.
+/// Points at one place (within 1e-12 of the element's size) are one.
+void add_fragment_3d(ClippedCells& out, const World& w, Source& src, int v, int c) {
+    const auto& pn = w.elements.nodes[w.virtual_elements.parent[v]];
+    const std::array<Vec3, 4> X{w.nodes.rest[pn[0]], w.nodes.rest[pn[1]], w.nodes.rest[pn[2]], w.nodes.rest[pn[3]]};
+    const auto& lines = w.cuts.lines[c];
+    const std::vector<FragmentFace> faces =
+        fragment_faces(X, lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v]);
+    const double tiny = 1e-12 * (X[1] - X[0]).norm();
+    std::vector<std::pair<Vec3, int>> made;
+    const auto point = [&](const Vec3& p) {
+        for (const auto& [at, index] : made)
+            if ((at - p).norm() <= tiny) return index;
+        int index = -1;
+        for (int a = 0; a < 4 && index < 0; ++a)
+            if ((p - X[a]).norm() <= tiny) index = w.elements.nodes[src.element][a];
+        if (index < 0) index = add_point(out, w, src, tet_barycentric(X, p), p);
+        made.push_back({p, index});
+        return index;
+    };
+    Vec3 centre = Vec3::Zero();
+    int count = 0;
+    for (const FragmentFace& f : faces)
+        for (const Vec3& p : f.polygon) centre += p, ++count;
+    if (count == 0) return;
+    centre /= count;
+    const int mid = add_point(out, w, src, tet_barycentric(X, centre), centre);
+    for (const FragmentFace& f : faces) {
+        std::vector<int> ring;
+        for (const Vec3& p : f.polygon) {
+            const int q = point(p);
+            if (ring.empty() || (ring.back() != q && ring.front() != q)) ring.push_back(q);
+        }
+        for (size_t k = 1; k + 1 < ring.size(); ++k) add_cell(out, {mid, ring[0], ring[k], ring[k + 1]}, 3, src.element);
+    }
+}
+
+/// Writes virtual element v of an element cut again (CutElements::lines): a triangle's fragment's
+/// polygon, fanned from its first corner, a tetrahedron's by add_fragment_3d; true if it has lines.
 bool add_fragment(ClippedCells& out, const World& w, Source& src, int v) {
     const int parent = w.virtual_elements.parent[v];
     const int c = w.cuts.cut_of_element[parent];
-    if (w.elements.dim != 2 || c < 0 || w.cuts.lines[c].empty()) return false;
+    if (c < 0 || w.cuts.lines[c].empty()) return false;
+    if (w.elements.dim == 3) {
+        add_fragment_3d(out, w, src, v, c);
+        return true;
+    }
     const auto& pn = w.elements.nodes[parent];
     const std::array<Vec3, 3> X{w.nodes.rest[pn[0]], w.nodes.rest[pn[1]], w.nodes.rest[pn[2]]};
     const auto& lines = w.cuts.lines[c];

@@ -153,7 +153,8 @@ DeviceSpec read_device(const JsonFields& tool, const std::string& file) {
 
 void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) {
     const JsonFields cutter = top.object("cutter");
-    cutter.allow_only({"threshold", "neighbourhood_depth", "type", "snap_threshold", "front", "tip"});
+    cutter.allow_only({"threshold", "neighbourhood_depth", "type", "snap_threshold", "front", "tip", "recut"});
+    scene.recut = cutter.has("recut") ? (cutter.boolean("recut", false) ? 1 : 0) : -1;
     scene.cut_threshold = cutter.number("threshold", 0.0, 0.0);
     scene.cut_min_depth = cutter.integer("neighbourhood_depth", 1, 0, 50);
     scene.cutter = cutter.choice("type", "xfem", {"xfem", "snap"});
@@ -543,6 +544,7 @@ World build_world(const Scene& scene) {
     world.cut_state.threshold = scene.cut_threshold;
     world.cut_state.min_depth = scene.cut_min_depth;
     world.cut_state.progressive = scene.cut_front == "progressive";
+    world.cut_state.recut = static_cast<int8_t>(scene.recut);
     world.snap.enabled = scene.cutter == "snap";
     if (scene.tip_radius >= 0.0 && mesh.dim != 2)
         throw InputError(scene.file, "cutter.tip", "crack-tip enrichment is 2D only: the mesh is 3D (a 3D front is not enriched yet)");
@@ -558,6 +560,10 @@ World build_world(const Scene& scene) {
         throw InputError(scene.file, "material.element", e.what());
     }
     world.elements.body = std::move(bodies.body_of_cell);
+    if (scene.recut == 1 && (world.snap.enabled || world.quadratic.count() > 0 || world.tips.follow_radius >= 0.0))
+        throw InputError(scene.file, "cutter.recut",
+                         "an element is cut again by the XFEM cutter on linear elements without crack tips only: this "
+                         "scene has \"type\": \"snap\", quadratic elements or \"tip\"");
     world.body_names = std::move(bodies.names);
     world.mesh_file_index = std::move(bodies.file_index);
     if (!world.mesh_file_index.empty())  // the mid-edge nodes of quadratic elements are in no file

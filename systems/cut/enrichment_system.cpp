@@ -85,7 +85,7 @@ int new_sides_orientation(const World& w, const CutEvent& ev, const CutLine& lin
 /// points, and its parts are those of its line (`line`; systems/cut/recut.h), where a world cuts
 /// elements again.
 bool other_incision(const World& w, const CutEvent& ev, CutLine& line) {
-    return recut_allowed(w) && event_line(ev, corners(w, ev.element), line) &&
+    return own_line_allowed(w, ev) && event_cut_line(w, ev, line) &&
            (signed_by_other_incision(w, ev.element, line.normal) || sides_disagree(w, ev));
 }
 

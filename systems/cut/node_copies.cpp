@@ -15,8 +15,9 @@ namespace xcut {
 namespace {
 
 /// Two fragments of neighbouring elements, one of them cut again, hold one material across their
-/// common edge when their parts of it overlap by more than this fraction of the edge [-]: two lines
-/// crossing it at one point (each element computes it) leave a few ulps, not an overlap.
+/// common edge (3D: face) when their parts of it overlap by more than this fraction of the edge's
+/// length (the face's area) [-]: two lines crossing it at one point (each element computes it)
+/// leave a few ulps, not an overlap.
 constexpr double kFaceOverlap = 1e-9;
 
 /// Material of one element around the node: side 0 a whole element, else a cut element's side or,
@@ -60,17 +61,43 @@ bool has_lines(const World& w, const Fragment& f) {
     return f.side != 0 && !w.cuts.lines[w.cuts.cut_of_element[f.element]].empty();
 }
 
+/// The lines (planes) that bound fragment f of a cut element, and its mask over them (a side of an
+/// element cut once: its first cut's line, bit 0 its side).
+std::vector<CutLine> bounds_of(const World& w, const Fragment& f, uint32_t& mask) {
+    const int c = w.cuts.cut_of_element[f.element];
+    if (w.cuts.lines[c].empty()) {
+        mask = (f.side > 0 ? 1u : 0u) | bound_by(0);
+        return {first_cut_line(w, c)};
+    }
+    mask = w.virtual_elements.mask[f.ve];
+    return w.cuts.lines[c];
+}
+
 /// The part [s0, s1] of the segment from mesh node p to mesh node q that fragment f holds (2D).
 std::array<double, 2> part_of_edge(const World& w, const Fragment& f, int p, int q) {
     if (f.side == 0) return {0.0, 1.0};
-    const int c = w.cuts.cut_of_element[f.element];
-    const Vec3 &a = w.nodes.rest[p], &b = w.nodes.rest[q];
-    if (w.cuts.lines[c].empty()) {
-        const CutLine first = first_cut_line(w, c);
-        return segment_part(a, b, &first, 1, (f.side > 0 ? 1u : 0u) | bound_by(0));
+    uint32_t mask = 0;
+    const std::vector<CutLine> lines = bounds_of(w, f, mask);
+    return segment_part(w.nodes.rest[p], w.nodes.rest[q], lines.data(), static_cast<int>(lines.size()), mask);
+}
+
+/// Whether fragments a and b hold overlapping parts of their elements' common face (its mesh nodes;
+/// 2D: an edge, face[0] = -1): parts of it that overlap by more than kFaceOverlap of its length
+/// (area) hold one material there.
+bool share_face(const World& w, const Fragment& a, const Fragment& b, const std::array<int, 3>& face) {
+    if (w.elements.dim == 2) {
+        const auto pa = part_of_edge(w, a, face[1], face[2]), pb = part_of_edge(w, b, face[1], face[2]);
+        return std::min(pa[1], pb[1]) - std::max(pa[0], pb[0]) > kFaceOverlap;
     }
-    const auto& lines = w.cuts.lines[c];
-    return segment_part(a, b, lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[f.ve]);
+    std::vector<Vec3> poly{w.nodes.rest[face[0]], w.nodes.rest[face[1]], w.nodes.rest[face[2]]};
+    const double whole = polygon_area_3d(poly);
+    for (const Fragment* f : {&a, &b}) {
+        if (f->side == 0) continue;
+        uint32_t mask = 0;
+        const std::vector<CutLine> planes = bounds_of(w, *f, mask);
+        poly = clip_by_planes(std::move(poly), planes.data(), static_cast<int>(planes.size()), mask);
+    }
+    return poly.size() >= 3 && polygon_area_3d(poly) > kFaceOverlap * whole;
 }
 
 /// Whether fragment f holds mesh node j's own material: a whole element, the side j is on, or the
@@ -164,10 +191,8 @@ std::vector<int> material_classes(const World& w, const std::vector<Fragment>& f
         for (int a = fa; a < fa + frags[fa].count; ++a)
             for (int b = fb; b < fb + frags[fb].count; ++b) {
                 const Fragment &A = frags[a], &B = frags[b];
-                if (has_lines(w, A) || has_lines(w, B)) {  // an element cut again: by the parts of the edge they hold
-                    const int p = faces[k].nodes[1], q = faces[k].nodes[2];
-                    const auto pa = part_of_edge(w, A, p, q), pb = part_of_edge(w, B, p, q);
-                    if (std::min(pa[1], pb[1]) - std::max(pa[0], pb[0]) > kFaceOverlap) sets.join(a, b);
+                if (has_lines(w, A) || has_lines(w, B)) {  // an element cut again: by the parts of the face they hold
+                    if (share_face(w, A, B, faces[k].nodes)) sets.join(a, b);
                     continue;
                 }
                 if (A.side != 0 && B.side != 0 && A.side != B.side) continue;  // the cut's two sides

@@ -6,6 +6,7 @@
 #include "engine/fragment_geometry.h"
 #include "engine/setup.h"
 #include "systems/cut/enrichment_system.h"
+#include "systems/kernels/cut_geometry.h"
 #include "systems/xfem_queries.h"
 
 namespace xcut {
@@ -15,7 +16,21 @@ std::array<Vec3, 3> corners(const World& w, int e) {
     return {w.nodes.rest[n[0]], w.nodes.rest[n[1]], w.nodes.rest[n[2]]};
 }
 
+std::array<Vec3, 4> tet_corners(const World& w, int e) {
+    const auto& n = w.elements.nodes[e];
+    return {w.nodes.rest[n[0]], w.nodes.rest[n[1]], w.nodes.rest[n[2]], w.nodes.rest[n[3]]};
+}
+
 namespace {
+
+/// The plane through points p[0..np) (3D), its normal toward the corners' positive `level` side.
+CutLine plane_through(const Vec3* p, int np, const std::array<Vec3, 4>& X, const std::array<double, 4>& level) {
+    CutLine l{p[0], chord_normal(p, np, 3)};
+    double toward = 0.0;
+    for (int a = 0; a < 4; ++a) toward += level[a] * l.normal.dot(X[a] - p[0]);
+    if (toward < 0.0) l.normal = -l.normal;
+    return l;
+}
 
 /// The line through a and b, its normal toward the corners' positive `level` side.
 CutLine line_through(const Vec3& a, const Vec3& b, const std::array<Vec3, 3>& X, const std::array<double, 3>& level) {
@@ -38,6 +53,15 @@ void ensure_lines(World& w, int c) {
 
 CutLine first_cut_line(const World& w, int c) {
     const int e = w.cuts.element[c];
+    if (w.elements.dim == 3) {
+        std::array<double, 4> level{};
+        for (int a = 0; a < 4; ++a) level[a] = w.enriched.sign[w.elements.nodes[e][a]];
+        std::array<Vec3, 4> p;
+        int np = 0;
+        for (int k = 0; k < 4; ++k)
+            if (w.cuts.point_edge[c][k] >= 0) p[np++] = w.cuts.points[c][k];
+        return plane_through(p.data(), np, tet_corners(w, e), level);
+    }
     std::array<double, 3> level{};
     for (int a = 0; a < 3; ++a) level[a] = w.enriched.sign[w.elements.nodes[e][a]];
     return line_through(w.cuts.points[c][0], w.cuts.points[c][1], corners(w, e), level);
@@ -54,8 +78,15 @@ std::vector<CutLine> lines_of(const World& w, int c) {
 }
 
 bool recut_allowed(const World& w) {
-    return w.elements.dim == 2 && w.quadratic.count() == 0 && !w.snap.enabled && w.tips.follow_radius < 0.0 &&
+    const bool wanted = w.cut_state.recut < 0 ? w.elements.dim == 2 : w.cut_state.recut > 0;
+    return wanted && (w.elements.dim == 2 || w.elements.dim == 3) && w.quadratic.count() == 0 && !w.snap.enabled && w.tips.follow_radius < 0.0 &&
            w.tips.point.empty();
+}
+
+bool blade_recut_allowed(const World& w) { return w.elements.dim == 2 && recut_allowed(w); }
+
+bool own_line_allowed(const World& w, const CutEvent& ev) {
+    return recut_allowed(w) && (w.elements.dim == 2 || ev.tool < 0);
 }
 
 bool cuts_across(const World& w, int e, const Vec3& normal) {
@@ -186,25 +217,134 @@ void join_earlier_points(const World& w, CutEvent& ev) {
     }
 }
 
+namespace {
+
+/// How a further cut divides one fragment: the measure (area, volume) of its parts on the line's
+/// sides 1 and 0; both 0 where it does not cross it.
+struct Parts {
+    double one = 0.0, zero = 0.0;
+};
+
+/// Index of the line among `before` that `line` is (within a degree and a thousandth of the
+/// element's size: the path's map to rest changes a little as the element deforms between the
+/// cuts), -1 if none; `line` becomes that line.
+int same_line(const std::vector<CutLine>& before, CutLine& line, double size) {
+    for (int k = 0; k < static_cast<int>(before.size()); ++k)
+        if (std::abs(before[k].normal.dot(line.normal)) > kSameLineCos &&
+            std::abs(before[k].normal.dot(line.origin - before[k].origin)) < 1e-3 * size) {
+            line = before[k];
+            return k;
+        }
+    return -1;
+}
+
+/// Divides cut element c's fragments `frags` by `line` (line `same` of its own, or a new one) into
+/// their parts `parts` of the element's `measure`: the part on side 1 stays the old virtual
+/// element (new weight), a new one takes the rest. False (nothing changed) if it divides none.
+bool divide_fragments(World& w, int c, const std::vector<int>& frags, const std::vector<Parts>& parts,
+                      const CutLine& line, int same, double measure) {
+    const auto divided = [&](const Parts& p) {
+        return p.one >= kMinFragmentFraction * measure && p.zero >= kMinFragmentFraction * measure;
+    };
+    if (std::none_of(parts.begin(), parts.end(), divided)) return false;
+    const int e = w.cuts.element[c];
+    ensure_lines(w, c);
+    const int k = same >= 0 ? same : static_cast<int>(w.cuts.lines[c].size());
+    if (same < 0) w.cuts.lines[c].push_back(line);
+    const uint32_t bit = 1u << k;
+    VirtualElements& ve = w.virtual_elements;
+    for (size_t f = 0; f < frags.size(); ++f) {
+        const int v = frags[f];
+        if (!divided(parts[f])) continue;
+        const int fe = ve.element[v];
+        w.elements.weight[fe] = std::max(parts[f].one / measure, kMinSideFraction);
+        ve.mask[v] |= bit | bound_by(k);
+        w.cuts.fragments[c].push_back(ve.count());
+        ve.parent.push_back(e);
+        ve.side.push_back(ve.side[v]);
+        ve.mask.push_back(ve.mask[v] & ~bit);
+        ve.element.push_back(append_element_copy(w.elements, fe, std::max(parts[f].zero / measure, kMinSideFraction)));
+    }
+    return true;
+}
+
+/// The longest edge of the element with rest corners X[0..n) [m].
+template <size_t N>
+double longest_edge(const std::array<Vec3, N>& X) {
+    double size = 0.0;
+    for (size_t a = 0; a < N; ++a)
+        for (size_t b = a + 1; b < N; ++b) size = std::max(size, (X[b] - X[a]).norm());
+    return size;
+}
+
+/// record_recut in 3D: a plane through the tetrahedron divides each fragment it leaves parts of on
+/// both sides (a cut that ends inside an element is not made there: the cutters ask only for
+/// elements crossed in full).
+bool record_recut_3d(World& w, const CutEvent& ev, int c) {
+    const std::array<Vec3, 4> X = tet_corners(w, ev.element);
+    CutLine plane;
+    if (!event_plane(ev, X, plane)) return false;
+    const std::vector<CutLine> before = lines_of(w, c);
+    const int same = same_line(before, plane, longest_edge(X));
+    if (same < 0 && static_cast<int>(before.size()) >= kMaxElementLines) return false;
+    std::vector<CutLine> planes = before;
+    if (same < 0) planes.push_back(plane);
+    const int k = same >= 0 ? same : static_cast<int>(before.size()), n = static_cast<int>(planes.size());
+    const std::span<const int> now = fragments_of(w, c);
+    const std::vector<int> frags(now.begin(), now.end());
+    std::vector<Parts> parts;
+    for (int v : frags) {
+        const uint32_t mask = w.virtual_elements.mask[v];
+        if (same >= 0 && (mask & bound_by(same))) {
+            parts.push_back({});
+            continue;
+        }
+        const uint32_t with = mask | bound_by(k);
+        parts.push_back({polyhedron_volume(fragment_faces(X, planes.data(), n, with | (1u << k))),
+                         polyhedron_volume(fragment_faces(X, planes.data(), n, with & ~(1u << k)))});
+    }
+    const double volume = std::abs((X[1] - X[0]).cross(X[2] - X[0]).dot(X[3] - X[0])) / 6.0;
+    return divide_fragments(w, c, frags, parts, plane, same, volume);
+}
+
+}  // namespace
+
+bool event_plane(const CutEvent& ev, const std::array<Vec3, 4>& X, CutLine& plane) {
+    std::array<double, 4> level{};
+    std::array<Vec3, 6> points;
+    int np = 0;
+    for (int a = 0; a < 4; ++a) level[a] = ev.level[a];
+    for (int k = 0; k < 6; ++k) {
+        const int i = kTetEdges[k][0], j = kTetEdges[k][1];
+        const double li = ev.level[i], lj = ev.level[j];
+        if ((li >= 0.0) == (lj >= 0.0)) continue;
+        const double t = ev.edge_has_t[k] ? ev.edge_t[k] : li / (li - lj);
+        points[np++] = X[i] + std::clamp(t, 0.0, 1.0) * (X[j] - X[i]);
+    }
+    if (np < 3) return false;
+    plane = plane_through(points.data(), np, X, level);
+    return plane.normal.squaredNorm() > 0.0;
+}
+
+bool event_cut_line(const World& w, const CutEvent& ev, CutLine& line) {
+    if (w.elements.dim == 3) return event_plane(ev, tet_corners(w, ev.element), line);
+    return event_line(ev, corners(w, ev.element), line);
+}
+
 bool record_recut(World& w, const CutEvent& ev) {
     const int e = ev.element;
-    if (e < 0 || e >= w.mesh_elements || w.elements.dim != 2) return false;
+    if (e < 0 || e >= w.mesh_elements) return false;
     const int c = w.cuts.cut_of_element[e];
     if (c < 0) return false;
+    if (w.elements.dim == 3) return record_recut_3d(w, ev, c);
     const std::array<Vec3, 3> X = corners(w, e);
     CutLine line;
     if (!event_line(ev, X, line)) return false;
-    const double size = std::max({(X[1] - X[0]).norm(), (X[2] - X[1]).norm(), (X[0] - X[2]).norm()});
+    const double size = longest_edge(X);
     const std::vector<CutLine> before = lines_of(w, c);
     // One of its lines again (a stem that stopped on it goes on): the fragments it does not bound
     // yet may be divided by it, and no line is added.
-    // Within a degree and a thousandth of the element's size of it, a line is that line (the path's
-    // map to rest changes a little as the element deforms between the stem and its sequel).
-    int same = -1;
-    for (int k = 0; k < static_cast<int>(before.size()) && same < 0; ++k)
-        if (std::abs(before[k].normal.dot(line.normal)) > kSameLineCos &&
-            std::abs(before[k].normal.dot(line.origin - before[k].origin)) < 1e-3 * size)
-            same = k, line = before[k];
+    const int same = same_line(before, line, size);
     if (same < 0 && static_cast<int>(before.size()) >= kMaxElementLines) return false;
     // Which fragments the line divides: each part's area, decided before anything changes.
     const std::span<const int> now = fragments_of(w, c);
@@ -220,9 +360,7 @@ bool record_recut(World& w, const CutEvent& ev) {
         if (from > to) std::swap(from, to);
     }
     const double slack = 1e-9;  // of the long segment: round-off of a cut ending on an earlier line
-    struct Parts { double one, zero; };
     std::vector<Parts> parts;
-    bool divides = false;
     for (int v : frags) {
         const uint32_t mask = w.virtual_elements.mask[v];
         const std::vector<Vec3> poly = fragment_polygon(X, before.data(), n, mask);
@@ -231,27 +369,8 @@ bool record_recut(World& w, const CutEvent& ev) {
                             (same < 0 || !(mask & bound_by(same)));
         parts.push_back({across ? polygon_area(clip_to_side(poly, line, true)) : 0.0,
                          across ? polygon_area(clip_to_side(poly, line, false)) : 0.0});
-        divides = divides || (parts.back().one >= kMinFragmentFraction * area && parts.back().zero >= kMinFragmentFraction * area);
     }
-    if (!divides) return false;
-    ensure_lines(w, c);
-    const int k = same >= 0 ? same : n;
-    if (same < 0) w.cuts.lines[c].push_back(line);
-    const uint32_t bit = 1u << k;
-    VirtualElements& ve = w.virtual_elements;
-    for (size_t f = 0; f < frags.size(); ++f) {
-        const int v = frags[f];
-        if (parts[f].one < kMinFragmentFraction * area || parts[f].zero < kMinFragmentFraction * area) continue;
-        const int fe = ve.element[v];
-        w.elements.weight[fe] = std::max(parts[f].one / area, kMinSideFraction);
-        ve.mask[v] |= bit | bound_by(k);
-        w.cuts.fragments[c].push_back(ve.count());
-        ve.parent.push_back(e);
-        ve.side.push_back(ve.side[v]);
-        ve.mask.push_back(ve.mask[v] & ~bit);
-        ve.element.push_back(append_element_copy(w.elements, fe, std::max(parts[f].zero / area, kMinSideFraction)));
-    }
-    return true;
+    return divide_fragments(w, c, frags, parts, line, same, area);
 }
 
 }  // namespace xcut

@@ -1,9 +1,10 @@
 #pragma once
-// Several cuts per element, 2D (docs/xfem.md, Several cuts per element): a triangle already cut is
-// cut again along another line. It keeps its nodes; its material is divided into fragments, the
-// parts of it on one side of each of its lines, each a virtual element with its own rotation and
-// its exact area over the element's as weight (a linear element's strain is constant, so that is
-// the exact integral; Molino, Bao & Fedkiw 2004, the virtual node algorithm). A new fragment starts
+// Several cuts per element (docs/xfem.md, Several cuts per element): a triangle already cut is cut
+// again along another line, a tetrahedron along another plane (CutLine: a point and a normal). It
+// keeps its nodes; its material is divided into fragments, the parts of it on one side of each of
+// its lines, each a virtual element with its own rotation and its exact area (volume) over the
+// element's as weight (a linear element's strain is constant, so that is the exact integral;
+// Molino, Bao & Fedkiw 2004, the virtual node algorithm). A new fragment starts
 // from the vertices of the one it was cut from; the node copies (systems/cut/node_copies.h) then
 // give each its own where material connectivity parts them.
 #include <vector>
@@ -20,14 +21,14 @@ inline constexpr double kMinFragmentFraction = 1e-6;
 /// is one of the element's lines: cos 1 degree.
 inline constexpr double kSameLineCos = 0.9998476951563913;
 
-/// The line of cut element c's first cut (2D): through its two edge points, its normal toward the
-/// side H = +1 of the element's nodes.
+/// The line of cut element c's first cut: through its edge points (2D: two; 3D: the plane through
+/// three or four), its normal toward the side H = +1 of the element's nodes.
 CutLine first_cut_line(const World& world, int c);
 
 /// Cut element c's lines: those it keeps once cut again, else its first cut's line alone.
 std::vector<CutLine> lines_of(const World& world, int c);
 
-/// Cuts element ev.element again along the line of ev's levels (2D, linear, already cut): its
+/// Cuts element ev.element again along the line (plane) of ev's levels (linear, already cut): its
 /// fragments crossed by the line are split, each into the part on the line's side +1 (the old
 /// virtual element, new weight) and a new virtual element for the rest. Along one of its lines
 /// already (a bounded cut on that line goes on), it divides the fragments that line does not bound
@@ -46,10 +47,23 @@ namespace xcut {
 /// The rest corners of triangle e.
 std::array<Vec3, 3> corners(const World& world, int e);
 
-/// Whether this world cuts an element again (2D, linear elements, the XFEM cutter, no crack tips).
-/// Where it does not, a cut that crosses an element along another line keeps the first
-/// (CutState::recut_ignored says so).
+/// The rest corners of tetrahedron e.
+std::array<Vec3, 4> tet_corners(const World& world, int e);
+
+/// Whether this world cuts an element again (linear elements, the XFEM cutter, no crack tips, and
+/// CutState::recut: on by default in 2D, asked for in 3D; in 3D the cuts a scene scripts, in 2D
+/// also the scalpels'). Where it does not, a cut that crosses an element along another line keeps
+/// the first (CutState::recut_ignored says so).
 bool recut_allowed(const World& world);
+
+/// Whether a scalpel cuts an element again in this world: recut_allowed, in 2D (in 3D a blade
+/// keeps an element's first cut and counts the crossing, CutState::recut_ignored).
+bool blade_recut_allowed(const World& world);
+
+/// Whether event ev may take the sides and parts of its own line where the element's nodes have
+/// theirs from another incision (systems/cut/enrichment_system.cpp): recut_allowed, and in 3D only
+/// for a scripted cut.
+bool own_line_allowed(const World& world, const CutEvent& ev);
 
 /// Whether a cut with normal `normal` through cut element e (2D) runs along another line than each
 /// of its cuts (more than 30 degrees from it: kRecutCos), or along one that bounds only part of it
@@ -87,6 +101,14 @@ inline constexpr double kJoinFraction = 0.1;
 /// on an edge of, where the blade went through that edge into the uncut element beyond and comes
 /// back out through it (a path that grazes a mesh line). A bounded cut (a stem) keeps its points.
 void join_earlier_points(const World& world, CutEvent& ev);
+
+/// The plane of a cut event's levels through a tetrahedron with rest corners X (through the points
+/// where they change sign on its edges, ev.edge_t where given), its normal toward positive levels;
+/// false if they cross fewer than three edges or the points span no plane.
+bool event_plane(const CutEvent& ev, const std::array<Vec3, 4>& X, CutLine& plane);
+
+/// The line (2D) or plane (3D) of a cut event's levels through its element at rest.
+bool event_cut_line(const World& world, const CutEvent& ev, CutLine& line);
 
 /// The line of a cut event's levels through a triangle with rest corners X (the points where they
 /// change sign on its edges, ev.edge_t where given), its normal toward positive levels; false if

@@ -21,7 +21,7 @@ using namespace surface_cut_detail;
 void whole_element_pieces(World& w, SurfaceMesh& s, int e) {
     if (s.base_of[e].empty()) return;
     const auto& en = w.elements.nodes[e];
-    std::vector<FrontPoint> front = w.elements.dim == 2 ? further_front_points(w, s, e) : std::vector<FrontPoint>{};
+    std::vector<FrontPoint> front = further_front_points(w, s, e);
     for (int k = 0; k < edge_count(w); ++k) {
         const int i = local_edge(w, k)[0], j = local_edge(w, k)[1];
         const double t = edge_crossing(w, en[i], en[j]);

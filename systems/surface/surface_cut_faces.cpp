@@ -17,12 +17,12 @@ namespace {
 /// the rim, parting points) a fan around the centre.
 template <class Shared>
 void close_polygon(World& w, SurfaceMesh& s, int e, int side, const std::vector<int>& loop,
-                   const Eigen::Vector4d& centre, const Shared& shared) {
-    if (loop.size() == 3) {
+                   const Eigen::Vector4d& centre, const Shared& shared, bool fan) {
+    if (loop.size() == 3 && !fan) {
         add_piece(s, {loop[0], loop[1], loop[2]}, e, true);
         return;
     }
-    if (loop.size() == 4) {
+    if (loop.size() == 4 && !fan) {
         auto angle = [&](int at, int p, int q) {
             const Vec3 x = vertex_rest(w, s, at);
             const Vec3 a = vertex_rest(w, s, p) - x, b = vertex_rest(w, s, q) - x;
@@ -108,6 +108,26 @@ void cut_faces(World& w, SurfaceMesh& s, int c, const CutPlaneInfo& cp, const st
             if (mid >= 0) loop.insert(loop.begin() + static_cast<std::ptrdiff_t>(++q), mid);
         }
     }
+    // Where another incision's wound, in an element cut again across a face, ends on an edge of a
+    // loop, the loop goes through that point (surface_fragments.cpp: further_crossings), and is
+    // fanned round its centre (the point lies on the edge).
+    bool further = false;
+    for (int k = 0; k < 2; ++k) {
+        const int side = k == 0 ? 1 : -1;
+        const int fe = w.virtual_elements.element[w.cuts.virtual_element[c][k]];
+        std::vector<int>& loop = loops[k];
+        std::vector<int> with;
+        for (size_t q = 0; q < loop.size(); ++q) {
+            const int u = loop[q], v = loop[(q + 1) % loop.size()];
+            with.push_back(u);
+            const Eigen::Vector4d bu = local_bary(w, s, e, u), bv = local_bary(w, s, e, v);
+            for (const auto& [t, x] : further_crossings(w, e, vertex_rest(w, s, u), vertex_rest(w, s, v), bu, bv)) {
+                with.push_back(shared_point(w, s, fe, static_cast<int8_t>(side), (1.0 - t) * bu + t * bv, x));
+                further = true;
+            }
+        }
+        loop = std::move(with);
+    }
     // Every point and edge on the front: the lips meet all round and cannot part; no faces.
     if (std::all_of(loops[0].begin(), loops[0].end(), is_shared) && loops[0].size() == loops[1].size()) return;
     for (int k = 0; k < 2; ++k) {
@@ -116,7 +136,7 @@ void cut_faces(World& w, SurfaceMesh& s, int c, const CutPlaneInfo& cp, const st
         if (loop.size() < 3) continue;
         // Outward for this side's piece is away from its own material, toward the other side.
         if (!faces_its_other_side(w, s, e, side, loop, cp)) std::reverse(loop.begin(), loop.end());
-        close_polygon(w, s, e, side, loop, centre, is_shared);
+        close_polygon(w, s, e, side, loop, centre, is_shared, further);
     }
 }
 

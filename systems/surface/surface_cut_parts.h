@@ -54,13 +54,19 @@ struct FrontPoint {
     double t;
 };
 
-// --- surface_fragments.cpp (2D elements cut more than once) ---
+// --- surface_fragments.cpp (elements cut more than once) ---
 /// The vertex at rest point `rest` (barycentric b in force element fe) for material `fe`: an
 /// existing one there with the same copy of every mesh node b weighs, else a new one bound to fe
 /// on `side`.
 int shared_point(World& w, SurfaceMesh& s, int fe, int8_t side, const Eigen::Vector4d& b, const Vec3& rest);
-/// Cut element c's pieces, c having lines: its skin triangles clipped to each fragment, fanned.
+/// Cut element c's pieces, c having lines: its skin triangles clipped to each fragment, fanned; in
+/// 3D also each fragment's faces on its cut planes.
 void fragment_pieces(World& w, SurfaceMesh& s, int c);
+/// Where the planes of the elements cut again across a face of element e (3D) cross the segment
+/// a -> b on that face (rest; barycentric ba, bb in e): (parameter from a, point), in order. A cut
+/// element's wound ends there on its face, and e's own faces there must have that point too.
+std::vector<std::pair<double, Vec3>> further_crossings(const World& w, int e, const Vec3& a, const Vec3& b,
+                                                       const Eigen::Vector4d& ba, const Eigen::Vector4d& bb);
 /// Where the further lines of the cut elements around whole element e cross its edges, as its
 /// front points.
 std::vector<FrontPoint> further_front_points(World& w, SurfaceMesh& s, int e);

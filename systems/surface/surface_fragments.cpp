@@ -17,13 +17,13 @@ namespace {
 
 /// The material a binding has at a point: (mesh node, DOF node) of each node it is weighted on,
 /// sorted; (-1, -1) past them.
-using Signature = std::array<std::pair<int, int>, 3>;
+using Signature = std::array<std::pair<int, int>, 4>;
 
 Signature signature(const World& w, int fe, const Eigen::Vector4d& b) {
     Signature sig;
     sig.fill({-1, -1});
     int n = 0;
-    for (int a = 0; a < w.elements.nodes_per_element() && n < 3; ++a) {
+    for (int a = 0; a < w.elements.nodes_per_element() && n < 4; ++a) {
         if (std::abs(b[a]) < 1e-12) continue;
         const int dof = w.elements.nodes[fe][a];
         sig[n++] = {mesh_node(w, dof), dof};
@@ -43,14 +43,15 @@ Eigen::Vector4d bary_in(const std::array<Vec3, 3>& X, const Vec3& x) {
 
 /// A fragment's polygon with its vertices closer than `tiny` merged and those on a straight run
 /// dropped: a clip through a vertex repeats it, and a fan over it would make triangles without area.
-std::vector<Vec3> clean(std::vector<Vec3> poly, double tiny) {
+/// In space (`space`: a 3D element's polygons) the turn is the cross product's length.
+std::vector<Vec3> clean(std::vector<Vec3> poly, double tiny, bool space = false) {
     bool changed = true;
     while (changed && poly.size() >= 3) {
         changed = false;
         for (size_t k = 0; k < poly.size() && !changed; ++k) {
             const Vec3 &p = poly[(k + poly.size() - 1) % poly.size()], &q = poly[k], &r = poly[(k + 1) % poly.size()];
             const Vec3 a = q - p, b = r - q;
-            const double cross = a.x() * b.y() - a.y() * b.x();
+            const double cross = space ? a.cross(b).norm() : a.x() * b.y() - a.y() * b.x();
             if ((q - p).norm() < tiny || std::abs(cross) < tiny * std::max(a.norm(), b.norm()))
                 poly.erase(poly.begin() + static_cast<long>(k)), changed = true;
         }
@@ -77,7 +78,93 @@ int shared_point(World& w, SurfaceMesh& s, int fe, int8_t side, const Eigen::Vec
     return v;
 }
 
+namespace {
+
+/// Barycentric coordinates of rest point x in tetrahedron X, round-off below 1e-12 dropped.
+Eigen::Vector4d bary_in_tet(const std::array<Vec3, 4>& X, const Vec3& x) {
+    Eigen::Vector4d b = tet_barycentric(X, x);
+    for (int a = 0; a < 4; ++a)
+        if (std::abs(b[a]) < 1e-12) b[a] = 0.0;
+    return b / b.sum();
+}
+
+/// Inserts into convex polygon `poly` (in space) each of `points` that lies on one of its edges,
+/// strictly between its ends (within `tol`), in order along the edge; returns how many.
+int insert_on_edges(std::vector<Vec3>& poly, const std::vector<Vec3>& points, double tol) {
+    std::vector<Vec3> out;
+    int inserted = 0;
+    for (size_t k = 0; k < poly.size(); ++k) {
+        const Vec3 &a = poly[k], &b = poly[(k + 1) % poly.size()];
+        out.push_back(a);
+        const Vec3 d = b - a;
+        const double len2 = d.squaredNorm();
+        std::vector<std::pair<double, Vec3>> on;
+        for (const Vec3& p : points) {
+            const double t = len2 > 0.0 ? (p - a).dot(d) / len2 : 0.0;
+            if ((a + t * d - p).norm() <= tol && (p - a).norm() > tol && (p - b).norm() > tol && t > 0.0 && t < 1.0)
+                on.push_back({t, p});
+        }
+        std::sort(on.begin(), on.end(), [](const auto& l, const auto& r) { return l.first < r.first; });
+        for (size_t q = 0; q < on.size(); ++q)
+            if (q == 0 || (on[q].second - on[q - 1].second).norm() > tol) out.push_back(on[q].second), ++inserted;
+    }
+    poly = std::move(out);
+    return inserted;
+}
+
+/// Cut element c's pieces in 3D (c having planes): per fragment, its element's skin triangles
+/// clipped to it, and its faces on its cut planes (the wound, oriented out of the fragment) with
+/// the skin's crossings on their rims inserted, fanned from their centre where any was (so no
+/// triangle is without area and the skin meets the wound without a T-junction).
+void fragment_pieces_3d(World& w, SurfaceMesh& s, int c) {
+    const int e = w.cuts.element[c];
+    const auto& n = w.elements.nodes[e];
+    const std::array<Vec3, 4> X{w.nodes.rest[n[0]], w.nodes.rest[n[1]], w.nodes.rest[n[2]], w.nodes.rest[n[3]]};
+    double size = 0.0;
+    for (int a = 0; a < 4; ++a)
+        for (int b = a + 1; b < 4; ++b) size = std::max(size, (X[b] - X[a]).norm());
+    const double tiny = std::max(1e-9 * size, 2e-11);  // and never two points at one place (1e-11 m)
+    const auto& lines = w.cuts.lines[c];
+    const int nl = static_cast<int>(lines.size());
+    const VirtualElements& ve = w.virtual_elements;
+    for (int v : fragments_of(w, c)) {
+        const int fe = ve.element[v];
+        const auto point = [&](const Vec3& p) { return shared_point(w, s, fe, ve.side[v], bary_in_tet(X, p), p); };
+        std::vector<Vec3> skin;  // the clipped skin's points: the rims of the cut faces pass through them
+        for (int bt : s.base_of[e]) {
+            const auto& tri = s.base_triangles[bt];
+            std::vector<Vec3> poly{vertex_rest(w, s, tri[0]), vertex_rest(w, s, tri[1]), vertex_rest(w, s, tri[2])};
+            poly = clean(clip_by_planes(std::move(poly), lines.data(), nl, ve.mask[v]), tiny, true);
+            if (poly.size() < 3) continue;
+            std::vector<int> ids;
+            for (const Vec3& p : poly) ids.push_back(point(p)), skin.push_back(p);
+            for (size_t k = 1; k + 1 < ids.size(); ++k) add_piece(s, {ids[0], ids[k], ids[k + 1]}, e, false);
+        }
+        for (const FragmentFace& f : fragment_faces(X, lines.data(), nl, ve.mask[v])) {
+            if (f.plane < 0) continue;
+            std::vector<Vec3> poly = clean(f.polygon, tiny, true);
+            if (poly.size() < 3) continue;
+            const bool rim = insert_on_edges(poly, skin, tiny) > 0;
+            std::vector<int> ids;
+            Vec3 centre = Vec3::Zero();
+            for (const Vec3& p : poly) ids.push_back(point(p)), centre += p;
+            if (!rim) {
+                for (size_t k = 1; k + 1 < ids.size(); ++k) add_piece(s, {ids[0], ids[k], ids[k + 1]}, e, true);
+                continue;
+            }
+            const int mid = point(centre / static_cast<double>(poly.size()));
+            for (size_t k = 0; k < ids.size(); ++k) add_piece(s, {mid, ids[k], ids[(k + 1) % ids.size()]}, e, true);
+        }
+    }
+}
+
+}  // namespace
+
 void fragment_pieces(World& w, SurfaceMesh& s, int c) {
+    if (w.elements.dim == 3) {
+        fragment_pieces_3d(w, s, c);
+        return;
+    }
     const int e = w.cuts.element[c];
     const auto& n = w.elements.nodes[e];
     const std::array<Vec3, 3> X{w.nodes.rest[n[0]], w.nodes.rest[n[1]], w.nodes.rest[n[2]]};
@@ -133,11 +220,41 @@ void bind_to_fragments(World& w, SurfaceMesh& s, int c) {
 
 namespace xcut::surface_cut_detail {
 
+std::vector<std::pair<double, Vec3>> further_crossings(const World& w, int e, const Vec3& a, const Vec3& b,
+                                                       const Eigen::Vector4d& ba, const Eigen::Vector4d& bb) {
+    std::vector<std::pair<double, Vec3>> out;
+    int off = -1;  // the face both ends lie on: the one opposite local node `off`
+    for (int k = 0; k < 4 && off < 0; ++k)
+        if (std::abs(ba[k]) < 1e-12 && std::abs(bb[k]) < 1e-12) off = k;
+    if (off < 0 || w.elements.dim != 3) return out;
+    const auto& en = w.elements.nodes[e];
+    const int p = en[(off + 1) % 4], q = en[(off + 2) % 4], r = en[(off + 3) % 4];
+    const double tiny = 1e-9 * (b - a).norm();
+    for_elements_around(w, p, q, [&](int f) {
+        const int c = f == e ? -1 : w.cuts.cut_of_element[f];
+        if (c < 0 || !holds(w, f, r) || w.cuts.lines[c].empty()) return;
+        const auto& lines = w.cuts.lines[c];
+        for (size_t l = 0; l < lines.size(); ++l) {
+            const double da = lines[l].normal.dot(a - lines[l].origin), db = lines[l].normal.dot(b - lines[l].origin);
+            if (!((da > tiny && db < -tiny) || (da < -tiny && db > tiny))) continue;
+            const double t = da / (da - db);
+            const Vec3 x = a + t * (b - a);
+            bool bounds = false;  // the plane parts fragments there
+            for (int v : fragments_of(w, c))
+                bounds = bounds || ((w.virtual_elements.mask[v] & bound_by(static_cast<int>(l))) &&
+                                    in_fragment(lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v], x));
+            if (bounds) out.push_back({t, x});
+        }
+    });
+    std::sort(out.begin(), out.end(), [](const auto& l, const auto& r) { return l.first < r.first; });
+    return out;
+}
+
 std::vector<FrontPoint> further_front_points(World& w, SurfaceMesh& s, int e) {
     std::vector<FrontPoint> out;
     const auto& en = w.elements.nodes[e];
-    for (int k = 0; k < 3; ++k) {
-        const int i = kTriEdges[k][0], j = kTriEdges[k][1];
+    for (int k = 0; k < edge_count(w); ++k) {
+        const int i = local_edge(w, k)[0], j = local_edge(w, k)[1];
         const Vec3 &Xi = w.nodes.rest[en[i]], &Xj = w.nodes.rest[en[j]];
         for_elements_around(w, en[i], en[j], [&](int f) {
             const int c = w.cuts.cut_of_element[f];

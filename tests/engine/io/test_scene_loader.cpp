@@ -119,6 +119,11 @@ std::vector<BadScene> bad_scenes() {
          "\"cutter\": { \"front\": \"progressive\", \"tip\": {} } }",
          "cutter.tip", "use \"front\": \"semi\""},
         {"crack tip in 3D", "cutter.tip={\"radius\": 0.001}", "cutter.tip", "2D only"},
+        {"cutting again with snapping",
+         "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
+         "\"cutter\": { \"type\": \"snap\", \"recut\": true } }",
+         "cutter.recut", "linear elements without crack tips only"},
+        {"cutting again as a number", "cutter.recut=1", "cutter.recut", ""},
         {"negative tip radius",
          "!{ \"mesh\": { \"generator\": \"plate\", \"size\": [0.01, 0.01, 0], \"cells\": [2, 2, 1] }, \"gravity\": [0, 0, 0], "
          "\"cutter\": { \"tip\": { \"radius\": -1 } } }",

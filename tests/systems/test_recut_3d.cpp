@@ -1,0 +1,199 @@
+// Several cuts per element, 3D (systems/cut/recut.h; docs/xfem.md, Several cuts per element). The
+// fragments of a tetrahedron against closed forms, and what crossing planes make of a block
+// against the geometry of the planes alone: the pieces and their exact volumes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+
+#include "engine/fragment_geometry.h"
+#include "engine/io/clipped_cells.h"
+#include "systems/cut/pieces_system.h"
+#include "systems/cut/recut.h"
+#include "systems/surface/mapping_system.h"
+#include "systems/surface/surface_cut.h"
+#include "tests/surface_checks.h"
+#include "tests/test_helpers.h"
+
+namespace xcut {
+namespace recut_3d {
+namespace {
+
+using testing::cut_now;
+using testing::grid;
+
+constexpr uint32_t kBoth = (1u << kBoundBit) | (1u << (kBoundBit + 1));  // bounded by planes 0 and 1
+
+TEST(FragmentGeometry, TwoPlanesCrossingInATetrahedronGiveFourFragmentsOfTheirExactVolumes) {
+    const std::array<Vec3, 4> tet{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+    const double a = 0.25, b = 0.3;
+    const std::array<CutLine, 2> planes{CutLine{Vec3(a, 0, 0), Vec3(1, 0, 0)}, CutLine{Vec3(0, b, 0), Vec3(0, 1, 0)}};
+    // Under x + y + z <= 1: {x >= a, y >= b} is a corner tetrahedron of legs 1 - a - b, {x >= a}
+    // one of legs 1 - a, {y >= b} one of legs 1 - b; the others by inclusion and exclusion.
+    const auto cube = [](double l) { return l * l * l / 6.0; };
+    const double both = cube(1 - a - b), x_side = cube(1 - a), y_side = cube(1 - b);
+    const double exact[4] = {1.0 / 6.0 - x_side - y_side + both, x_side - both, y_side - both, both};  // masks 00, 01, 10, 11
+    double sum = 0.0;
+    for (uint32_t side = 0; side < 4; ++side) {
+        const double v = polyhedron_volume(fragment_faces(tet, planes.data(), 2, side | kBoth));
+        EXPECT_NEAR(v, exact[side], 1e-15) << "mask " << side;
+        sum += v;
+    }
+    EXPECT_NEAR(sum, 1.0 / 6.0, 1e-15);
+    EXPECT_NEAR(polyhedron_volume(fragment_faces(tet, planes.data(), 2, 1u | bound_by(0))), x_side, 1e-15);
+    EXPECT_NEAR(polyhedron_volume(fragment_faces(tet, planes.data(), 0, 0u)), 1.0 / 6.0, 1e-15);
+    // A face of the fragment x >= a, y >= b: the slanted face's part is a triangle of legs 1 - a - b.
+    const std::vector<Vec3> slanted =
+        clip_by_planes({tet[1], tet[2], tet[3]}, planes.data(), 2, 3u | kBoth);
+    EXPECT_NEAR(polygon_area_3d(slanted), 0.5 * std::sqrt(3.0) * (1 - a - b) * (1 - a - b), 1e-15);
+    const Eigen::Vector4d l = tet_barycentric(tet, Vec3(0.1, 0.2, 0.3));
+    EXPECT_NEAR((l - Eigen::Vector4d(0.4, 0.1, 0.2, 0.3)).norm(), 0.0, 1e-15);
+}
+
+constexpr double kSize = 0.02;  // a 20 mm cube [m]
+
+/// The cube in n x n x n cells of six tetrahedra, held nowhere, cutting elements again
+/// ("cutter.recut": true).
+World cube(int n = 5) {
+    World w = world_from_mesh(generate_box(grid({kSize, kSize, kSize}, {n, n, n})));
+    w.cut_state.recut = 1;
+    prepare_enrichment(w);
+    return w;
+}
+
+/// A square scripted cut of plane `normal` . x = d, larger than the cube.
+std::vector<Vec3> plane_cut(const Vec3& normal, double d) {
+    const Vec3 n = normal.normalized(), u = n.unitOrthogonal(), v = n.cross(u), c = d * n + 0.5 * kSize * (Vec3::Ones() - n.cwiseAbs());
+    return {c - u - v, c + u - v, c + u + v, c - u + v};
+}
+
+std::vector<double> piece_volumes(World& w) {
+    count_pieces(w);
+    std::vector<double> v = w.pieces.volume;
+    std::sort(v.begin(), v.end());
+    return v;
+}
+
+TEST(Recut3d, TwoPlanesCrossingThroughACubeFreeItsFourPiecesOfTheirExactVolumes) {
+    World w = cube();
+    ASSERT_TRUE(recut_allowed(w));
+    const double x = 0.0071, y = 0.0123;  // inside a cell's column and row
+    EXPECT_GT(cut_now(w, plane_cut(Vec3::UnitX(), x)), 0);
+    const int first = w.cuts.count();
+    EXPECT_GT(cut_now(w, plane_cut(Vec3::UnitY(), y)), 0);
+    int cut_twice = 0;
+    for (int c = 0; c < first; ++c) cut_twice += w.cuts.lines[c].size() >= 2;
+    EXPECT_GT(cut_twice, 0) << "elements along the crossing line are cut twice";
+    const std::vector<double> volumes = piece_volumes(w);
+    ASSERT_EQ(volumes.size(), 4u);
+    std::vector<double> exact{x * y * kSize, x * (kSize - y) * kSize, (kSize - x) * y * kSize, (kSize - x) * (kSize - y) * kSize};
+    std::sort(exact.begin(), exact.end());
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(volumes[k], exact[k], 1e-12 * kSize * kSize * kSize) << k;
+    for (int c = 0; c < w.cuts.count(); ++c) {  // the fragments' weights sum to their element's
+        if (w.cuts.lines[c].size() < 2) continue;
+        double sum = 0.0;
+        for (int v : w.cuts.fragments[c]) sum += w.elements.weight[w.virtual_elements.element[v]];
+        EXPECT_NEAR(sum, 1.0, 1e-12);
+    }
+}
+
+// Four walls and a floor round a box 9.3 x 7.7 x 11.1 mm under the cube's top face (z = kSize),
+// each past the others by more than a cell's diagonal (2 mm cells), as a surgeon's incisions
+// overshoot the corners: an element a cut ends inside is not cut by it.
+constexpr double kX0 = 0.0043, kX1 = 0.0136, kY0 = 0.0051, kY1 = 0.0128, kZ0 = kSize - 0.0111, kPast = 0.0036;
+constexpr double kBoxVolume = (kX1 - kX0) * (kY1 - kY0) * (kSize - kZ0);
+
+/// The box's five cuts, each a rectangle on its plane.
+std::vector<std::vector<Vec3>> box_cuts() {
+    std::vector<std::vector<Vec3>> cuts;
+    const Vec3 lo(kX0, kY0, kZ0), hi(kX1, kY1, kSize + 0.001);
+    for (const auto& [n, d] : std::vector<std::pair<Vec3, double>>{
+             {Vec3::UnitX(), kX0}, {Vec3::UnitX(), kX1}, {Vec3::UnitY(), kY0}, {Vec3::UnitY(), kY1}, {Vec3::UnitZ(), kZ0}}) {
+        std::vector<Vec3> square;
+        for (int k = 0; k < 4; ++k) {
+            Vec3 p = Vec3::Zero();
+            int free = 0;
+            for (int a = 0; a < 3; ++a) {
+                if (n[a] != 0.0) {
+                    p[a] = d;
+                    continue;
+                }
+                const bool high = free++ == 0 ? (k == 1 || k == 2) : k >= 2;
+                p[a] = high ? hi[a] + kPast : lo[a] - kPast;
+            }
+            square.push_back(p);
+        }
+        cuts.push_back(square);
+    }
+    return cuts;
+}
+
+TEST(Recut3d, FivePlanesFreeTheBoxTheyCloseOfItsExactVolume) {
+    World w = cube(10);
+    for (const auto& cut : box_cuts()) EXPECT_GT(cut_now(w, cut), 0);
+    const std::vector<double> volumes = piece_volumes(w);
+    ASSERT_EQ(volumes.size(), 2u) << "the box is freed";
+    EXPECT_NEAR(volumes[0], kBoxVolume, 1e-12 * kSize * kSize * kSize);
+}
+
+/// The cube with its visual surface (subdivided once), cut by the polygons in turn, the surface
+/// mapped after each; the surface's closed parts' enclosed volumes at rest, smallest first.
+std::vector<double> surface_parts(const std::vector<std::vector<Vec3>>& cuts, int cells) {
+    World w = cube(cells);
+    build_surface(w, w.visual, 1);
+    for (const auto& c : cuts) {
+        cut_now(w, c);
+        map_cuts(w, w.visual);
+    }
+    const SurfaceMesh& s = w.visual;  // positions at rest: nothing has moved
+    testing::check_closed_oriented(s);
+    EXPECT_EQ(zero_area_triangles(s), 0);
+    int count = 0;
+    const std::vector<int> comp = testing::components_of(s, count);
+    std::vector<double> volume(count, 0.0);
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        const auto& tri = s.triangles[t];
+        volume[comp[t]] += s.position[tri[0]].dot(s.position[tri[1]].cross(s.position[tri[2]])) / 6.0;
+    }
+    std::sort(volume.begin(), volume.end());
+    return volume;
+}
+
+TEST(Recut3d, TheSurfaceOfTwoCrossingPlanesIsFourClosedPartsOfThePiecesVolumes) {
+    const double x = 0.0071, y = 0.0123;
+    const std::vector<double> parts = surface_parts({plane_cut(Vec3::UnitX(), x), plane_cut(Vec3::UnitY(), y)}, 5);
+    ASSERT_EQ(parts.size(), 4u);
+    std::vector<double> exact{x * y * kSize, x * (kSize - y) * kSize, (kSize - x) * y * kSize, (kSize - x) * (kSize - y) * kSize};
+    std::sort(exact.begin(), exact.end());
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(parts[k], exact[k], 1e-9 * kSize * kSize * kSize) << k;
+}
+
+TEST(Recut3d, TheVolumeOutputWritesEachFragmentAsTetrahedraOfItsVolume) {
+    World w = cube();
+    cut_now(w, plane_cut(Vec3::UnitX(), 0.0071));
+    cut_now(w, plane_cut(Vec3(1, 1, 0), 0.0151));
+    const ClippedCells out = clipped_cells(w);
+    std::map<int, double> of;  // rest volume written per force element
+    for (size_t k = 0; k < out.cells.size(); ++k) {
+        const auto& c = out.cells[k];
+        const double v = (out.rest[c[1]] - out.rest[c[0]]).cross(out.rest[c[2]] - out.rest[c[0]]).dot(out.rest[c[3]] - out.rest[c[0]]) / 6.0;
+        EXPECT_GT(v, 0.0) << "cell " << k;
+        of[out.element[k]] += v;
+    }
+    int fragments = 0;
+    for (int c = 0; c < w.cuts.count(); ++c) {
+        if (w.cuts.lines[c].size() < 2) continue;
+        const int e = w.cuts.element[c];
+        const double whole = std::abs(w.elements.rest_volume[e]);
+        for (int v : w.cuts.fragments[c]) {
+            const int fe = w.virtual_elements.element[v];
+            EXPECT_NEAR(of[fe], w.elements.weight[fe] * whole, 1e-9 * whole) << "fragment " << v;
+            ++fragments;
+        }
+    }
+    EXPECT_GT(fragments, 0);
+}
+
+}  // namespace
+}  // namespace recut_3d
+}  // namespace xcut
