@@ -60,6 +60,11 @@ struct CutElements {
     /// nodes' sides (EnrichedDofs::sign). An element with lines is divided into fragments, the parts
     /// of it on one side of each line (VirtualElements::mask), each a virtual element.
     std::vector<std::vector<CutLine>> lines;
+    /// 3D, per cut element with lines, per line: where it crosses each local edge (kTetEdges order;
+    /// parameter from the edge's first node, -1 where it does not), the cut's own points: two
+    /// elements sharing a face see one trace of a cut there, though the planes fitted through
+    /// their points (on tissue that had moved) differ by micrometres (systems/cut/node_copies.cpp).
+    std::vector<std::vector<std::array<double, 6>>> line_edge_t;
     /// Per cut element with lines: its fragments' virtual elements (virtual_element's two first).
     std::vector<std::vector<int>> fragments;
     /// Cut elements cut again, in order (one entry per further cut): the surfaces re-make them.

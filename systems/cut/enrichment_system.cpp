@@ -153,8 +153,12 @@ bool record_cut(World& w, const CutEvent& ev) {
     ce.opened.push_back(0);
     ce.tool.push_back(ev.tool);
     ce.lines.emplace_back();
+    ce.line_edge_t.emplace_back();
     ce.fragments.emplace_back();
-    if (own) ce.lines.back().push_back(own_line);
+    if (own) {
+        ce.lines.back().push_back(own_line);
+        if (dim == 3) ce.line_edge_t.back().push_back(first_edge_params(w, ce.count() - 1));
+    }
     sign_edge_nodes(w, e);
     return true;
 }

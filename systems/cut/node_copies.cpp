@@ -81,23 +81,59 @@ std::array<double, 2> part_of_edge(const World& w, const Fragment& f, int p, int
     return segment_part(w.nodes.rest[p], w.nodes.rest[q], lines.data(), static_cast<int>(lines.size()), mask);
 }
 
+/// The part [s0, s1] of mesh edge p -> q that fragment f holds (3D): each plane that bounds it
+/// cuts the edge where the cut's own points put it (CutElements::line_edge_t; else where the plane
+/// does), and a plane that does not cross the edge keeps it or not by the side of its end farther
+/// from it.
+std::array<double, 2> part_of_edge_3d(const World& w, const Fragment& f, int p, int q) {
+    if (f.side == 0) return {0.0, 1.0};
+    const int c = w.cuts.cut_of_element[f.element];
+    const auto& n = w.elements.nodes[f.element];
+    int k = -1;
+    bool reversed = false;
+    for (int e = 0; e < 6 && k < 0; ++e) {
+        const int i = n[kTetEdges[e][0]], j = n[kTetEdges[e][1]];
+        if ((i == p && j == q) || (i == q && j == p)) k = e, reversed = i == q;
+    }
+    uint32_t mask = 0;
+    const std::vector<CutLine> planes = bounds_of(w, f, mask);
+    const bool stored = !w.cuts.lines[c].empty();
+    const Vec3 &a = w.nodes.rest[p], &b = w.nodes.rest[q];
+    double s0 = 0.0, s1 = 1.0;
+    for (int l = 0; l < static_cast<int>(planes.size()) && k >= 0; ++l) {
+        if (!(mask & bound_by(l))) continue;
+        const bool bit = mask >> l & 1u;
+        const double la = planes[l].normal.dot(a - planes[l].origin), lb = planes[l].normal.dot(b - planes[l].origin);
+        double t = stored ? w.cuts.line_edge_t[c][l][k] : first_edge_params(w, c)[k];
+        if (t >= 0.0 && reversed) t = 1.0 - t;
+        if (t > 0.0 && t < 1.0) {
+            const bool a_side = std::abs(la) >= std::abs(lb) ? la >= 0.0 : lb < 0.0;  // a's side of the plane
+            if (a_side == bit) s1 = std::min(s1, t);
+            else s0 = std::max(s0, t);
+        } else if (((std::abs(la) >= std::abs(lb) ? la : lb) >= 0.0) != bit) {
+            s0 = 1.0, s1 = 0.0;
+        }
+    }
+    return {s0, s1};
+}
+
 /// Whether fragments a and b hold overlapping parts of their elements' common face (its mesh nodes;
 /// 2D: an edge, face[0] = -1): parts of it that overlap by more than kFaceOverlap of its length
-/// (area) hold one material there.
+/// hold one material there. In 3D the parts of the face's three edges: a fragment's part of a
+/// face is convex and bounded by its cuts' traces, which end on the face's edges, so two parts
+/// overlap in area where they overlap along the edges; and the edges' crossings are the cuts' own
+/// points, one value for both elements.
 bool share_face(const World& w, const Fragment& a, const Fragment& b, const std::array<int, 3>& face) {
     if (w.elements.dim == 2) {
         const auto pa = part_of_edge(w, a, face[1], face[2]), pb = part_of_edge(w, b, face[1], face[2]);
         return std::min(pa[1], pb[1]) - std::max(pa[0], pb[0]) > kFaceOverlap;
     }
-    std::vector<Vec3> poly{w.nodes.rest[face[0]], w.nodes.rest[face[1]], w.nodes.rest[face[2]]};
-    const double whole = polygon_area_3d(poly);
-    for (const Fragment* f : {&a, &b}) {
-        if (f->side == 0) continue;
-        uint32_t mask = 0;
-        const std::vector<CutLine> planes = bounds_of(w, *f, mask);
-        poly = clip_by_planes(std::move(poly), planes.data(), static_cast<int>(planes.size()), mask);
+    for (int e = 0; e < 3; ++e) {
+        const int p = face[e], q = face[(e + 1) % 3];
+        const auto pa = part_of_edge_3d(w, a, p, q), pb = part_of_edge_3d(w, b, p, q);
+        if (std::min(pa[1], pb[1]) - std::max(pa[0], pb[0]) > kFaceOverlap) return true;
     }
-    return poly.size() >= 3 && polygon_area_3d(poly) > kFaceOverlap * whole;
+    return false;
 }
 
 /// Whether fragment f holds mesh node j's own material: a whole element, the side j is on, or the

@@ -46,10 +46,24 @@ void ensure_lines(World& w, int c) {
     CutElements& ce = w.cuts;
     if (!ce.lines[c].empty()) return;
     ce.lines[c].push_back(first_cut_line(w, c));
+    if (w.elements.dim == 3) ce.line_edge_t[c].assign(1, first_edge_params(w, c));
     ce.fragments[c] = {ce.virtual_element[c][0], ce.virtual_element[c][1]};
 }
 
 }  // namespace
+
+std::array<double, 6> first_edge_params(const World& w, int c) {
+    std::array<double, 6> t;
+    t.fill(-1.0);
+    const auto& n = w.elements.nodes[w.cuts.element[c]];
+    for (int p = 0; p < 4; ++p) {
+        const int k = w.cuts.point_edge[c][p];
+        if (k < 0) continue;
+        const Vec3 &a = w.nodes.rest[n[kTetEdges[k][0]]], &b = w.nodes.rest[n[kTetEdges[k][1]]];
+        t[k] = (w.cuts.points[c][p] - a).dot(b - a) / (b - a).squaredNorm();
+    }
+    return t;
+}
 
 CutLine first_cut_line(const World& w, int c) {
     const int e = w.cuts.element[c];
@@ -238,19 +252,27 @@ int same_line(const std::vector<CutLine>& before, CutLine& line, double size) {
     return -1;
 }
 
+/// A part of a fragment below this fraction of its element's volume is round-off of a plane through
+/// a node or along a face, not a sliver [-].
+constexpr double kSliverRoundOff = 1e-12;
+
 /// Divides cut element c's fragments `frags` by `line` (line `same` of its own, or a new one) into
 /// their parts `parts` of the element's `measure`: the part on side 1 stays the old virtual
 /// element (new weight), a new one takes the rest. False (nothing changed) if it divides none.
 bool divide_fragments(World& w, int c, const std::vector<int>& frags, const std::vector<Parts>& parts,
-                      const CutLine& line, int same, double measure) {
-    const auto divided = [&](const Parts& p) {
-        return p.one >= kMinFragmentFraction * measure && p.zero >= kMinFragmentFraction * measure;
-    };
+                      const CutLine& line, int same, double measure, const std::array<double, 6>* edge_t = nullptr) {
+    // 3D (edge_t given): every fragment the plane crosses is divided, a sliver too (its weight held
+    // at kMinSideFraction, as an element cut once near a node): left whole, its sliver across the
+    // plane would join the material there at the faces it shares with the neighbours the plane
+    // divided (a bridge at an X's crossing, where both cuts cross an edge a few micrometres apart).
+    const double least = (edge_t ? kSliverRoundOff : kMinFragmentFraction) * measure;
+    const auto divided = [&](const Parts& p) { return p.one >= least && p.zero >= least; };
     if (std::none_of(parts.begin(), parts.end(), divided)) return false;
     const int e = w.cuts.element[c];
     ensure_lines(w, c);
     const int k = same >= 0 ? same : static_cast<int>(w.cuts.lines[c].size());
     if (same < 0) w.cuts.lines[c].push_back(line);
+    if (same < 0 && edge_t) w.cuts.line_edge_t[c].push_back(*edge_t);
     const uint32_t bit = 1u << k;
     VirtualElements& ve = w.virtual_elements;
     for (size_t f = 0; f < frags.size(); ++f) {
@@ -304,7 +326,13 @@ bool record_recut_3d(World& w, const CutEvent& ev, int c) {
                          polyhedron_volume(fragment_faces(X, planes.data(), n, with & ~(1u << k)))});
     }
     const double volume = std::abs((X[1] - X[0]).cross(X[2] - X[0]).dot(X[3] - X[0])) / 6.0;
-    return divide_fragments(w, c, frags, parts, plane, same, volume);
+    std::array<double, 6> edge_t;  // the event's own crossings of the edges
+    edge_t.fill(-1.0);
+    for (int e = 0; e < 6; ++e) {
+        const double li = ev.level[kTetEdges[e][0]], lj = ev.level[kTetEdges[e][1]];
+        if ((li >= 0.0) != (lj >= 0.0)) edge_t[e] = std::clamp(ev.edge_has_t[e] ? ev.edge_t[e] : li / (li - lj), 0.0, 1.0);
+    }
+    return divide_fragments(w, c, frags, parts, plane, same, volume, &edge_t);
 }
 
 }  // namespace

@@ -99,7 +99,7 @@ void cut_element_pieces(World& w, SurfaceMesh& s, int c) {
             add_piece(s, {pm, M2, x2m}, e, false);
         }
     }
-    if (w.elements.dim == 3) cut_faces(w, s, c, cp, rim);  // in 2D the surface is the sheet itself: the gap is the cut
+    if (w.elements.dim == 3) split_at_further_points(w, s, c, cp), cut_faces(w, s, c, cp, rim);  // in 2D the sheet is the surface: the gap is the cut
 }
 
 bool has_lines(const World& w, int e) { return is_cut(w, e) && !w.cuts.lines[w.cuts.cut_of_element[e]].empty(); }

@@ -63,10 +63,14 @@ int shared_point(World& w, SurfaceMesh& s, int fe, int8_t side, const Eigen::Vec
 /// 3D also each fragment's faces on its cut planes.
 void fragment_pieces(World& w, SurfaceMesh& s, int c);
 /// Where the planes of the elements cut again across a face of element e (3D) cross the segment
-/// a -> b on that face (rest; barycentric ba, bb in e): (parameter from a, point), in order. A cut
-/// element's wound ends there on its face, and e's own faces there must have that point too.
+/// a -> b on that face (rest; barycentric ba, bb in e), or of every element round the edge a -> b
+/// lies on: (parameter from a, point), in order. A cut element's wound ends there on its face, and
+/// e's own faces there must have that point too.
 std::vector<std::pair<double, Vec3>> further_crossings(const World& w, int e, const Vec3& a, const Vec3& b,
                                                        const Eigen::Vector4d& ba, const Eigen::Vector4d& bb);
+/// Splits the skin pieces of cut element c (cut once; 3D) where the planes of the elements cut
+/// again around it cross its edges (further_crossings): another incision's wound ends on its skin.
+void split_at_further_points(World& w, SurfaceMesh& s, int c, const CutPlaneInfo& cp);
 /// Where the further lines of the cut elements around whole element e cross its edges, as its
 /// front points.
 std::vector<FrontPoint> further_front_points(World& w, SurfaceMesh& s, int e);

@@ -112,6 +112,22 @@ int insert_on_edges(std::vector<Vec3>& poly, const std::vector<Vec3>& points, do
     return inserted;
 }
 
+/// A point on a mesh edge of element e (barycentric b, two weights) within 1e-4 of the edge from
+/// where the crack crosses it as the surface places that crossing (edge_crossing) is that point: a
+/// plane fitted through a cut's points made on the moved tissue misses the fourth by a few
+/// micrometres at rest, and the neighbours' lips use the points themselves.
+void snap_to_crack(const World& w, int e, Eigen::Vector4d& b) {
+    std::array<int, 4> on{};
+    int n = 0;
+    for (int a = 0; a < 4; ++a)
+        if (b[a] != 0.0) on[n++] = a;
+    if (n != 2) return;
+    const int i = on[0], j = on[1];
+    const auto& en = w.elements.nodes[e];
+    const double t = edge_crossing(w, en[i], en[j]);  // from en[i]
+    if (t > 0.0 && t < 1.0 && std::abs(t - b[j]) < 1e-4) b = on_edge(i, j, t);
+}
+
 /// Cut element c's pieces in 3D (c having planes): per fragment, its element's skin triangles
 /// clipped to it, and its faces on its cut planes (the wound, oriented out of the fragment) with
 /// the skin's crossings on their rims inserted, fanned from their centre where any was (so no
@@ -127,33 +143,59 @@ void fragment_pieces_3d(World& w, SurfaceMesh& s, int c) {
     const auto& lines = w.cuts.lines[c];
     const int nl = static_cast<int>(lines.size());
     const VirtualElements& ve = w.virtual_elements;
+    // The points other cuts make on a polygon's edges: where the planes of the elements cut again
+    // across its faces and edges cross them, and a crack's point on a mesh edge it runs along.
+    const auto others_on = [&](const std::vector<Vec3>& poly) {
+        std::vector<Vec3> out;
+        for (size_t k = 0; k < poly.size(); ++k) {
+            const Vec3 &a = poly[k], &b = poly[(k + 1) % poly.size()];
+            const Eigen::Vector4d ba = bary_in_tet(X, a), bb = bary_in_tet(X, b);
+            for (const auto& [t, x] : further_crossings(w, e, a, b, ba, bb)) out.push_back(x);
+            std::array<int, 4> on{};  // the nodes either end weighs: two, a mesh edge
+            int m = 0;
+            for (int q = 0; q < 4; ++q)
+                if (ba[q] != 0.0 || bb[q] != 0.0) on[m++] = q;
+            if (m != 2) continue;
+            const double t = edge_crossing(w, n[on[0]], n[on[1]]);
+            if (t > 0.0 && t < 1.0) out.push_back(rest_of(w, e, on_edge(on[0], on[1], t)));
+        }
+        return out;
+    };
     for (int v : fragments_of(w, c)) {
         const int fe = ve.element[v];
-        const auto point = [&](const Vec3& p) { return shared_point(w, s, fe, ve.side[v], bary_in_tet(X, p), p); };
+        const auto point = [&](const Vec3& p) {
+            Eigen::Vector4d b = bary_in_tet(X, p);
+            snap_to_crack(w, e, b);
+            return shared_point(w, s, fe, ve.side[v], b, rest_of(w, e, b));
+        };
+        // A polygon with the points `extra` on its edges inserted, fanned from its first vertex, or
+        // from its centre where a point was inserted (so no triangle is without area).
+        const auto add_polygon = [&](std::vector<Vec3> poly, std::vector<Vec3> extra, bool cut) {
+            const std::vector<Vec3> others = others_on(poly);
+            extra.insert(extra.end(), others.begin(), others.end());
+            const bool inserted = insert_on_edges(poly, extra, tiny) > 0;
+            std::vector<int> ids;
+            Vec3 centre = Vec3::Zero();
+            for (const Vec3& p : poly) ids.push_back(point(p)), centre += p;
+            if (!inserted) {
+                for (size_t k = 1; k + 1 < ids.size(); ++k) add_piece(s, {ids[0], ids[k], ids[k + 1]}, e, cut);
+                return;
+            }
+            const int mid = point(centre / static_cast<double>(poly.size()));
+            for (size_t k = 0; k < ids.size(); ++k) add_piece(s, {mid, ids[k], ids[(k + 1) % ids.size()]}, e, cut);
+        };
         std::vector<Vec3> skin;  // the clipped skin's points: the rims of the cut faces pass through them
         for (int bt : s.base_of[e]) {
             const auto& tri = s.base_triangles[bt];
             std::vector<Vec3> poly{vertex_rest(w, s, tri[0]), vertex_rest(w, s, tri[1]), vertex_rest(w, s, tri[2])};
             poly = clean(clip_by_planes(std::move(poly), lines.data(), nl, ve.mask[v]), tiny, true);
             if (poly.size() < 3) continue;
-            std::vector<int> ids;
-            for (const Vec3& p : poly) ids.push_back(point(p)), skin.push_back(p);
-            for (size_t k = 1; k + 1 < ids.size(); ++k) add_piece(s, {ids[0], ids[k], ids[k + 1]}, e, false);
+            skin.insert(skin.end(), poly.begin(), poly.end());
+            add_polygon(std::move(poly), {}, false);
         }
         for (const FragmentFace& f : fragment_faces(X, lines.data(), nl, ve.mask[v])) {
-            if (f.plane < 0) continue;
             std::vector<Vec3> poly = clean(f.polygon, tiny, true);
-            if (poly.size() < 3) continue;
-            const bool rim = insert_on_edges(poly, skin, tiny) > 0;
-            std::vector<int> ids;
-            Vec3 centre = Vec3::Zero();
-            for (const Vec3& p : poly) ids.push_back(point(p)), centre += p;
-            if (!rim) {
-                for (size_t k = 1; k + 1 < ids.size(); ++k) add_piece(s, {ids[0], ids[k], ids[k + 1]}, e, true);
-                continue;
-            }
-            const int mid = point(centre / static_cast<double>(poly.size()));
-            for (size_t k = 0; k < ids.size(); ++k) add_piece(s, {mid, ids[k], ids[(k + 1) % ids.size()]}, e, true);
+            if (f.plane >= 0 && poly.size() >= 3) add_polygon(std::move(poly), skin, true);
         }
     }
 }
@@ -223,16 +265,21 @@ namespace xcut::surface_cut_detail {
 std::vector<std::pair<double, Vec3>> further_crossings(const World& w, int e, const Vec3& a, const Vec3& b,
                                                        const Eigen::Vector4d& ba, const Eigen::Vector4d& bb) {
     std::vector<std::pair<double, Vec3>> out;
-    int off = -1;  // the face both ends lie on: the one opposite local node `off`
-    for (int k = 0; k < 4 && off < 0; ++k)
-        if (std::abs(ba[k]) < 1e-12 && std::abs(bb[k]) < 1e-12) off = k;
-    if (off < 0 || w.elements.dim != 3) return out;
+    // The nodes both ends have no weight on: one, the face opposite it; two, the edge between
+    // the other two (every element round it).
+    std::array<int, 4> off{};
+    int n_off = 0;
+    for (int k = 0; k < 4; ++k)
+        if (std::abs(ba[k]) < 1e-12 && std::abs(bb[k]) < 1e-12) off[n_off++] = k;
+    if (n_off == 0 || n_off > 2 || w.elements.dim != 3) return out;
     const auto& en = w.elements.nodes[e];
-    const int p = en[(off + 1) % 4], q = en[(off + 2) % 4], r = en[(off + 3) % 4];
+    std::array<int, 3> on{};
+    for (int k = 0, m = 0; k < 4; ++k)
+        if (std::find(off.begin(), off.begin() + n_off, k) == off.begin() + n_off) on[m++] = en[k];
     const double tiny = 1e-9 * (b - a).norm();
-    for_elements_around(w, p, q, [&](int f) {
+    for_elements_around(w, on[0], on[1], [&](int f) {
         const int c = f == e ? -1 : w.cuts.cut_of_element[f];
-        if (c < 0 || !holds(w, f, r) || w.cuts.lines[c].empty()) return;
+        if (c < 0 || (n_off == 1 && !holds(w, f, on[2])) || w.cuts.lines[c].empty()) return;
         const auto& lines = w.cuts.lines[c];
         for (size_t l = 0; l < lines.size(); ++l) {
             const double da = lines[l].normal.dot(a - lines[l].origin), db = lines[l].normal.dot(b - lines[l].origin);
@@ -248,6 +295,37 @@ std::vector<std::pair<double, Vec3>> further_crossings(const World& w, int e, co
     });
     std::sort(out.begin(), out.end(), [](const auto& l, const auto& r) { return l.first < r.first; });
     return out;
+}
+
+void split_at_further_points(World& w, SurfaceMesh& s, int c, const CutPlaneInfo& cp) {
+    const int e = w.cuts.element[c];
+    const auto& en = w.elements.nodes[e];
+    for (int k = 0; k < 6; ++k) {
+        const int i = kTetEdges[k][0], j = kTetEdges[k][1];
+        const Vec3 &Xi = w.nodes.rest[en[i]], &Xj = w.nodes.rest[en[j]];
+        const double tol = 1e-9 * (Xj - Xi).norm();
+        for (const auto& [t, x] : further_crossings(w, e, Xi, Xj, on_edge(i, j, 0.0), on_edge(i, j, 1.0))) {
+            const Eigen::Vector4d b = on_edge(i, j, t);
+            const int side = side_of_cut(w, cp, e, b);
+            const int fe = w.virtual_elements.element[w.cuts.virtual_element[c][side > 0 ? 0 : 1]];
+            int id = -1;
+            const std::vector<int> pieces = s.pieces_of[e];
+            for (int p : pieces) {
+                if (s.cut_face[p]) continue;
+                const std::array<int, 3> tri = s.triangles[p];
+                for (int q = 0; q < 3; ++q) {
+                    const Vec3 a = vertex_rest(w, s, tri[q]), d = vertex_rest(w, s, tri[(q + 1) % 3]) - a;
+                    const double u = (x - a).dot(d) / d.squaredNorm();
+                    if ((a + u * d - x).norm() > tol || (x - a).norm() <= tol || (a + d - x).norm() <= tol || u <= 0.0 || u >= 1.0)
+                        continue;
+                    if (id < 0) id = shared_point(w, s, fe, static_cast<int8_t>(side), b, x);
+                    s.triangles[p] = {tri[q], id, tri[(q + 2) % 3]};
+                    add_piece(s, {id, tri[(q + 1) % 3], tri[(q + 2) % 3]}, e, false);
+                    break;
+                }
+            }
+        }
+    }
 }
 
 std::vector<FrontPoint> further_front_points(World& w, SurfaceMesh& s, int e) {
