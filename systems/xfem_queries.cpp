@@ -94,4 +94,10 @@ Vec3 tip_field(const World& w, const Eigen::VectorXd& b, int fe, const Vec2& X, 
     return x;
 }
 
+bool recut_allowed(const World& w) {
+    const bool wanted = w.cut_state.recut < 0 ? w.elements.dim == 2 : w.cut_state.recut > 0;
+    return wanted && (w.elements.dim == 2 || w.elements.dim == 3) && w.quadratic.count() == 0 && !w.snap.enabled && w.tips.follow_radius < 0.0 &&
+           w.tips.point.empty();
+}
+
 }  // namespace xcut

@@ -57,6 +57,12 @@ inline Vec3 bound_position(const World& w, int element, const Eigen::Vector4d& b
     return bound_value(w, element, b, w.nodes.position);
 }
 
+/// Whether this world cuts an element again (linear elements, the XFEM cutter, no crack tips, and
+/// CutState::recut: on by default in 2D, asked for in 3D; in 3D the cuts a scene scripts, in 2D
+/// also the scalpels'). Where it does not, a cut that crosses an element along another line keeps
+/// the first (CutState::recut_ignored says so).
+bool recut_allowed(const World& world);
+
 /// The virtual elements of cut element c: its two sides, or its fragments once cut again
 /// (CutElements::fragments). A view into the cut components: a caller that changes them copies it first.
 inline std::span<const int> fragments_of(const World& world, int c) {

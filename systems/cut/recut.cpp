@@ -91,12 +91,6 @@ std::vector<CutLine> lines_of(const World& w, int c) {
     return {first_cut_line(w, c)};
 }
 
-bool recut_allowed(const World& w) {
-    const bool wanted = w.cut_state.recut < 0 ? w.elements.dim == 2 : w.cut_state.recut > 0;
-    return wanted && (w.elements.dim == 2 || w.elements.dim == 3) && w.quadratic.count() == 0 && !w.snap.enabled && w.tips.follow_radius < 0.0 &&
-           w.tips.point.empty();
-}
-
 bool blade_recut_allowed(const World& w) { return w.elements.dim == 2 && recut_allowed(w); }
 
 bool own_line_allowed(const World& w, const CutEvent& ev) {

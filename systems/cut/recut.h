@@ -54,11 +54,7 @@ std::array<Vec3, 3> corners(const World& world, int e);
 /// The rest corners of tetrahedron e.
 std::array<Vec3, 4> tet_corners(const World& world, int e);
 
-/// Whether this world cuts an element again (linear elements, the XFEM cutter, no crack tips, and
-/// CutState::recut: on by default in 2D, asked for in 3D; in 3D the cuts a scene scripts, in 2D
-/// also the scalpels'). Where it does not, a cut that crosses an element along another line keeps
-/// the first (CutState::recut_ignored says so).
-bool recut_allowed(const World& world);
+// recut_allowed (whether this world cuts an element again): systems/xfem_queries.h.
 
 /// Whether a scalpel cuts an element again in this world: recut_allowed, in 2D (in 3D a blade
 /// keeps an element's first cut and counts the crossing, CutState::recut_ignored).

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "systems/surface/surface_cut_parts.h"
+#include "systems/xfem_queries.h"
 
 namespace xcut {
 namespace {
@@ -137,8 +138,12 @@ void cut_surface(World& w, SurfaceMesh& s, int first_cut, int first_crossing, in
     std::vector<int> touched;
     std::vector<int> with_lines;
     for (size_t k = first_recut; k < w.cuts.recut_log.size(); ++k) with_lines.push_back(w.cuts.element[w.cuts.recut_log[k]]);
+    // Where elements are cut again in 3D the lips meet where the sides hold one copy of a node
+    // (lips_joined), so every element at a new cut element's nodes, whose copies it may have
+    // parted, is made again too (one whose lips met all round shows no face and uses no point).
+    const bool by_copies = w.elements.dim == 3 && recut_allowed(w);
     for (int c = first_cut; c < w.cuts.count(); ++c)
-        if (!w.cuts.lines[c].empty()) with_lines.push_back(w.cuts.element[c]);
+        if (!w.cuts.lines[c].empty() || by_copies) with_lines.push_back(w.cuts.element[c]);
     for (int e : with_lines)
         for (int a = 0; a < w.elements.nodes_per_element(); ++a) {
             const int j = w.elements.nodes[e][a];

@@ -27,6 +27,9 @@ Vec3 vertex_rest(const World& w, const SurfaceMesh& s, int v);
 double surface_edge_param(int a, int b, double t);
 double edge_crossing(const World& w, int a, int b);
 int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector4d& b_in);
+/// Whether the two sides of cut element e hold one copy of each node point b is weighted on (the
+/// lips meet there; surface_points.cpp).
+bool lips_joined(const World& w, int e, const Eigen::Vector4d& b);
 /// The point where the lips part between surface vertices u and v of cut element e, on `side`
 /// (their midpoint, one per side), where u and v are each one vertex of both lips (on the crack
 /// front) but the lips are apart between them: a skin crossing (`skin`), or a cut-face edge not on

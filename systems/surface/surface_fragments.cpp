@@ -128,6 +128,18 @@ void snap_to_crack(const World& w, int e, Eigen::Vector4d& b) {
     if (t > 0.0 && t < 1.0 && std::abs(t - b[j]) < 1e-4) b = on_edge(i, j, t);
 }
 
+/// Whether fragment v of cut c is one material with the fragment across its plane `plane` (the
+/// same copy of every node: node copies joined them round the end of an incision beside it), so
+/// no wound parts them there and neither shows a face on it.
+bool joined_across(const World& w, int c, int v, int plane) {
+    const VirtualElements& ve = w.virtual_elements;
+    const uint32_t across = ve.mask[v] ^ (1u << plane);
+    const auto& mine = w.elements.nodes[ve.element[v]];
+    for (int u : fragments_of(w, c))
+        if (ve.mask[u] == across && std::equal(mine.begin(), mine.begin() + 4, w.elements.nodes[ve.element[u]].begin())) return true;
+    return false;
+}
+
 /// Cut element c's pieces in 3D (c having planes): per fragment, its element's skin triangles
 /// clipped to it, and its faces on its cut planes (the wound, oriented out of the fragment) with
 /// the skin's crossings on their rims inserted, fanned from their centre where any was (so no
@@ -195,7 +207,7 @@ void fragment_pieces_3d(World& w, SurfaceMesh& s, int c) {
         }
         for (const FragmentFace& f : fragment_faces(X, lines.data(), nl, ve.mask[v])) {
             std::vector<Vec3> poly = clean(f.polygon, tiny, true);
-            if (f.plane >= 0 && poly.size() >= 3) add_polygon(std::move(poly), skin, true);
+            if (f.plane >= 0 && poly.size() >= 3 && !joined_across(w, c, v, f.plane)) add_polygon(std::move(poly), skin, true);
         }
     }
 }

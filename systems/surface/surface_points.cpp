@@ -70,6 +70,24 @@ void bind(World& w, SurfaceMesh& s, int v, int e, int side, const Eigen::Vector4
 
 }  // namespace
 
+/// Whether the two sides of cut element e hold the same material at a point weighted on e's
+/// local nodes `on` (b != 0): both virtual elements name the same copy of each such node. Where
+/// incisions end inside the body beside an element cut again, the material joins round the end
+/// and node copies (systems/cut/node_copies.cpp) give both sides one copy though every element on
+/// the edge is cut: the lips meet there as at a crack front, one vertex for both. So where
+/// elements are cut again in 3D, whose fragments share points by material (surface_fragments.cpp),
+/// and only there: elsewhere a cut's points are keyed by side and a whole element's hold (a short
+/// slit's lips stay two; tests/systems/test_surface_cut.cpp, PartialIncisionScene).
+bool lips_joined(const World& w, int e, const Eigen::Vector4d& b) {
+    const int c = w.cuts.cut_of_element[e];
+    if (c < 0 || w.elements.dim != 3 || !recut_allowed(w) || fragments_of(w, c).size() > 2) return false;
+    const auto& up = w.elements.nodes[w.virtual_elements.element[w.cuts.virtual_element[c][0]]];
+    const auto& down = w.elements.nodes[w.virtual_elements.element[w.cuts.virtual_element[c][1]]];
+    for (int a = 0; a < w.elements.nodes_per_element(); ++a)
+        if (b[a] != 0.0 && up[a] != down[a]) return false;
+    return true;
+}
+
 const int* local_edge(const World& w, int k) { return w.elements.dim == 3 ? kTetEdges[k] : kTriEdges[k]; }
 
 int edge_count(const World& w) { return w.elements.dim == 3 ? 6 : 3; }
@@ -145,12 +163,13 @@ int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector
         base != s.base_vertex_at.end() && (s.side[base->second] == side || s.side[base->second] == 0))
         return base->second;
     const int whole = n <= 2 ? element_holding_lips(w, support, n) : -1;
-    const int key_side = whole >= 0 ? 0 : side;
+    const bool joined = whole < 0 && n <= 3 && lips_joined(w, e, b);
+    const int key_side = whole >= 0 || joined ? 0 : side;
     const int64_t lo = std::min(support[0], support[n - 1]), hi = std::max(support[0], support[n - 1]);
     const std::array<int64_t, 4> key =
-        n <= 2 ? std::array<int64_t, 4>{key_side, lo, hi, 0} : std::array<int64_t, 4>{side + 4, place[0], place[1], place[2]};
+        n <= 2 ? std::array<int64_t, 4>{key_side, lo, hi, 0} : std::array<int64_t, 4>{key_side + 4, place[0], place[1], place[2]};
     auto it = s.cut_point.find(key);
-    if (it == s.cut_point.end() && n <= 2 && whole < 0) {
+    if (it == s.cut_point.end() && n <= 2 && whole < 0 && !joined) {
         if (const auto front = s.cut_point.find({0, lo, hi, 0}); front != s.cut_point.end()) {  // the front passed
             const int v = front->second;
             s.cut_point.erase(front);
