@@ -10,6 +10,9 @@ namespace xcut {
 struct ScriptedCut {
     double time = 0.0;              ///< simulated time at which the cut is made [s]
     std::vector<Vec3> polygon;      ///< vertices, current configuration [m]; 2 points in 2D (a segment)
+    /// The polygon is drawn on the body at rest ("frame": "rest"), as a surgeon marks the skin
+    /// before cutting: it cuts the material it was drawn on wherever the tissue has moved since.
+    bool at_rest = false;
     bool applied = false;
 };
 

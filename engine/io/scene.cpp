@@ -430,9 +430,10 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
     }
 
     for (const JsonFields& c : top.array_of_objects("cuts", kMaxScriptedCuts)) {
-        c.allow_only({"time", "polygon"});
+        c.allow_only({"time", "polygon", "frame"});
         ScriptedCut cut;
         cut.time = c.number("time", 0.0, 0.0);
+        cut.at_rest = c.choice("frame", "current", {"current", "rest"}) == "rest";
         cut.polygon = c.vec3_list("polygon", 1000);
         if (cut.polygon.size() < 2) c.fail("polygon", "needs 2 points (a segment, 2D) or at least 3 (a planar polygon, 3D)");
         check_cut_polygon(c, cut.polygon);

@@ -6,10 +6,11 @@
 
 namespace xcut {
 
-/// The point at parameter t of local edge k of element e (current positions) [m].
-Vec3 edge_point(const World& w, int e, int k, double t);
-/// The parameter where local edge k of element e meets the plane through o with normal n; 0.5 for
-/// a chord in the plane's direction.
-double plane_edge_param(const World& w, int e, int k, const Vec3& o, const Vec3& n);
+/// The point at parameter t of local edge k of element e [m], its nodes at `x` (current positions
+/// unless given: the rest ones for a cut drawn on the body at rest).
+Vec3 edge_point(const World& w, int e, int k, double t, const std::vector<Vec3>* x = nullptr);
+/// The parameter where local edge k of element e (nodes at `x`, as edge_point) meets the plane
+/// through o with normal n; 0.5 for a chord in the plane's direction.
+double plane_edge_param(const World& w, int e, int k, const Vec3& o, const Vec3& n, const std::vector<Vec3>* x = nullptr);
 
 }  // namespace xcut

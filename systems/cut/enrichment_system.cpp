@@ -67,7 +67,7 @@ bool sides_disagree(const World& w, const CutEvent& ev) {
 /// the node farthest from the line (that node's side is surest): a blade's levels follow its
 /// normal, which a loop reverses. +1 for another incision's line (its sides are not these nodes').
 int new_sides_orientation(const World& w, const CutEvent& ev, const CutLine& line) {
-    if (signed_by_other_incision(w, ev.element, line.normal)) return 1;
+    if (signed_by_other_incision(w, ev.element, line.normal, incision_cos(w, ev))) return 1;
     const auto& c = w.elements.nodes[ev.element];
     int orient = 1;
     double farthest = -1.0;
@@ -86,7 +86,7 @@ int new_sides_orientation(const World& w, const CutEvent& ev, const CutLine& lin
 /// elements again.
 bool other_incision(const World& w, const CutEvent& ev, CutLine& line) {
     return own_line_allowed(w, ev) && event_cut_line(w, ev, line) &&
-           (signed_by_other_incision(w, ev.element, line.normal) || sides_disagree(w, ev));
+           (signed_by_other_incision(w, ev.element, line.normal, incision_cos(w, ev)) || sides_disagree(w, ev));
 }
 
 /// Splits one element as `ev` asks; returns false if it is already cut or the signs do not differ.
@@ -99,9 +99,15 @@ bool record_cut(World& w, const CutEvent& ev) {
     EnrichedDofs& en = w.enriched;
     CutLine own_line;
     const bool own = other_incision(w, ev, own_line);
+    // A node without a side takes its level's, turned as the nodes with one are against theirs:
+    // a cut's polygon may face either way, and the sides an incision gave (a polyline's previous
+    // segment, past their joint) are kept (sides_disagree: they agree in one orientation).
+    int turn = 1;
+    for (int a = 0; a < npe && !own; ++a)
+        if (level_against_side(w, ev, a) != 0) turn = level_against_side(w, ev, a);
     std::array<int8_t, 4> H{};
     for (int a = 0; a < npe; ++a)
-        H[a] = en.sign[c[a]] != 0 && !own ? en.sign[c[a]] : (ev.level[a] >= 0.0 ? 1 : -1);
+        H[a] = en.sign[c[a]] != 0 && !own ? en.sign[c[a]] : static_cast<int8_t>(turn * (ev.level[a] >= 0.0 ? 1 : -1));
     const int orient = own ? new_sides_orientation(w, ev, own_line) : 1;
     bool mixed = false;
     for (int a = 1; a < npe; ++a) mixed = mixed || H[a] != H[0];

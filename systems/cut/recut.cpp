@@ -125,12 +125,14 @@ bool crosses_near_its_cut(const World& w, int e, int k, double t) {
     return false;
 }
 
-bool signed_by_other_incision(const World& w, int e, const Vec3& normal) {
+double incision_cos(const World& w, const CutEvent& ev) { return w.elements.dim == 3 && ev.tool < 0 ? kScriptedRecutCos : kRecutCos; }
+
+bool signed_by_other_incision(const World& w, int e, const Vec3& normal, double cos_limit) {
     const double n = normal.norm();
     if (!(n > 0.0) || w.enriched.sign.empty()) return false;
     for (int a = 0; a < w.elements.nodes_per_element(); ++a) {
         const int j = w.elements.nodes[e][a];
-        if (w.enriched.sign[j] != 0 && std::abs(w.enriched.sign_normal[j].dot(normal)) / n < kRecutCos) return true;
+        if (w.enriched.sign[j] != 0 && std::abs(w.enriched.sign_normal[j].dot(normal)) / n < cos_limit) return true;
     }
     return false;
 }

@@ -80,8 +80,19 @@ inline constexpr double kAlongFraction = 0.2;
 bool crosses_near_its_cut(const World& world, int e, int k, double t);
 
 /// Whether a node of element e has its side from a cut more than 30 degrees from a cut with normal
-/// `normal` (another incision's).
-bool signed_by_other_incision(const World& world, int e, const Vec3& normal);
+/// `normal` (another incision's), or more than the angle whose cosine is `cos_limit`.
+bool signed_by_other_incision(const World& world, int e, const Vec3& normal, double cos_limit = kRecutCos);
+
+/// cos 5 degrees: in 3D a scripted cut's polygon is a plane of its own, so a node whose side a cut
+/// more than 5 degrees from it gave has it from another incision (a polyline of polygons, such as an
+/// arc drawn in chords 12-25 degrees apart, is one polygon per incision: past a joint, the sides the
+/// previous polygon gave are not this one's). A cut made on moved tissue turns its elements' rest
+/// normals by the tissue's rotation, alike for neighbours, far less than this.
+inline constexpr double kScriptedRecutCos = 0.9961946980917455;
+
+/// The cosine under which event ev's cut is another incision than a node's (kRecutCos, or
+/// kScriptedRecutCos for a scripted cut in 3D).
+double incision_cos(const World& world, const CutEvent& ev);
 
 /// A scalpel that starts inside cut element e (2D; its swept segment from `start`, current
 /// positions) and crosses one of its edges, `crossed` (local edge) at parameter t: the event cutting

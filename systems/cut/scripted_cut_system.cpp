@@ -62,7 +62,7 @@ bool inside_segment(const CutPlane& pl, const Vec3& q) {
 /// the event's extent, the part of the segment inside e, at rest. The map from the current line to
 /// the rest one is affine inside a linear element, so it runs from one crossing to the other.
 /// False if the segment misses e.
-bool bound_recut(const World& w, int e, const CutPlane& pl, CutEvent& ev) {
+bool bound_recut(const World& w, int e, const CutPlane& pl, CutEvent& ev, const std::vector<Vec3>* x) {
     std::array<double, 2> s{};
     std::array<Vec3, 2> rest;
     int n = 0;
@@ -70,7 +70,7 @@ bool bound_recut(const World& w, int e, const CutPlane& pl, CutEvent& ev) {
         if (!ev.edge_has_t[k]) continue;
         const Vec3& Xi = w.nodes.rest[w.elements.nodes[e][kTriEdges[k][0]]];
         const Vec3& Xj = w.nodes.rest[w.elements.nodes[e][kTriEdges[k][1]]];
-        s[n] = (edge_point(w, e, k, ev.edge_t[k]) - pl.origin).dot(pl.u);
+        s[n] = (edge_point(w, e, k, ev.edge_t[k], x) - pl.origin).dot(pl.u);
         rest[n++] = Xi + ev.edge_t[k] * (Xj - Xi);
     }
     if (n < 2 || s[0] == s[1]) return false;
@@ -82,14 +82,14 @@ bool bound_recut(const World& w, int e, const CutPlane& pl, CutEvent& ev) {
     return true;
 }
 
-/// Whether the plane runs through every point of cut element e's first cut (current positions,
-/// within 1e-9 of its longest edge): the same cut again, not another one.
-bool along_first_cut(const World& w, int e, const CutPlane& pl) {
+/// Whether the plane runs through every point of cut element e's first cut (nodes at x, within
+/// 1e-9 of its longest edge): the same cut again, not another one.
+bool along_first_cut(const World& w, int e, const CutPlane& pl, const std::vector<Vec3>& x) {
     const int c = w.cuts.cut_of_element[e];
     double size = 0.0;
     for (int k = 0; k < edge_count(w.elements.dim); ++k) {
         const int* ed = edge_nodes(w.elements.dim, k);
-        size = std::max(size, (w.nodes.position[w.elements.nodes[e][ed[0]]] - w.nodes.position[w.elements.nodes[e][ed[1]]]).norm());
+        size = std::max(size, (x[w.elements.nodes[e][ed[0]]] - x[w.elements.nodes[e][ed[1]]]).norm());
     }
     for (int p = 0; p < 4; ++p) {
         const int k = w.cuts.point_edge[c][p];
@@ -98,14 +98,15 @@ bool along_first_cut(const World& w, int e, const CutPlane& pl) {
         const Vec3& Xi = w.nodes.rest[w.elements.nodes[e][ed[0]]];
         const Vec3& Xj = w.nodes.rest[w.elements.nodes[e][ed[1]]];
         const double t = (w.cuts.points[c][p] - Xi).norm() / (Xj - Xi).norm();
-        if (std::abs((edge_point(w, e, k, t) - pl.origin).dot(pl.normal)) > 1e-9 * size) return false;
+        if (std::abs((edge_point(w, e, k, t, &x) - pl.origin).dot(pl.normal)) > 1e-9 * size) return false;
     }
     return true;
 }
 
 }  // namespace
 
-int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressive) {
+int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressive, bool at_rest) {
+    const std::vector<Vec3>& x = at_rest ? w.nodes.rest : w.nodes.position;  // where the polygon is drawn
     const Elements& el = w.elements;
     const int dim = el.dim, npe = el.nodes_per_element();
     const CutPlane pl = plane_of(polygon, dim);
@@ -125,7 +126,7 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressi
         // not split (the EnrichmentSystem orients the split by the fixed sides).
         std::array<int8_t, 4> H{};
         for (int a = 0; a < npe; ++a) {
-            ev.level[a] = (w.nodes.position[el.nodes[e][a]] - pl.origin).dot(pl.normal);
+            ev.level[a] = (x[el.nodes[e][a]] - pl.origin).dot(pl.normal);
             H[a] = ev.level[a] >= 0.0 ? 1 : -1;
         }
         bool crossed = false, complete = true;
@@ -134,8 +135,8 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressi
         for (int k = 0; k < edges && (complete || progressive || is_cut); ++k) {
             const int* ed = edge_nodes(dim, k);
             if (H[ed[0]] == H[ed[1]]) continue;
-            const double t = plane_edge_param(w, e, k, pl.origin, pl.normal);
-            const Vec3 q = edge_point(w, e, k, t);
+            const double t = plane_edge_param(w, e, k, pl.origin, pl.normal, &x);
+            const Vec3 q = edge_point(w, e, k, t, &x);
             const bool in = dim == 3 ? inside_polygon(pl, polygon, q) : inside_segment(pl, q);
             complete = complete && in;
             inside |= static_cast<uint8_t>(in) << k;
@@ -144,11 +145,11 @@ int queue_polygon_cut(World& w, const std::vector<Vec3>& polygon, bool progressi
             crossed = true;
         }
         if (full) {
-            if (crossed && complete && !along_first_cut(w, e, pl)) ++w.cut_plan.recut_ignored;
+            if (crossed && complete && !along_first_cut(w, e, pl, x)) ++w.cut_plan.recut_ignored;
             continue;
         }
         if (crossed && is_cut && !complete) {  // cut again up to where the segment ends inside it
-            if (dim != 2 || !bound_recut(w, e, pl, ev)) continue;
+            if (dim != 2 || !bound_recut(w, e, pl, ev, &x)) continue;
             w.pending_cuts.push_back(ev);
             ++queued;
             continue;
@@ -166,7 +167,7 @@ SystemDesc scripted_cut_system() {
     return {"ScriptedCutSystem", kNodes | kElements | kCutPlan, kCutEvents | kCutPlan, [](World& w) {
                 for (ScriptedCut& c : w.cut_plan.cuts) {
                     if (c.applied || c.time > w.time + 1e-12) continue;
-                    queue_polygon_cut(w, c.polygon);
+                    queue_polygon_cut(w, c.polygon, false, c.at_rest);
                     c.applied = true;
                 }
             }};

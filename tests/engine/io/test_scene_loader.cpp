@@ -124,6 +124,9 @@ std::vector<BadScene> bad_scenes() {
          "\"cutter\": { \"type\": \"snap\", \"recut\": true } }",
          "cutter.recut", "linear elements without crack tips only"},
         {"cutting again as a number", "cutter.recut=1", "cutter.recut", ""},
+        {"a cut drawn in an unknown frame",
+         "cuts=[{\"time\":0,\"polygon\":[[0,0,0],[1,0,0],[1,1,0]],\"frame\":\"world\"}]", "cuts[0].frame",
+         "is not one of \"current\", \"rest\""},
         {"negative tip radius",
          "!{ \"mesh\": { \"generator\": \"plate\", \"size\": [0.01, 0.01, 0], \"cells\": [2, 2, 1] }, \"gravity\": [0, 0, 0], "
          "\"cutter\": { \"tip\": { \"radius\": -1 } } }",
