@@ -225,16 +225,24 @@ void create_virtual_elements(World& w, int c) {
     add_quadratic_sides(w, c);
 }
 
-}  // namespace
-
-int apply_cut_events(World& w) {
-    if (w.pending_cuts.empty()) return 0;
+/// apply_cut_events for one batch: the events of elements an earlier event of the batch splits
+/// are left in world.pending_cuts, to cut those elements again once they are split.
+int apply_cut_batch(World& w) {
     prepare_enrichment(w);
     const int first_new = w.cuts.count();
     std::vector<int> affected;  // nodes whose hold is looked at again
     std::vector<int> update;    // cut elements whose virtual vertices change
     int recut = 0;
+    std::vector<CutEvent> next;  // cuts through elements this batch splits
     for (CutEvent& ev : w.pending_cuts) {
+        // A cut of this batch through an element an earlier one of it has just split (polygons
+        // cut at one time that cross) cuts it again once it is split, as it would a step later.
+        if (!ev.again && ev.element >= 0 && ev.element < w.mesh_elements && w.cuts.cut_of_element[ev.element] >= 0 &&
+            own_line_allowed(w, ev)) {
+            ev.again = true;
+            next.push_back(ev);
+            continue;
+        }
         // A later crack meets the earlier ones on its edges (2D, where elements are cut again).
         if (recut_allowed(w)) join_earlier_points(w, ev);
         if (ev.again) {
@@ -247,7 +255,7 @@ int apply_cut_events(World& w) {
             record_crossings(w, ev, affected);
         }
     }
-    w.pending_cuts.clear();
+    w.pending_cuts = std::move(next);
     const int split = w.cuts.count() - first_new + recut;
     if (split == 0 && affected.empty()) return 0;
 
@@ -283,6 +291,15 @@ int apply_cut_events(World& w) {
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     relump_nodes(w, touched);
     return split;
+}
+
+}  // namespace
+
+int apply_cut_events(World& w) {
+    if (w.pending_cuts.empty()) return 0;
+    const int split = apply_cut_batch(w);
+    if (w.pending_cuts.empty()) return split;
+    return split + apply_cut_events(w);  // the cuts through elements the batch has just split
 }
 
 SystemDesc enrichment_system() {

@@ -34,7 +34,9 @@ inline constexpr double kMinSideFraction = 1e-9;
 /// cut does not pay for it).
 void prepare_enrichment(World& world);
 
-/// Applies `world.pending_cuts` (and clears it). Returns the number of elements split.
+/// Applies `world.pending_cuts` (and clears it): an event for an element an earlier event of the
+/// same batch splits cuts it again after it is split, where the world cuts again. Returns the
+/// number of elements split, and of splits again.
 int apply_cut_events(World& world);
 
 SystemDesc enrichment_system();
