@@ -26,6 +26,8 @@ Command add_stress_command(CLI::App& app) {
     cmd->add_option("--newton", o->newton, "Problem 8's steps iterated by Newton to 1e-9, at most this many times "
                                            "(1, the default: the paper's once-linearized step)")
         ->check(CLI::Range(1, 1000));
+    cmd->add_flag("--recut", o->recut, "Problem 8 with \"cutter.recut\": true (elements already cut are cut again; 3D "
+                                       "with --blades: scalpels crossing each other's wounds)");
     cmd->add_option("--only", o->only, "Run only problem 8's trajectory of this index (as a full run of the same "
                                        "--seed, --front and --blades numbers them), to reproduce one case")
         ->check(CLI::NonNegativeNumber);
@@ -42,8 +44,12 @@ Command add_stress_command(CLI::App& app) {
                     o->csv = std::filesystem::path(o->csv).replace_extension().string() + "_" + o->element + ".csv";
                 if (!o->csv_given && o->newton > 1)
                     o->csv = std::filesystem::path(o->csv).replace_extension().string() + "_newton.csv";
+                if (o->recut && (o->tip || o->element != "linear"))
+                    throw CLI::ValidationError("--recut", "elements are cut again on linear tetrahedra without crack tips");
                 if (!o->csv_given && o->blades > 1)
                     o->csv = std::filesystem::path(o->csv).replace_extension().string() + "_blades.csv";
+                if (!o->csv_given && o->recut)
+                    o->csv = std::filesystem::path(o->csv).replace_extension().string() + "_recut.csv";
                 return stress_command(*o);
             }};
 }

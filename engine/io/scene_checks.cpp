@@ -225,9 +225,9 @@ std::vector<std::string> end_of_run_notes(const World& w) {
     };
     // A cut across an earlier wound where this world does not cut an element again.
     constexpr const char* kRecutLimits =
-        "xcut cuts an element again in 2D with linear elements, the XFEM cutter and no crack tips, up to 4 cuts "
-        "per element (docs/xfem.md); elsewhere they keep their cuts: an incision that meets a wound stops about an "
-        "element short of it, and a closed loop does not free its piece";
+        "xcut cuts an element again with linear elements, the XFEM cutter and no crack tips, up to 4 cuts per "
+        "element, in 2D and, with \"cutter.recut\": true, in 3D (docs/xfem.md); elsewhere they keep their cuts: an "
+        "incision that meets a wound stops about an element short of it, and a closed loop does not free its piece";
     per_tool(w.cut_state.recut_ignored, [&](const std::string& tool, int n, const char* s) {
         return fmt::format("tool \"{}\" crossed {} element{} already cut along another plane and did not cut them "
                            "again: {}", tool, n, s, kRecutLimits);

@@ -13,6 +13,7 @@
 #include "systems/kernels/intersection.h"
 #include "systems/kernels/blade_pose.h"
 #include "systems/kernels/mesh_measures.h"
+#include "systems/xfem_queries.h"
 
 namespace xcut {
 namespace {
@@ -79,7 +80,7 @@ bool make_event(const World& w, int e, const ElementCrossings& crossings, CutEve
         const int extra = __builtin_popcount(differ & ~c.mask);
         if (extra < best_extra) best_extra = extra, best = pattern;
     }
-    if (best < 0 && dim == 2 && blade_recut_allowed(w) && c.mask == 7)  // where elements are cut again
+    if (best < 0 && dim == 2 && recut_allowed(w) && c.mask == 7)  // where elements are cut again
         best = widest_pair(w, e, c), c.mask = static_cast<uint8_t>(parted_edges(dim, best));
     if (best < 0) return false;
     auto colour = [&](int a) { return a == 0 ? 0 : (best >> (a - 1)) & 1; };
@@ -87,13 +88,13 @@ bool make_event(const World& w, int e, const ElementCrossings& crossings, CutEve
     // systems/cut/recut.h); else the side of the first crossed edge's first node.
     int colour0_sign = 0;
     const auto& sign = w.enriched.sign;
-    const bool own = blade_recut_allowed(w) && signed_by_other_incision(w, e, crossing_normal(c));
+    const bool own = recut_allowed(w) && signed_by_other_incision(w, e, crossing_normal(c));
     for (int a = 0; a < npe && !own; ++a) {
         const int s = sign.empty() ? 0 : sign[el.nodes[e][a]];
         if (s == 0) continue;
         const int implied = colour(a) == 0 ? s : -s;
         if (colour0_sign != 0 && implied != colour0_sign) {  // contradicts fixed signs
-            if (!blade_recut_allowed(w)) return false;
+            if (!recut_allowed(w)) return false;
             break;  // where elements are cut again its line decides (record_cut: sides_disagree)
         }
         colour0_sign = implied;
@@ -277,6 +278,11 @@ void note_recut(World& w, int e, const CutQuad& q, const Vec3& quad_normal, int 
     const auto it = cs.split_normal.find(e);
     const double n = quad_normal.norm();
     if (it == cs.split_normal.end() || n == 0.0 || std::abs(it->second.dot(quad_normal)) / n > kRecutCos) return;
+    // Cut again along the quad already (the quad passes along that cut; lines at rest).
+    const int c = w.cuts.cut_of_element.empty() ? -1 : w.cuts.cut_of_element[e];
+    if (c >= 0 && !w.cuts.lines[c].empty())
+        for (const CutLine& l : w.cuts.lines[c])
+            if (std::abs(l.normal.dot(quad_normal)) / n > kRecutCos) return;
     if (!quad_crosses_element(w, e, q) || !cs.recut_seen.insert(int64_t(e) * 64 + tool).second) return;
     if (static_cast<int>(cs.recut_ignored.size()) <= tool) cs.recut_ignored.resize(tool + 1, 0);
     ++cs.recut_ignored[tool];
@@ -399,7 +405,7 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
             // A cut element this blade entered is followed out of it, though the blade then turns
             // along the cut (a loop closing on its own wound); one it passes along its cut counts
             // the crossings away from the cut alone (beside).
-            const bool recut = blade_recut_allowed(w) && !cut.empty() && cut[e] >= 0;
+            const bool recut = recut_allowed(w) && !cut.empty() && cut[e] >= 0;
             const bool entered = tip != bc.crossing.end() && !tip->second.split;
             const bool again = recut && (entered || cuts_across(w, e, normals[0][0]));
             beside = recut && !again;
@@ -492,7 +498,7 @@ void cut_to(World& w, ElementBvh& bvh, int i, const BladeAt& b) {
 /// the stem's: record_recut), so a pause inside the element loses nothing.
 void end_stems(World& w, int tool, const Vec3& end) {
     CutState& cs = w.cut_state;
-    if (static_cast<int>(cs.blade.size()) <= tool || !blade_recut_allowed(w)) return;
+    if (static_cast<int>(cs.blade.size()) <= tool || !recut_allowed(w)) return;
     const BladeCut& bc = cs.blade[tool];
     std::vector<int> entered;  // in element order (the map's is not fixed)
     for (const auto& [e, c] : bc.crossing)

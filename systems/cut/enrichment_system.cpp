@@ -85,7 +85,7 @@ int new_sides_orientation(const World& w, const CutEvent& ev, const CutLine& lin
 /// points, and its parts are those of its line (`line`; systems/cut/recut.h), where a world cuts
 /// elements again.
 bool other_incision(const World& w, const CutEvent& ev, CutLine& line) {
-    return own_line_allowed(w, ev) && event_cut_line(w, ev, line) &&
+    return recut_allowed(w) && event_cut_line(w, ev, line) &&
            (signed_by_other_incision(w, ev.element, line.normal, incision_cos(w, ev)) || sides_disagree(w, ev));
 }
 
@@ -238,7 +238,7 @@ int apply_cut_batch(World& w) {
         // A cut of this batch through an element an earlier one of it has just split (polygons
         // cut at one time that cross) cuts it again once it is split, as it would a step later.
         if (!ev.again && ev.element >= 0 && ev.element < w.mesh_elements && w.cuts.cut_of_element[ev.element] >= 0 &&
-            own_line_allowed(w, ev)) {
+            recut_allowed(w)) {
             ev.again = true;
             next.push_back(ev);
             continue;

@@ -91,12 +91,6 @@ std::vector<CutLine> lines_of(const World& w, int c) {
     return {first_cut_line(w, c)};
 }
 
-bool blade_recut_allowed(const World& w) { return w.elements.dim == 2 && recut_allowed(w); }
-
-bool own_line_allowed(const World& w, const CutEvent& ev) {
-    return recut_allowed(w) && (w.elements.dim == 2 || ev.tool < 0);
-}
-
 bool cuts_across(const World& w, int e, const Vec3& normal) {
     const int c = w.cuts.cut_of_element[e];
     const double n = normal.norm();
@@ -115,9 +109,9 @@ bool cuts_across(const World& w, int e, const Vec3& normal) {
 
 bool crosses_near_its_cut(const World& w, int e, int k, double t) {
     const int c = w.cuts.cut_of_element[e];
-    if (c < 0 || w.elements.dim != 2) return false;
-    const std::array<Vec3, 3> X = corners(w, e);
-    const Vec3 &a = X[kTriEdges[k][0]], &b = X[kTriEdges[k][1]];
+    if (c < 0) return false;
+    const int* ed = edge_nodes(w.elements.dim, k);
+    const Vec3 &a = w.nodes.rest[w.elements.nodes[e][ed[0]]], &b = w.nodes.rest[w.elements.nodes[e][ed[1]]];
     for (const CutLine& l : lines_of(w, c)) {
         const double da = l.normal.dot(a - l.origin), db = l.normal.dot(b - l.origin);
         if ((da >= 0.0) != (db >= 0.0) && std::abs(da / (da - db) - t) <= kAlongFraction) return true;
@@ -204,9 +198,84 @@ bool blade_entered_across(const World& w, int tool, int f, int a, int b) {
 
 }  // namespace
 
+namespace {
+
+/// Where a cut of one incision with `normal` (rest; within kRecutCos of it) already crosses mesh
+/// edge (a, b) of a tetrahedral mesh: a first cut's point or a further plane's, in an element around
+/// a (incidence order); the parameter from a, -1 if none.
+double incision_edge_param(const World& w, int a, int b, const Vec3& normal) {
+    for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
+        const int f = w.incidence.entry[p] >> 2;
+        const int c = f < w.mesh_elements ? w.cuts.cut_of_element[f] : -1;
+        if (c < 0) continue;
+        const auto& m = w.elements.nodes[f];
+        int k = 0;
+        while (k < 6 && !((m[kTetEdges[k][0]] == a && m[kTetEdges[k][1]] == b) || (m[kTetEdges[k][0]] == b && m[kTetEdges[k][1]] == a))) ++k;
+        if (k == 6) continue;
+        const std::vector<CutLine> lines = lines_of(w, c);
+        for (size_t l = 0; l < lines.size(); ++l) {
+            const double stored = l < w.cuts.line_edge_t[c].size() ? w.cuts.line_edge_t[c][l][k] : first_edge_params(w, c)[k];
+            const double t = m[kTetEdges[k][0]] == a ? stored : 1.0 - stored;
+            if (stored >= 0.0 && std::abs(lines[l].normal.dot(normal)) > kRecutCos) return t;
+        }
+    }
+    return -1.0;
+}
+
+/// A cut through four edges of a tetrahedron (`order`: those whose points are fixed first): the
+/// last point moves onto the plane through the other three, so the cut is one plane through its
+/// points. A blade's crossings of one element are measured over several steps while the tissue
+/// moves, so at rest its four points are not coplanar (up to 7e-4 of an edge on the default skin),
+/// and a plane fitted through them misses the fourth: the surfaces of two neighbours then meet it at
+/// different places. Left as it is where the plane does not cross the edge inside it.
+void put_fourth_on_plane(CutEvent& ev, const std::array<Vec3, 4>& X, const std::array<int, 6>& order) {
+    std::array<Vec3, 4> p;
+    for (int q = 0; q < 4; ++q) {
+        const int k = order[q], i = kTetEdges[k][0], j = kTetEdges[k][1];
+        const double t = ev.edge_has_t[k] ? ev.edge_t[k] : ev.level[i] / (ev.level[i] - ev.level[j]);
+        p[q] = X[i] + t * (X[j] - X[i]);
+    }
+    const Vec3 normal = (p[1] - p[0]).cross(p[2] - p[0]);
+    const int k = order[3], i = kTetEdges[k][0], j = kTetEdges[k][1];
+    const double along = normal.dot(X[j] - X[i]);
+    if (!(std::abs(along) > 0.0)) return;
+    const double t = normal.dot(p[0] - X[i]) / along;
+    if (t > 0.0 && t < 1.0) ev.edge_t[k] = t, ev.edge_has_t[k] = 1;
+}
+
+/// join_earlier_points in 3D, for a scalpel's event: each edge it crosses takes the point its own
+/// incision already put there in a neighbour (its crossings were measured alike, but an edge the
+/// blade's sweep did not reach takes each element's plane through its three crossings, and two
+/// neighbours' planes differ on their common face); a cut through four edges is then made planar
+/// (put_fourth_on_plane).
+void join_incision_points(const World& w, CutEvent& ev) {
+    CutLine plane;
+    if (!event_cut_line(w, ev, plane)) return;
+    const auto& n = w.elements.nodes[ev.element];
+    std::array<int, 6> order{};  // the crossed edges, those with a neighbour's point first
+    int m = 0, shared = 0;
+    for (int pass = 0; pass < 2; ++pass)
+        for (int k = 0; k < 6; ++k) {
+            const int i = kTetEdges[k][0], j = kTetEdges[k][1];
+            if ((ev.level[i] >= 0.0) == (ev.level[j] >= 0.0)) continue;
+            const double t = incision_edge_param(w, n[i], n[j], plane.normal);
+            const bool joined = t > 0.0 && t < 1.0;
+            if (joined != (pass == 0)) continue;
+            if (joined) ev.edge_t[k] = t, ev.edge_has_t[k] = 1, ++shared;
+            order[m++] = k;
+        }
+    if (m == 4 && shared < 4) put_fourth_on_plane(ev, tet_corners(w, ev.element), order);
+}
+
+}  // namespace
+
 void join_earlier_points(const World& w, CutEvent& ev) {
     const int e = ev.element;
-    if (e < 0 || e >= w.mesh_elements || w.elements.dim != 2 || ev.bounded) return;
+    if (e < 0 || e >= w.mesh_elements || ev.bounded) return;
+    if (w.elements.dim == 3) {
+        if (ev.tool >= 0) join_incision_points(w, ev);
+        return;
+    }
     const auto& n = w.elements.nodes[e];
     const auto& cut = w.cuts.cut_of_element;
     for (int k = 0; k < 3; ++k) {

@@ -54,18 +54,11 @@ std::array<Vec3, 3> corners(const World& world, int e);
 /// The rest corners of tetrahedron e.
 std::array<Vec3, 4> tet_corners(const World& world, int e);
 
-// recut_allowed (whether this world cuts an element again): systems/xfem_queries.h.
+// recut_allowed (whether this world cuts an element again, by scalpels and scripted cuts alike;
+// an event then takes the sides and parts of its own line where the element's nodes have theirs
+// from another incision): systems/xfem_queries.h.
 
-/// Whether a scalpel cuts an element again in this world: recut_allowed, in 2D (in 3D a blade
-/// keeps an element's first cut and counts the crossing, CutState::recut_ignored).
-bool blade_recut_allowed(const World& world);
-
-/// Whether event ev may take the sides and parts of its own line where the element's nodes have
-/// theirs from another incision (systems/cut/enrichment_system.cpp): recut_allowed, and in 3D only
-/// for a scripted cut.
-bool own_line_allowed(const World& world, const CutEvent& ev);
-
-/// Whether a cut with normal `normal` through cut element e (2D) runs along another line than each
+/// Whether a cut with normal `normal` through cut element e runs along another line than each
 /// of its cuts (more than 30 degrees from it: kRecutCos), or along one that bounds only part of it
 /// (a stem that stopped inside it, which goes on), and e can hold one more line.
 bool cuts_across(const World& world, int e, const Vec3& normal);
@@ -74,7 +67,7 @@ bool cuts_across(const World& world, int e, const Vec3& normal);
 /// at the cut (its own wound retraced, the tissue moved under it): such a crossing is not a new one.
 inline constexpr double kAlongFraction = 0.2;
 
-/// Whether local edge k of cut element e (2D), crossed at parameter t, is crossed within
+/// Whether local edge k of cut element e, crossed at parameter t, is crossed within
 /// kAlongFraction of where one of e's lines meets it. A blade along the cut that crosses an edge
 /// away from it (a loop closing beside its first pass, a path grazing a mesh line) cuts again.
 bool crosses_near_its_cut(const World& world, int e, int k, double t);
@@ -111,6 +104,10 @@ inline constexpr double kJoinFraction = 0.1;
 /// earlier one. So does, wherever on the edge, a blade's cut again of an element its own crack ends
 /// on an edge of, where the blade went through that edge into the uncut element beyond and comes
 /// back out through it (a path that grazes a mesh line). A bounded cut (a stem) keeps its points.
+/// In 3D (a scalpel's event): each edge it crosses takes the point its own incision (a cut within
+/// 30 degrees of it) already put there in a neighbour, and a cut through four edges is then made
+/// planar (its one point no neighbour fixed moves onto the plane of the other three): a blade's
+/// crossings of one element are measured over several steps of moving tissue.
 void join_earlier_points(const World& world, CutEvent& ev);
 
 /// The plane of a cut event's levels through a tetrahedron with rest corners X (through the points

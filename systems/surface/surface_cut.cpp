@@ -118,6 +118,28 @@ void remake_pieces(World& w, SurfaceMesh& s, const std::vector<int>& elements) {
         if (has_lines(w, e)) fragment_pieces(w, s, w.cuts.cut_of_element[e]);
 }
 
+/// Where elements are cut again in 3D a cut element's pieces take their points by material
+/// (shared_point), so a point bound to a whole element where the lips met there (a crack front's)
+/// is never opened when that element is cut: each still bound to an element cut since `first_cut`
+/// is listed as opened (SurfaceMesh::opened), so the pieces using it are made again and bind it anew.
+void open_points_of_new_cuts(World& w, SurfaceMesh& s, int first_cut) {
+    std::vector<uint8_t> fresh(w.mesh_elements, 0);
+    for (int c = first_cut; c < w.cuts.count(); ++c) fresh[w.cuts.element[c]] = 1;
+    for (int v = 0; v < s.vertex_count(); ++v) {
+        const int e = s.element[v];
+        if (e < 0 || e >= w.mesh_elements || !fresh[e]) continue;
+        int lo = -1, hi = -1;
+        for (int a = 0; a < w.elements.nodes_per_element(); ++a) {
+            if (s.bary[v][a] == 0.0) continue;
+            const int j = w.elements.nodes[e][a];
+            lo = lo < 0 ? j : std::min(lo, j), hi = std::max(hi, j);
+        }
+        if (lo >= 0) s.opened.push_back({v, lo, hi});
+        // Bound to the element's first side meanwhile (a pieces' remake binds it where it is used).
+        s.element[v] = w.virtual_elements.element[w.cuts.virtual_element[w.cuts.cut_of_element[e]][0]];
+    }
+}
+
 }  // namespace
 
 int zero_area_triangles(const SurfaceMesh& s) {
@@ -169,6 +191,7 @@ void cut_surface(World& w, SurfaceMesh& s, int first_cut, int first_crossing, in
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     s.opened.clear();
     remake_pieces(w, s, touched);
+    if (by_copies) open_points_of_new_cuts(w, s, first_cut);
     // A front point that opened is now one side's copy: every piece still using it (an element
     // around its edge that the pass above did not make) is made again, until none is left.
     while (!s.opened.empty()) {
@@ -191,6 +214,7 @@ void cut_surface(World& w, SurfaceMesh& s, int first_cut, int first_crossing, in
         again.erase(std::unique(again.begin(), again.end()), again.end());
         remake_pieces(w, s, again);
     }
+    if (by_copies) merge_material_twins(w, s);
 }
 
 }  // namespace xcut

@@ -62,6 +62,16 @@ struct FrontPoint {
 /// existing one there with the same copy of every mesh node b weighs, else a new one bound to fe
 /// on `side`.
 int shared_point(World& w, SurfaceMesh& s, int fe, int8_t side, const Eigen::Vector4d& b, const Vec3& rest);
+
+/// Where elements are cut again in 3D: the triangles using two vertices bound to virtual elements
+/// at one place (surface_place) with the same material (the same copy of each node they weigh) use
+/// the first. A point's binding changes as the cuts around it go on (a crack front's opens, an
+/// element's sides are cut again), so a point made for one material can later be another's twin.
+void merge_material_twins(const World& w, SurfaceMesh& s);
+
+/// The vertex at rest point `rest` (quantized: surface_place) of the material that virtual element
+/// fe's binding at b has there (the same copy of each node it weighs), or -1.
+int point_of_material(const World& w, const SurfaceMesh& s, int fe, const Eigen::Vector4d& b, const Vec3& rest);
 /// Cut element c's pieces, c having lines: its skin triangles clipped to each fragment, fanned; in
 /// 3D also each fragment's faces on its cut planes.
 void fragment_pieces(World& w, SurfaceMesh& s, int c);

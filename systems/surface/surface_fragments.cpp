@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "engine/fragment_geometry.h"
 #include "systems/surface/surface_cut_parts.h"
@@ -61,7 +62,7 @@ std::vector<Vec3> clean(std::vector<Vec3> poly, double tiny, bool space = false)
 
 }  // namespace
 
-int shared_point(World& w, SurfaceMesh& s, int fe, int8_t side, const Eigen::Vector4d& b, const Vec3& rest) {
+int point_of_material(const World& w, const SurfaceMesh& s, int fe, const Eigen::Vector4d& b, const Vec3& rest) {
     const Signature mine = signature(w, fe, b);
     const std::array<int64_t, 3> place = surface_place(rest);
     if (const auto base = s.base_vertex_at.find(place);
@@ -69,6 +70,27 @@ int shared_point(World& w, SurfaceMesh& s, int fe, int8_t side, const Eigen::Vec
         return base->second;
     for (auto [it, end] = s.point_at.equal_range(place); it != end; ++it)
         if (signature(w, s.element[it->second], s.bary[it->second]) == mine) return it->second;
+    return -1;
+}
+
+void merge_material_twins(const World& w, SurfaceMesh& s) {
+    std::map<std::pair<std::array<int64_t, 3>, Signature>, int> first;
+    std::vector<int> to(s.vertex_count());
+    bool any = false;
+    for (int v = 0; v < s.vertex_count(); ++v) {
+        to[v] = v;
+        if (s.element[v] < w.mesh_elements) continue;
+        const auto [it, fresh] = first.emplace(std::make_pair(surface_place(vertex_rest(w, s, v)), signature(w, s.element[v], s.bary[v])), v);
+        if (!fresh) to[v] = it->second, any = true;
+    }
+    if (!any) return;
+    for (auto& t : s.triangles)
+        for (int& v : t) v = to[v];
+}
+
+int shared_point(World& w, SurfaceMesh& s, int fe, int8_t side, const Eigen::Vector4d& b, const Vec3& rest) {
+    if (const int v = point_of_material(w, s, fe, b, rest); v >= 0) return v;
+    const std::array<int64_t, 3> place = surface_place(rest);
     const int v = s.vertex_count();
     s.position.push_back(rest);
     s.element.push_back(fe);
@@ -112,10 +134,33 @@ int insert_on_edges(std::vector<Vec3>& poly, const std::vector<Vec3>& points, do
     return inserted;
 }
 
-/// A point on a mesh edge of element e (barycentric b, two weights) within 1e-4 of the edge from
-/// where the crack crosses it as the surface places that crossing (edge_crossing) is that point: a
-/// plane fitted through a cut's points made on the moved tissue misses the fourth by a few
-/// micrometres at rest, and the neighbours' lips use the points themselves.
+/// The rest corners of tetrahedron e.
+std::array<Vec3, 4> rest_corners(const World& w, int e) {
+    const auto& n = w.elements.nodes[e];
+    return {w.nodes.rest[n[0]], w.nodes.rest[n[1]], w.nodes.rest[n[2]], w.nodes.rest[n[3]]};
+}
+
+/// How far cut element c's planes cross its edges (rest corners X) from the points they were made
+/// through, at most, as a fraction of the edge [-]: a cut's four points that its neighbours all
+/// fixed before (systems/cut/recut.h: join_earlier_points) need not lie on one plane.
+double plane_misfit(const World& w, int c, const std::array<Vec3, 4>& X) {
+    const auto& lines = w.cuts.lines[c];
+    double worst = 0.0;
+    for (size_t l = 0; l < lines.size() && l < w.cuts.line_edge_t[c].size(); ++l)
+        for (int k = 0; k < 6; ++k) {
+            const double t = w.cuts.line_edge_t[c][l][k];
+            const Vec3 &a = X[kTetEdges[k][0]], &b = X[kTetEdges[k][1]];
+            const double da = lines[l].normal.dot(a - lines[l].origin), db = lines[l].normal.dot(b - lines[l].origin);
+            if (t >= 0.0 && da != db) worst = std::max(worst, std::abs(da / (da - db) - t));
+        }
+    return worst;
+}
+
+/// A point on a mesh edge of element e (barycentric b, two weights) within 1e-4 of the edge (or
+/// 1.5 x the planes' misfit of the elements round it: plane_misfit) from where the crack crosses
+/// it as the surface places that crossing (edge_crossing) is that point: a plane fitted through a
+/// cut's points made on the moved tissue misses the fourth by a few micrometres at rest, and the
+/// neighbours' lips use the points themselves.
 void snap_to_crack(const World& w, int e, Eigen::Vector4d& b) {
     std::array<int, 4> on{};
     int n = 0;
@@ -125,7 +170,12 @@ void snap_to_crack(const World& w, int e, Eigen::Vector4d& b) {
     const int i = on[0], j = on[1];
     const auto& en = w.elements.nodes[e];
     const double t = edge_crossing(w, en[i], en[j]);  // from en[i]
-    if (t > 0.0 && t < 1.0 && std::abs(t - b[j]) < 1e-4) b = on_edge(i, j, t);
+    double within = 1e-4;  // of the edge, or 1.5 x the worst misfit of the planes of the elements round it
+    for_elements_around(w, en[i], en[j], [&](int f) {
+        const int c = w.cuts.cut_of_element[f];
+        if (c >= 0 && !w.cuts.lines[c].empty()) within = std::max(within, 1.5 * plane_misfit(w, c, rest_corners(w, f)));
+    });
+    if (t > 0.0 && t < 1.0 && std::abs(t - b[j]) < within) b = on_edge(i, j, t);
 }
 
 /// Whether fragment v of cut c is one material with the fragment across its plane `plane` (the
@@ -147,7 +197,7 @@ bool joined_across(const World& w, int c, int v, int plane) {
 void fragment_pieces_3d(World& w, SurfaceMesh& s, int c) {
     const int e = w.cuts.element[c];
     const auto& n = w.elements.nodes[e];
-    const std::array<Vec3, 4> X{w.nodes.rest[n[0]], w.nodes.rest[n[1]], w.nodes.rest[n[2]], w.nodes.rest[n[3]]};
+    const std::array<Vec3, 4> X = rest_corners(w, e);
     double size = 0.0;
     for (int a = 0; a < 4; ++a)
         for (int b = a + 1; b < 4; ++b) size = std::max(size, (X[b] - X[a]).norm());

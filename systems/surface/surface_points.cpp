@@ -178,6 +178,19 @@ int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector
             s.opened.push_back({v, static_cast<int>(lo), static_cast<int>(hi)});
         }
     }
+    if (w.elements.dim == 3 && recut_allowed(w)) {
+        // A point an element cut again made there, of the material this one is bound to (its
+        // pieces share points by material: surface_fragments.cpp), is this one; a vertex of this
+        // key made before the material was the same (the binding moved since) gives way to it,
+        // and the pieces using that vertex are made again (SurfaceMesh::opened).
+        const int at = whole >= 0 ? whole : e, c = w.cuts.cut_of_element[at];
+        const int fe = c < 0 ? at : w.virtual_elements.element[w.cuts.virtual_element[c][whole >= 0 || side > 0 ? 0 : 1]];
+        const Eigen::Vector4d bb = whole >= 0 ? rebased(w, e, b, whole) : b;
+        if (const int v = point_of_material(w, s, fe, bb, rest_of(w, e, b)); v >= 0) {
+            if (it == s.cut_point.end()) it = s.cut_point.emplace(key, v).first;
+            else if (it->second != v) s.opened.push_back({it->second, support[0], support[n - 1]}), it->second = v;
+        }
+    }
     if (it == s.cut_point.end()) {
         // A node's copy for the side across from its own: pieces made while the lips met at the
         // node's base vertex (a whole element held it) are made again.

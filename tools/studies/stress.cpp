@@ -264,12 +264,14 @@ Scene random_scene(std::mt19937_64& rng, const StressOptions& o) {
     if (o.tip) return random_tip_scene(rng);
     Scene s = o.blades > 1 ? random_blades_scene(rng, o.front, o.blades) : random_cut_scene(rng, o.front);
     s.material.quadratic = o.element == "quadratic";
+    if (o.recut) s.recut = 1;
     return s;
 }
 
 /// Problem 8's name in the summary, as the options ask.
 std::string random_problem(const StressOptions& o) {
-    const std::string name = o.tip ? "8 crack tips" : o.blades > 1 ? "8 many blades" : "8 many cuts";
+    std::string name = o.tip ? "8 crack tips" : o.blades > 1 ? "8 many blades" : "8 many cuts";
+    if (o.recut) name += ", cut again";
     return o.element == "quadratic" ? name + ", quadratic" : name;
 }
 

@@ -61,6 +61,8 @@ struct StressOptions {
     /// > 1: problem 8's steps iterated by Newton to 1e-9, at most this many times (1: the paper's
     /// once-linearized step), to tell the scheme's energy gain at large rotations from a defect
     int newton = 1;
+    /// problem 8 with "cutter.recut" on: an element already cut is cut again (3D: docs/xfem.md)
+    bool recut = false;
     /// >= 0: run only problem 8's trajectory of this index (the index-th of `seed`, as the full run
     /// numbers them; the ones before it are drawn, not run), to reproduce one case. Never the record.
     int only = -1;
