@@ -217,6 +217,7 @@ struct Cruciate {
     int left = 0, along = 0, ignored = 0;
     bool closed = true;
     int joined = 0;  ///< pairs of fragments in two quadrants of the X holding one copy of a node
+    uint64_t state = 0;  ///< testing::state_hash of the world, its visual surface too
 };
 
 /// The fragments of the elements cut again that hold one copy of a mesh node must lie in one
@@ -262,7 +263,7 @@ nlohmann::json scalpel(const char* name, const Vec3& from, const Vec3& to, doubl
 
 /// The cruciate scene to `until` [s]; with `scalpels`, its two cuts made by two scalpels along
 /// the same lines instead (the first drawn 0.2-1.0 s, the second 1.3-2.1 s).
-Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0) {
+Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int threads = 2) {
     std::ifstream in(std::string(XCUT_SOURCE_DIR) + "/scenes/cruciate.json");
     nlohmann::json j;
     in >> j;
@@ -272,10 +273,13 @@ Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0) {
         j["tools"] = {scalpel("first", Vec3(0.031, 0.006, 0.0), Vec3(0.031, 0.034, 0.0), 0.2, 1.0),
                       scalpel("second", Vec3(0.016, 0.021, 0.0), Vec3(0.046, 0.021, 0.0), 1.3, 2.1)};
     }
+    set_thread_count(threads);
     auto sim = make_simulation(load_scene_text(j.dump(), "cruciate", "."), /*with_output=*/false);
     World& w = sim->world;
     while (w.time < until - 1e-9) step_simulation(*sim);
+    set_thread_count(2);
     Cruciate out;
+    out.state = testing::state_hash(w, /*with_visual=*/true);
     double y = -1.0, x = -1.0;  // the cuts' planes at rest: their elements' cuts through their edge points
     for (int c = 0; c < w.cuts.count(); ++c)
         for (const CutLine& l : lines_of(w, c)) {
@@ -336,6 +340,12 @@ TEST(Recut3d, TwoScalpelsCrossingInTheSkinSplitEveryElementTheSecondCrossesWithA
     const Cruciate bridged = run_cruciate(false, true, 2.3);  // a scalpel keeps an element's first cut
     EXPECT_GT(bridged.left, 0) << "the bridge";
     EXPECT_GT(bridged.ignored, 0) << "and the count that names it";
+}
+
+TEST(Recut3d, ScalpelsCuttingAgainAreBitIdenticalOnOneAndTwoThreads) {
+    const Cruciate one = run_cruciate(true, true, 1.8, 1), two = run_cruciate(true, true, 1.8, 2);
+    EXPECT_EQ(one.state, two.state);
+    EXPECT_GT(two.along, 0) << "midway through the second incision, elements were cut again";
 }
 
 }  // namespace
