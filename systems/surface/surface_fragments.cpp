@@ -235,10 +235,17 @@ void fragment_pieces_3d(World& w, SurfaceMesh& s, int c) {
         const auto add_polygon = [&](std::vector<Vec3> poly, std::vector<Vec3> extra, bool cut) {
             const std::vector<Vec3> others = others_on(poly);
             extra.insert(extra.end(), others.begin(), others.end());
-            const bool inserted = insert_on_edges(poly, extra, tiny) > 0;
+            bool inserted = insert_on_edges(poly, extra, tiny) > 0;
             std::vector<int> ids;
             Vec3 centre = Vec3::Zero();
             for (const Vec3& p : poly) ids.push_back(point(p)), centre += p;
+            // A point taken for the crack's or a neighbour's (snap_to_crack, shared_point) may lie
+            // on the line of its two neighbours: a fan from the first would have a flat triangle.
+            for (size_t k = 0; k < ids.size() && !inserted; ++k) {
+                const Vec3 p = vertex_rest(w, s, ids[(k + ids.size() - 1) % ids.size()]), q = vertex_rest(w, s, ids[k]),
+                           r = vertex_rest(w, s, ids[(k + 1) % ids.size()]);
+                inserted = (q - p).cross(r - q).norm() <= tiny * std::max((q - p).norm(), (r - q).norm());
+            }
             if (!inserted) {
                 for (size_t k = 1; k + 1 < ids.size(); ++k) add_piece(s, {ids[0], ids[k], ids[k + 1]}, e, cut);
                 return;
