@@ -296,10 +296,9 @@ int apply_cut_batch(World& w) {
 }  // namespace
 
 int apply_cut_events(World& w) {
-    if (w.pending_cuts.empty()) return 0;
-    const int split = apply_cut_batch(w);
-    if (w.pending_cuts.empty()) return split;
-    return split + apply_cut_events(w);  // the cuts through elements the batch has just split
+    int split = 0;
+    while (!w.pending_cuts.empty()) split += apply_cut_batch(w);  // then the cuts through elements it split
+    return split;
 }
 
 SystemDesc enrichment_system() {

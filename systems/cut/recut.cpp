@@ -253,17 +253,18 @@ void join_incision_points(const World& w, CutEvent& ev) {
     if (!event_cut_line(w, ev, plane)) return;
     const auto& n = w.elements.nodes[ev.element];
     std::array<int, 6> order{};  // the crossed edges, those with a neighbour's point first
+    std::array<bool, 6> crossed{}, joined{};
+    for (int k = 0; k < 6; ++k) {
+        const int i = kTetEdges[k][0], j = kTetEdges[k][1];
+        crossed[k] = (ev.level[i] >= 0.0) != (ev.level[j] >= 0.0);
+        const double t = crossed[k] ? incision_edge_param(w, n[i], n[j], plane.normal) : -1.0;
+        joined[k] = t > 0.0 && t < 1.0;
+        if (joined[k]) ev.edge_t[k] = t, ev.edge_has_t[k] = 1;
+    }
     int m = 0, shared = 0;
     for (int pass = 0; pass < 2; ++pass)
-        for (int k = 0; k < 6; ++k) {
-            const int i = kTetEdges[k][0], j = kTetEdges[k][1];
-            if ((ev.level[i] >= 0.0) == (ev.level[j] >= 0.0)) continue;
-            const double t = incision_edge_param(w, n[i], n[j], plane.normal);
-            const bool joined = t > 0.0 && t < 1.0;
-            if (joined != (pass == 0)) continue;
-            if (joined) ev.edge_t[k] = t, ev.edge_has_t[k] = 1, ++shared;
-            order[m++] = k;
-        }
+        for (int k = 0; k < 6; ++k)
+            if (crossed[k] && joined[k] == (pass == 0)) order[m++] = k, shared += joined[k];
     if (m == 4 && shared < 4) put_fourth_on_plane(ev, tet_corners(w, ev.element), order);
 }
 
