@@ -81,31 +81,37 @@ std::array<double, 2> part_of_edge(const World& w, const Fragment& f, int p, int
     return segment_part(w.nodes.rest[p], w.nodes.rest[q], lines.data(), static_cast<int>(lines.size()), mask);
 }
 
-/// The part [s0, s1] of mesh edge p -> q that fragment f holds (3D): each plane that bounds it
-/// cuts the edge where the cut's own points put it (CutElements::line_edge_t; else where the plane
-/// does), and a plane that does not cross the edge keeps it or not by the side of its end farther
-/// from it.
-std::array<double, 2> part_of_edge_3d(const World& w, const Fragment& f, int p, int q) {
-    if (f.side == 0) return {0.0, 1.0};
+/// Where plane l bounding fragment f crosses its element's mesh edge p -> q, as a parameter from p:
+/// where the cut's own points put it (CutElements::line_edge_t, or the first cut's points); -1
+/// where they record none (or the element has no such edge).
+double plane_edge_param(const World& w, const Fragment& f, int l, int p, int q) {
     const int c = w.cuts.cut_of_element[f.element];
     const auto& n = w.elements.nodes[f.element];
-    int k = -1;
-    bool reversed = false;
-    for (int e = 0; e < 6 && k < 0; ++e) {
+    for (int e = 0; e < 6; ++e) {
         const int i = n[kTetEdges[e][0]], j = n[kTetEdges[e][1]];
-        if ((i == p && j == q) || (i == q && j == p)) k = e, reversed = i == q;
+        if (!((i == p && j == q) || (i == q && j == p))) continue;
+        const double t = w.cuts.lines[c].empty() ? first_edge_params(w, c)[e] : w.cuts.line_edge_t[c][l][e];
+        return t >= 0.0 && i == q ? 1.0 - t : t;
     }
+    return -1.0;
+}
+
+/// The part [s0, s1] of mesh edge p -> q that fragment f holds (3D): each plane that bounds it
+/// cuts the edge where the cut's own points put it (plane_edge_param; else where the plane does),
+/// and a plane that does not cross the edge keeps it or not by the side of its end farther from it.
+std::array<double, 2> part_of_edge_3d(const World& w, const Fragment& f, int p, int q) {
+    if (f.side == 0) return {0.0, 1.0};
     uint32_t mask = 0;
     const std::vector<CutLine> planes = bounds_of(w, f, mask);
-    const bool stored = !w.cuts.lines[c].empty();
     const Vec3 &a = w.nodes.rest[p], &b = w.nodes.rest[q];
     double s0 = 0.0, s1 = 1.0;
-    for (int l = 0; l < static_cast<int>(planes.size()) && k >= 0; ++l) {
+    const auto& n = w.elements.nodes[f.element];
+    const bool has_edge = std::find(n.begin(), n.begin() + 4, p) != n.begin() + 4 && std::find(n.begin(), n.begin() + 4, q) != n.begin() + 4;
+    for (int l = 0; l < static_cast<int>(planes.size()) && has_edge; ++l) {
         if (!(mask & bound_by(l))) continue;
         const bool bit = mask >> l & 1u;
         const double la = planes[l].normal.dot(a - planes[l].origin), lb = planes[l].normal.dot(b - planes[l].origin);
-        double t = stored ? w.cuts.line_edge_t[c][l][k] : first_edge_params(w, c)[k];
-        if (t >= 0.0 && reversed) t = 1.0 - t;
+        const double t = plane_edge_param(w, f, l, p, q);
         if (t > 0.0 && t < 1.0) {
             const bool a_side = std::abs(la) >= std::abs(lb) ? la >= 0.0 : lb < 0.0;  // a's side of the plane
             if (a_side == bit) s1 = std::min(s1, t);
@@ -117,12 +123,43 @@ std::array<double, 2> part_of_edge_3d(const World& w, const Fragment& f, int p, 
     return {s0, s1};
 }
 
+/// `poly` (on the face `face` of fragment f's element, 3D; rest) clipped to f's part of the face:
+/// by the trace of each plane bounding f, the line through its crossings of the face's edges
+/// where the cut's own points put them (plane_edge_param: the element across, cut by the same
+/// incision, has the same trace), toward f's side. A plane without two crossings there keeps the
+/// face or not by the side of the face's vertex farthest from it.
+std::vector<Vec3> clip_to_face_part(const World& w, const Fragment& f, const std::array<int, 3>& face, std::vector<Vec3> poly) {
+    if (f.side == 0) return poly;
+    uint32_t mask = 0;
+    const std::vector<CutLine> planes = bounds_of(w, f, mask);
+    const std::array<Vec3, 3> X{w.nodes.rest[face[0]], w.nodes.rest[face[1]], w.nodes.rest[face[2]]};
+    const Vec3 normal = (X[1] - X[0]).cross(X[2] - X[0]);
+    for (int l = 0; l < static_cast<int>(planes.size()) && poly.size() >= 3; ++l) {
+        if (!(mask & bound_by(l))) continue;
+        std::vector<Vec3> ends;
+        for (int e = 0; e < 3; ++e)
+            if (const double t = plane_edge_param(w, f, l, face[e], face[(e + 1) % 3]); t > 0.0 && t < 1.0)
+                ends.push_back(X[e] + t * (X[(e + 1) % 3] - X[e]));
+        int far = 0;
+        for (int v = 1; v < 3; ++v)
+            if (std::abs(planes[l].normal.dot(X[v] - planes[l].origin)) > std::abs(planes[l].normal.dot(X[far] - planes[l].origin))) far = v;
+        const bool far_kept = (planes[l].normal.dot(X[far] - planes[l].origin) >= 0.0) == static_cast<bool>(mask >> l & 1u);
+        if (ends.size() != 2) {
+            if (!far_kept) poly.clear();
+            continue;
+        }
+        const CutLine trace{ends[0], (ends[1] - ends[0]).cross(normal)};
+        poly = clip_to_side(poly, trace, (trace.normal.dot(X[far] - ends[0]) >= 0.0) == far_kept);
+    }
+    return poly;
+}
+
 /// Whether fragments a and b hold overlapping parts of their elements' common face (its mesh nodes;
 /// 2D: an edge, face[0] = -1): parts of it that overlap by more than kFaceOverlap of its length
-/// hold one material there. In 3D the parts of the face's three edges: a fragment's part of a
-/// face is convex and bounded by its cuts' traces, which end on the face's edges, so two parts
-/// overlap in area where they overlap along the edges; and the edges' crossings are the cuts' own
-/// points, one value for both elements.
+/// (area) hold one material there. In 3D first the parts of the face's three edges (the edges'
+/// crossings are the cuts' own points, one value for both elements); parts that meet the edges at
+/// most at points may still overlap inside the face (three traces closing a triangle there), so
+/// then the area of both parts (clip_to_face_part).
 bool share_face(const World& w, const Fragment& a, const Fragment& b, const std::array<int, 3>& face) {
     if (w.elements.dim == 2) {
         const auto pa = part_of_edge(w, a, face[1], face[2]), pb = part_of_edge(w, b, face[1], face[2]);
@@ -133,7 +170,9 @@ bool share_face(const World& w, const Fragment& a, const Fragment& b, const std:
         const auto pa = part_of_edge_3d(w, a, p, q), pb = part_of_edge_3d(w, b, p, q);
         if (std::min(pa[1], pb[1]) - std::max(pa[0], pb[0]) > kFaceOverlap) return true;
     }
-    return false;
+    const std::vector<Vec3> whole{w.nodes.rest[face[0]], w.nodes.rest[face[1]], w.nodes.rest[face[2]]};
+    const std::vector<Vec3> both = clip_to_face_part(w, b, face, clip_to_face_part(w, a, face, whole));
+    return both.size() >= 3 && polygon_area_3d(both) > kFaceOverlap * polygon_area_3d(whole);
 }
 
 /// Whether fragment f holds mesh node j's own material: a whole element, the side j is on, or the

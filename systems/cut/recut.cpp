@@ -202,8 +202,10 @@ namespace {
 
 /// Where a cut of one incision with `normal` (rest; within kRecutCos of it) already crosses mesh
 /// edge (a, b) of a tetrahedral mesh: a first cut's point or a further plane's, in an element around
-/// a (incidence order); the parameter from a, -1 if none.
-double incision_edge_param(const World& w, int a, int b, const Vec3& normal) {
+/// a; of several (two incisions of like direction cross the edge), the one nearest `own` (the
+/// event's own crossing); the parameter from a, -1 if none.
+double incision_edge_param(const World& w, int a, int b, const Vec3& normal, double own) {
+    double best = -1.0;
     for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
         const int f = w.incidence.entry[p] >> 2;
         const int c = f < w.mesh_elements ? w.cuts.cut_of_element[f] : -1;
@@ -216,10 +218,11 @@ double incision_edge_param(const World& w, int a, int b, const Vec3& normal) {
         for (size_t l = 0; l < lines.size(); ++l) {
             const double stored = l < w.cuts.line_edge_t[c].size() ? w.cuts.line_edge_t[c][l][k] : first_edge_params(w, c)[k];
             const double t = m[kTetEdges[k][0]] == a ? stored : 1.0 - stored;
-            if (stored >= 0.0 && std::abs(lines[l].normal.dot(normal)) > kRecutCos) return t;
+            if (stored >= 0.0 && std::abs(lines[l].normal.dot(normal)) > kRecutCos && (best < 0.0 || std::abs(t - own) < std::abs(best - own)))
+                best = t;
         }
     }
-    return -1.0;
+    return best;
 }
 
 /// A cut through four edges of a tetrahedron (`order`: those whose points are fixed first): the
@@ -257,7 +260,8 @@ void join_incision_points(const World& w, CutEvent& ev) {
     for (int k = 0; k < 6; ++k) {
         const int i = kTetEdges[k][0], j = kTetEdges[k][1];
         crossed[k] = (ev.level[i] >= 0.0) != (ev.level[j] >= 0.0);
-        const double t = crossed[k] ? incision_edge_param(w, n[i], n[j], plane.normal) : -1.0;
+        const double own = ev.edge_has_t[k] ? ev.edge_t[k] : ev.level[i] / (ev.level[i] - ev.level[j]);
+        const double t = crossed[k] ? incision_edge_param(w, n[i], n[j], plane.normal, own) : -1.0;
         joined[k] = t > 0.0 && t < 1.0;
         if (joined[k]) ev.edge_t[k] = t, ev.edge_has_t[k] = 1;
     }

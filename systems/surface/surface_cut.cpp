@@ -25,10 +25,8 @@ void whole_element_pieces(World& w, SurfaceMesh& s, int e) {
     std::vector<FrontPoint> front = further_front_points(w, s, e);
     for (int k = 0; k < edge_count(w); ++k) {
         const int i = local_edge(w, k)[0], j = local_edge(w, k)[1];
-        const double t = edge_crossing(w, en[i], en[j]);
-        if (!(t > 0.0 && t < 1.0)) continue;
         const int hi = w.enriched.sign[en[i]] >= 0 ? 1 : -1;
-        front.push_back({i, j, surface_point(w, s, e, hi, on_edge(i, j, t)), t});
+        for (const double t : edge_crossings(w, en[i], en[j])) front.push_back({i, j, surface_point(w, s, e, hi, on_edge(i, j, t)), t});
     }
     std::vector<std::array<int, 3>> pieces;
     for (int bt : s.base_of[e]) {

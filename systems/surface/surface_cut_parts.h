@@ -26,6 +26,15 @@ Eigen::Vector4d local_bary(const World& w, const SurfaceMesh& s, int e, int v);
 Vec3 vertex_rest(const World& w, const SurfaceMesh& s, int v);
 double surface_edge_param(int a, int b, double t);
 double edge_crossing(const World& w, int a, int b);
+/// Whether an edge may hold the crossings of several incisions: elements are cut again in 3D.
+bool several_per_edge(const World& w);
+/// Crossings closer than this (as fractions of their edge) are one [-].
+inline constexpr double kSameCrossing = 1e-9;
+/// Every crossing of mesh edge a -> b by a cut of an element round it (a cut once: its points; cut
+/// again: each plane's own points, CutElements::line_edge_t), as the surface places them
+/// (surface_edge_param), ascending, those within kSameCrossing of each other once; where an edge
+/// holds one crossing (several_per_edge false), edge_crossing's, if any.
+std::vector<double> edge_crossings(const World& w, int a, int b);
 int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector4d& b_in);
 /// Whether the two sides of cut element e hold one copy of each node point b is weighted on (the
 /// lips meet there; surface_points.cpp).
@@ -38,6 +47,9 @@ bool lips_joined(const World& w, int e, const Eigen::Vector4d& b);
 /// edge of four triangles).
 int parting_point(World& w, SurfaceMesh& s, int e, int side, int u, int v, bool skin);
 void add_piece(SurfaceMesh& s, const std::array<int, 3>& t, int owner, bool cut);
+/// The mesh element other than e holding the nodes of e's face opposite local node o (in 2D its
+/// edge), or -1 (a face on the body's boundary).
+int element_across(const World& w, int e, int o);
 void remove_pieces(SurfaceMesh& s, const std::vector<int>& elements);
 Eigen::Vector4d on_edge(int i, int j, double t);
 

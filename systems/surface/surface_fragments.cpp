@@ -169,7 +169,9 @@ void snap_to_crack(const World& w, int e, Eigen::Vector4d& b) {
     if (n != 2) return;
     const int i = on[0], j = on[1];
     const auto& en = w.elements.nodes[e];
-    const double t = edge_crossing(w, en[i], en[j]);  // from en[i]
+    double t = -1.0;  // the crossing nearest b, from en[i]
+    for (const double u : edge_crossings(w, en[i], en[j]))
+        if (t < 0.0 || std::abs(u - b[j]) < std::abs(t - b[j])) t = u;
     double within = 1e-4;  // of the edge, or 1.5 x the worst misfit of the planes of the elements round it
     for_elements_around(w, en[i], en[j], [&](int f) {
         const int c = w.cuts.cut_of_element[f];
@@ -178,15 +180,91 @@ void snap_to_crack(const World& w, int e, Eigen::Vector4d& b) {
     if (t > 0.0 && t < 1.0 && std::abs(t - b[j]) < within) b = on_edge(i, j, t);
 }
 
-/// Whether fragment v of cut c is one material with the fragment across its plane `plane` (the
-/// same copy of every node: node copies joined them round the end of an incision beside it), so
-/// no wound parts them there and neither shows a face on it.
-bool joined_across(const World& w, int c, int v, int plane) {
+/// The trace of line l of cut c (element e, 3D) on e's face opposite local node o: the segment
+/// between its two crossings of the face's edges where the cut's own points put them
+/// (CutElements::line_edge_t), each end made from the edge's lower-numbered node, so the element
+/// across the face, cut by the same incision, makes the same segment. False if it has no trace there.
+bool face_trace(const World& w, int e, int c, size_t l, int o, std::array<Vec3, 2>& ends) {
+    if (l >= w.cuts.line_edge_t[c].size()) return false;
+    const auto& en = w.elements.nodes[e];
+    int m = 0;
+    for (int k = 0; k < 6; ++k) {
+        const int i = kTetEdges[k][0], j = kTetEdges[k][1];
+        double t = w.cuts.line_edge_t[c][l][k];
+        if (i == o || j == o || !(t > 0.0 && t < 1.0)) continue;
+        if (m == 2) return false;
+        const int lo = std::min(en[i], en[j]), hi = std::max(en[i], en[j]);
+        if (en[i] != lo) t = 1.0 - t;
+        ends[m++] = w.nodes.rest[lo] + t * (w.nodes.rest[hi] - w.nodes.rest[lo]);
+    }
+    if (m == 2 && std::lexicographical_compare(ends[1].data(), ends[1].data() + 3, ends[0].data(), ends[0].data() + 3))
+        std::swap(ends[0], ends[1]);
+    return m == 2;
+}
+
+/// A point on a face of element e (barycentric b, one weight zero) near the traces of two planes
+/// there (face_trace; the planes of e's cut and of the element across the face, each trace once;
+/// within 1e-4 of `size` [m], or 1.5 times the misfit of the element's planes: plane_misfit) is
+/// where those traces cross: the planes fitted through the cuts' points at rest miss them by
+/// micrometres, and differently in the two elements, whose wounds must meet at the same point.
+void snap_to_traces(const World& w, int e, double size, Eigen::Vector4d& b) {
+    int o = -1, zeros = 0;
+    for (int a = 0; a < 4; ++a)
+        if (b[a] == 0.0) o = a, ++zeros;
+    if (zeros != 1) return;
+    const Vec3 p = rest_of(w, e, b);
+    // The two elements of the face (f, its face opposite local node of) and the cuts with planes.
+    std::array<std::array<int, 2>, 2> sides{{{e, o}, {element_across(w, e, o), -1}}};
+    for (int a = 0; a < 4 && sides[1][0] >= 0; ++a)
+        if (!holds(w, e, w.elements.nodes[sides[1][0]][a])) sides[1][1] = a;
+    double within = 0.0;  // [m]
+    for (auto& [f, of] : sides) {
+        const int c = f < 0 ? -1 : w.cuts.cut_of_element[f];
+        if (c < 0 || w.cuts.lines[c].empty()) f = -1;
+        else within = std::max(within, std::max(1e-4, 1.5 * plane_misfit(w, c, rest_corners(w, f))) * size);
+    }
+    std::vector<std::array<Vec3, 2>> near;
+    for (const auto& [f, of] : sides)
+        for (size_t l = 0; f >= 0 && l < w.cuts.lines[w.cuts.cut_of_element[f]].size(); ++l) {
+            std::array<Vec3, 2> ends;
+            if (!face_trace(w, f, w.cuts.cut_of_element[f], l, of, ends)) continue;
+            const Vec3 d = ends[1] - ends[0];
+            const double u = std::clamp((p - ends[0]).dot(d) / d.squaredNorm(), 0.0, 1.0);
+            const bool known = std::any_of(near.begin(), near.end(), [&](const auto& s) { return (s[0] - ends[0]).norm() < 1e-12 * size && (s[1] - ends[1]).norm() < 1e-12 * size; });
+            if (!known && (ends[0] + u * d - p).norm() < within) near.push_back(ends);
+        }
+    if (near.size() != 2) return;
+    const auto key = [](const std::array<Vec3, 2>& s) { return std::array<double, 6>{s[0].x(), s[0].y(), s[0].z(), s[1].x(), s[1].y(), s[1].z()}; };
+    if (key(near[1]) < key(near[0])) std::swap(near[0], near[1]);
+    const Vec3 d1 = near[0][1] - near[0][0], d2 = near[1][1] - near[1][0], r = near[1][0] - near[0][0];
+    const Vec3 n = d1.cross(d2);
+    if (n.squaredNorm() < 1e-6 * d1.squaredNorm() * d2.squaredNorm()) return;  // nearly parallel: no one point
+    const double u = r.cross(d2).dot(n) / n.squaredNorm();
+    if (!(u > 0.0 && u < 1.0)) return;
+    const Vec3 x = near[0][0] + u * d1;
+    if ((x - p).norm() >= within) return;
+    b = tet_barycentric(rest_corners(w, e), x);
+    b[o] = 0.0;
+    b /= b.sum();
+}
+
+/// Whether fragment v of cut c is one material with the fragment across its face `poly` on plane
+/// `plane` (the same copy of every node: node copies joined them round the end of an incision
+/// beside it), so no wound parts them there and neither shows a face on it. The fragment across is
+/// the one holding the face's centre moved off the plane by `off` [m]: it may be bounded by fewer
+/// planes than v (one that ends before it), so its mask is not v's with one side flipped.
+bool joined_across(const World& w, int c, int v, int plane, const std::vector<Vec3>& poly, double off) {
     const VirtualElements& ve = w.virtual_elements;
-    const uint32_t across = ve.mask[v] ^ (1u << plane);
+    const auto& lines = w.cuts.lines[c];
+    Vec3 centre = Vec3::Zero();
+    for (const Vec3& p : poly) centre += p;
+    centre /= static_cast<double>(poly.size());
+    const double toward = (ve.mask[v] >> plane & 1u) ? -1.0 : 1.0;  // v's side is the other
+    const Vec3 across = centre + toward * off * lines[plane].normal.normalized();
     const auto& mine = w.elements.nodes[ve.element[v]];
     for (int u : fragments_of(w, c))
-        if (ve.mask[u] == across && std::equal(mine.begin(), mine.begin() + 4, w.elements.nodes[ve.element[u]].begin())) return true;
+        if (u != v && in_fragment(lines.data(), static_cast<int>(lines.size()), ve.mask[u], across))
+            return std::equal(mine.begin(), mine.begin() + 4, w.elements.nodes[ve.element[u]].begin());
     return false;
 }
 
@@ -218,8 +296,7 @@ void fragment_pieces_3d(World& w, SurfaceMesh& s, int c) {
             for (int q = 0; q < 4; ++q)
                 if (ba[q] != 0.0 || bb[q] != 0.0) on[m++] = q;
             if (m != 2) continue;
-            const double t = edge_crossing(w, n[on[0]], n[on[1]]);
-            if (t > 0.0 && t < 1.0) out.push_back(rest_of(w, e, on_edge(on[0], on[1], t)));
+            for (const double t : edge_crossings(w, n[on[0]], n[on[1]])) out.push_back(rest_of(w, e, on_edge(on[0], on[1], t)));
         }
         return out;
     };
@@ -227,7 +304,7 @@ void fragment_pieces_3d(World& w, SurfaceMesh& s, int c) {
         const int fe = ve.element[v];
         const auto point = [&](const Vec3& p) {
             Eigen::Vector4d b = bary_in_tet(X, p);
-            snap_to_crack(w, e, b);
+            if (!s.base_vertex_at.contains(surface_place(p))) snap_to_crack(w, e, b), snap_to_traces(w, e, size, b);  // a skin corner stays
             return shared_point(w, s, fe, ve.side[v], b, rest_of(w, e, b));
         };
         // A polygon with the points `extra` on its edges inserted, fanned from its first vertex, or
@@ -264,7 +341,7 @@ void fragment_pieces_3d(World& w, SurfaceMesh& s, int c) {
         }
         for (const FragmentFace& f : fragment_faces(X, lines.data(), nl, ve.mask[v])) {
             std::vector<Vec3> poly = clean(f.polygon, tiny, true);
-            if (f.plane >= 0 && poly.size() >= 3 && !joined_across(w, c, v, f.plane)) add_polygon(std::move(poly), skin, true);
+            if (f.plane >= 0 && poly.size() >= 3 && !joined_across(w, c, v, f.plane, poly, 1e-6 * size)) add_polygon(std::move(poly), skin, true);
         }
     }
 }
@@ -331,6 +408,28 @@ void bind_to_fragments(World& w, SurfaceMesh& s, int c) {
 
 namespace xcut::surface_cut_detail {
 
+namespace {
+
+/// Where line l of cut c (of element f; 3D) crosses mesh edge na -> nb, as a parameter from na:
+/// the cut's own point there (CutElements::line_edge_t), which the fragments' polygons take for
+/// the plane's crossing (snap_to_crack), or, where it records none, the plane's crossing; -1 where
+/// the plane does not cross the edge.
+double line_crossing(const World& w, int f, int c, size_t l, int na, int nb) {
+    const auto& en = w.elements.nodes[f];
+    if (w.elements.dim == 3 && l < w.cuts.line_edge_t[c].size())
+        for (int k = 0; k < 6; ++k) {
+            const int i = en[kTetEdges[k][0]], j = en[kTetEdges[k][1]];
+            const double t = w.cuts.line_edge_t[c][l][k];
+            if (t >= 0.0 && i == na && j == nb) return t;
+            if (t >= 0.0 && i == nb && j == na) return 1.0 - t;
+        }
+    const CutLine& line = w.cuts.lines[c][l];
+    const double da = line.normal.dot(w.nodes.rest[na] - line.origin), db = line.normal.dot(w.nodes.rest[nb] - line.origin);
+    return (da > 0.0) == (db > 0.0) || da == 0.0 || db == 0.0 ? -1.0 : da / (da - db);
+}
+
+}  // namespace
+
 std::vector<std::pair<double, Vec3>> further_crossings(const World& w, int e, const Vec3& a, const Vec3& b,
                                                        const Eigen::Vector4d& ba, const Eigen::Vector4d& bb) {
     std::vector<std::pair<double, Vec3>> out;
@@ -353,7 +452,13 @@ std::vector<std::pair<double, Vec3>> further_crossings(const World& w, int e, co
         for (size_t l = 0; l < lines.size(); ++l) {
             const double da = lines[l].normal.dot(a - lines[l].origin), db = lines[l].normal.dot(b - lines[l].origin);
             if (!((da > tiny && db < -tiny) || (da < -tiny && db > tiny))) continue;
-            const double t = da / (da - db);
+            double t = da / (da - db);
+            if (n_off == 2) {  // along the mesh edge on[0] -> on[1]: the cut's own point there
+                const Vec3 &X0 = w.nodes.rest[on[0]], &X1 = w.nodes.rest[on[1]];
+                const double u = line_crossing(w, f, c, l, on[0], on[1]);
+                const double along = (X0 + u * (X1 - X0) - a).dot(b - a) / (b - a).squaredNorm();
+                if (u > 0.0 && u < 1.0 && along > 0.0 && along < 1.0) t = along;
+            }
             const Vec3 x = a + t * (b - a);
             bool bounds = false;  // the plane parts fragments there
             for (int v : fragments_of(w, c))
@@ -373,7 +478,12 @@ void split_at_further_points(World& w, SurfaceMesh& s, int c, const CutPlaneInfo
         const int i = kTetEdges[k][0], j = kTetEdges[k][1];
         const Vec3 &Xi = w.nodes.rest[en[i]], &Xj = w.nodes.rest[en[j]];
         const double tol = 1e-9 * (Xj - Xi).norm();
-        for (const auto& [t, x] : further_crossings(w, e, Xi, Xj, on_edge(i, j, 0.0), on_edge(i, j, 1.0))) {
+        // The planes of elements cut again, and other incisions' crossings of the edge (its own
+        // is a vertex of its pieces already, and passed over below).
+        std::vector<std::pair<double, Vec3>> points = further_crossings(w, e, Xi, Xj, on_edge(i, j, 0.0), on_edge(i, j, 1.0));
+        if (several_per_edge(w))
+            for (const double t : edge_crossings(w, en[i], en[j])) points.push_back({t, Xi + t * (Xj - Xi)});
+        for (const auto& [t, x] : points) {
             const Eigen::Vector4d b = on_edge(i, j, t);
             const int side = side_of_cut(w, cp, e, b);
             const int fe = w.virtual_elements.element[w.cuts.virtual_element[c][side > 0 ? 0 : 1]];
@@ -408,9 +518,8 @@ std::vector<FrontPoint> further_front_points(World& w, SurfaceMesh& s, int e) {
             if (f == e || c < 0 || w.cuts.lines[c].size() < 2) return;
             const auto& lines = w.cuts.lines[c];
             for (size_t l = 1; l < lines.size(); ++l) {  // the lines after the first (whose points crack_edge_param gives)
-                const double di = lines[l].normal.dot(Xi - lines[l].origin), dj = lines[l].normal.dot(Xj - lines[l].origin);
-                if ((di > 0.0) == (dj > 0.0) || di == 0.0 || dj == 0.0) continue;
-                const double t = di / (di - dj);
+                const double t = line_crossing(w, f, c, l, en[i], en[j]);
+                if (!(t > 0.0 && t < 1.0)) continue;
                 const Vec3 p = Xi + t * (Xj - Xi);
                 bool bounds = false;  // the line parts fragments there (a T's stem ends at its wound)
                 for (int v : fragments_of(w, c))

@@ -132,6 +132,38 @@ double edge_crossing(const World& w, int a, int b) {
     return t < 0.0 ? t : surface_edge_param(a, b, t);
 }
 
+bool several_per_edge(const World& w) { return w.elements.dim == 3 && recut_allowed(w); }
+
+std::vector<double> edge_crossings(const World& w, int a, int b) {
+    std::vector<double> out;
+    if (!several_per_edge(w)) {
+        if (const double t = edge_crossing(w, a, b); t > 0.0 && t < 1.0) out.push_back(t);
+        return out;
+    }
+    const Vec3 &Xa = w.nodes.rest[a], &Xb = w.nodes.rest[b];
+    const auto add = [&](double from_a) {
+        const double t = surface_edge_param(a, b, from_a);
+        if (t > 0.0 && t < 1.0 && std::none_of(out.begin(), out.end(), [&](double u) { return std::abs(u - t) < kSameCrossing; }))
+            out.push_back(t);
+    };
+    for_elements_around(w, a, b, [&](int f) {
+        const int c = w.cuts.cut_of_element[f];
+        for (int k = 0; c >= 0 && w.cuts.lines[c].empty() && k < 4 && w.cuts.point_edge[c][k] >= 0; ++k) {
+            const int* ed = kTetEdges[w.cuts.point_edge[c][k]];
+            const int n0 = w.elements.nodes[f][ed[0]], n1 = w.elements.nodes[f][ed[1]];
+            if ((n0 == a && n1 == b) || (n0 == b && n1 == a)) add(std::clamp((w.cuts.points[c][k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm(), 0.0, 1.0));
+        }
+        for (int k = 0; c >= 0 && !w.cuts.lines[c].empty() && k < 6; ++k) {  // every plane's own point (line_edge_t)
+            const int n0 = w.elements.nodes[f][kTetEdges[k][0]], n1 = w.elements.nodes[f][kTetEdges[k][1]];
+            if (!((n0 == a && n1 == b) || (n0 == b && n1 == a))) continue;
+            for (const auto& t : w.cuts.line_edge_t[c])
+                if (t[k] >= 0.0) add(n0 == a ? t[k] : 1.0 - t[k]);
+        }
+    });
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
 /// The surface vertex at barycentric b of mesh element e on `side` of the cut, made once per side
 /// and place (see SurfaceMesh::cut_point). A point on a mesh edge that a whole element still holds
 /// (the crack front) is one vertex for both sides (side 0), bound to that element: the lips meet
@@ -166,11 +198,16 @@ int surface_point(World& w, SurfaceMesh& s, int e, int side, const Eigen::Vector
     const bool joined = whole < 0 && n <= 3 && lips_joined(w, e, b);
     const int key_side = whole >= 0 || joined ? 0 : side;
     const int64_t lo = std::min(support[0], support[n - 1]), hi = std::max(support[0], support[n - 1]);
+    // Where several incisions may cross one edge, a point on it is also keyed by where (its weight
+    // on the higher node, in steps of kSameCrossing); else one crossing per edge.
+    int64_t along = 0;
+    for (int a = 0; n == 2 && several_per_edge(w) && a < npe; ++a)
+        if (w.elements.nodes[e][a] == hi) along = std::llround(b[a] / kSameCrossing);
     const std::array<int64_t, 4> key =
-        n <= 2 ? std::array<int64_t, 4>{key_side, lo, hi, 0} : std::array<int64_t, 4>{key_side + 4, place[0], place[1], place[2]};
+        n <= 2 ? std::array<int64_t, 4>{key_side, lo, hi, along} : std::array<int64_t, 4>{key_side + 4, place[0], place[1], place[2]};
     auto it = s.cut_point.find(key);
     if (it == s.cut_point.end() && n <= 2 && whole < 0 && !joined) {
-        if (const auto front = s.cut_point.find({0, lo, hi, 0}); front != s.cut_point.end()) {  // the front passed
+        if (const auto front = s.cut_point.find({0, lo, hi, along}); front != s.cut_point.end()) {  // the front passed
             const int v = front->second;
             s.cut_point.erase(front);
             it = s.cut_point.emplace(key, v).first;
@@ -248,8 +285,6 @@ Eigen::Vector4d on_edge(int i, int j, double t) {
     return b;
 }
 
-/// The mesh element other than e holding the nodes of e's face opposite local node o (in 2D its
-/// edge), or -1 (a face on the body's boundary).
 int element_across(const World& w, int e, int o) {
     const int npe = w.elements.nodes_per_element();
     const auto& en = w.elements.nodes[e];

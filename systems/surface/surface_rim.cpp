@@ -219,7 +219,14 @@ int side_of_cut(const World& w, const CutPlaneInfo& cp, int e, const Eigen::Vect
     if (j >= 0 && b[i] + b[j] == 1.0) {
         const int hi = w.enriched.sign[en[i]], hj = w.enriched.sign[en[j]];
         if (hi == hj && hi != 0) return hi;
-        const double t = edge_crossing(w, en[i], en[j]);  // from node i
+        double t = edge_crossing(w, en[i], en[j]);  // from node i
+        if (several_per_edge(w))  // several incisions may cross it: this cut's own crossing
+            for (size_t k = 0; k < cp.points.size(); ++k) {
+                const int* ed = local_edge(w, cp.point_edge[k]);
+                const Vec3 &Xi = w.nodes.rest[en[i]], d = w.nodes.rest[en[j]] - Xi;
+                if ((ed[0] == i && ed[1] == j) || (ed[0] == j && ed[1] == i))
+                    t = surface_edge_param(en[i], en[j], (cp.points[k] - Xi).dot(d) / d.squaredNorm());
+            }
         if (hi != 0 && hj != 0 && t > 0.0 && t < 1.0) {
             if (b[j] != t) return b[j] < t ? hi : hj;
             return en[i] < en[j] ? hi : hj;  // exactly at the crossing: the lower node's side, whoever asks
