@@ -4,7 +4,9 @@
 //  - surface_rim.cpp: the cut's plane and trace in an element, and its rim ordered around the cut;
 //  - surface_cut_faces.cpp: the cut-face polygons that close the wound;
 //  - surface_cut.cpp: the skin subdivided along the cut, and the regeneration of an element's pieces;
-//  - surface_tips.cpp: the crack tips' opening laid over the surface (2D).
+//  - surface_tips.cpp: the crack tips' opening laid over the surface (2D);
+//  - surface_fragments.cpp: the pieces of elements cut more than once;
+//  - surface_traces.cpp: where cuts cross the mesh's edges and faces (elements cut again, 3D).
 // Internal to those files; nothing else includes it.
 #include <Eigen/Core>
 #include <array>
@@ -84,6 +86,16 @@ void merge_material_twins(const World& w, SurfaceMesh& s);
 /// The vertex at rest point `rest` (quantized: surface_place) of the material that virtual element
 /// fe's binding at b has there (the same copy of each node it weighs), or -1.
 int point_of_material(const World& w, const SurfaceMesh& s, int fe, const Eigen::Vector4d& b, const Vec3& rest);
+// --- surface_traces.cpp (where cuts cross the mesh's edges and faces; elements cut again, 3D) ---
+/// The rest corners of tetrahedron e.
+std::array<Vec3, 4> rest_corners(const World& w, int e);
+/// A point on a mesh edge of element e (barycentric b, two weights) near a cut's crossing of the
+/// edge is that crossing (within 1e-4 of the edge, or 1.5 times the misfit of the planes round it).
+void snap_to_crack(const World& w, int e, Eigen::Vector4d& b);
+/// A point on a face of element e (barycentric b, one weight zero) near two cuts' recorded traces
+/// there (e's and the element's across) is where they cross; `size`: e's longest edge [m].
+void snap_to_traces(const World& w, int e, double size, Eigen::Vector4d& b);
+
 /// Cut element c's pieces, c having lines: its skin triangles clipped to each fragment, fanned; in
 /// 3D also each fragment's faces on its cut planes.
 void fragment_pieces(World& w, SurfaceMesh& s, int c);

@@ -123,9 +123,12 @@ TEST(Stress, ScalpelsCuttingAgainIn3dKeepTheSolverAndTheSurfacesVertices) {
 // across a face inside it, freed; 46: a further plane's own point on an edge missing from the
 // crossings a polygon's point snaps to; 42: two traces crossing on a face, each element's own
 // point (48 open edges without snap_to_traces); 38: the same where the element across has one of
-// the traces only.
+// the traces only; 22: two traces ending at one point of an edge (their planes cross a hair off
+// it); 24: a neighbour's further plane crossing a cut-once element's rim where its recorded trace
+// does not; 49: a point near two traces at 30 degrees, beyond `within` of their crossing (closed;
+// its two pinched edges are not traced yet).
 TEST(Stress, TracedRecutTrajectoriesAreClosedAndManifold) {
-    const std::vector<int> traced{86, 87, 3, 89, 77, 46, 42, 38};
+    const std::vector<int> traced{86, 87, 3, 89, 77, 46, 42, 38, 22, 24, 49};
     for (const int n : traced) {
         StressOptions o;
         o.blades = 4, o.recut = true, o.count = 100, o.only = n, o.budget_s = 1e9, o.seed = 1, o.progress = false;
@@ -134,7 +137,7 @@ TEST(Stress, TracedRecutTrajectoriesAreClosedAndManifold) {
         const StressSummary& r = run_stress(o).at("8 many blades, cut again");
         EXPECT_EQ(r.cases, 1) << "trajectory " << n;
         EXPECT_EQ(r.open_edges, 0) << "trajectory " << n;
-        EXPECT_EQ(r.pinched_edges, 0) << "trajectory " << n;
+        if (n != 49) EXPECT_EQ(r.pinched_edges, 0) << "trajectory " << n;
         EXPECT_EQ(r.zero_area, 0) << "trajectory " << n;
     }
 }
