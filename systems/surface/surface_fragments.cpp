@@ -154,6 +154,43 @@ bool joined_across(const World& w, int c, int v, int plane, const std::vector<Ve
     return false;
 }
 
+/// Polygon `poly` of a fragment of element e (`material`: its force element and side) as e's
+/// pieces, its points `ids` (poly's, snapped: one may have become its neighbour, so repeats are
+/// dropped, and fewer than three show nothing): fanned from its first point, or from its centre
+/// where a point was inserted on an edge (`inserted`) or the fan would have a flat triangle.
+void add_fan(World& w, SurfaceMesh& s, int e, std::pair<int, int8_t> material, const std::vector<Vec3>& poly,
+             const std::vector<int>& snapped, bool inserted, bool cut, double tiny) {
+    std::vector<int> ids;
+    for (const int id : snapped)
+        if (ids.empty() || id != ids.back()) ids.push_back(id);
+    if (ids.size() > 1 && ids.front() == ids.back()) ids.pop_back();
+    if (ids.size() < 3) return;
+    std::vector<Vec3> at;  // where its points are, snapped
+    for (const int id : ids) at.push_back(vertex_rest(w, s, id));
+    // A point taken for the crack's or a neighbour's (snap_to_crack, snap_to_traces, shared_point)
+    // may lie on the line of two others: a fan from the first with a flat triangle is fanned from
+    // the centre instead.
+    for (size_t k = 1; k + 1 < at.size() && !inserted; ++k) {
+        const Vec3 a = at[k] - at[0], b = at[k + 1] - at[0];
+        inserted = a.cross(b).norm() <= tiny * std::max({a.norm(), b.norm(), (b - a).norm()});
+    }
+    if (!inserted) {
+        for (size_t k = 1; k + 1 < ids.size(); ++k) add_piece(s, {ids[0], ids[k], ids[k + 1]}, e, cut);
+        return;
+    }
+    // The centre of the snapped points, itself not snapped (it is inside); where they are on one
+    // line (points snapped onto a trace), the polygon's own centre, off it: its triangles join the
+    // line's points on either side.
+    double longest = 0.0;
+    for (size_t k = 0; k < at.size(); ++k) longest = std::max(longest, (at[(k + 1) % at.size()] - at[k]).norm());
+    const bool flat = 2.0 * polygon_area_3d(at) <= 1e-9 * longest * longest;
+    Vec3 centre = Vec3::Zero();
+    for (const Vec3& x : flat ? poly : at) centre += x;
+    centre /= static_cast<double>(flat ? poly.size() : at.size());
+    const int mid = shared_point(w, s, material.first, material.second, bary_in_tet(rest_corners(w, e), centre), centre);
+    for (size_t k = 0; k < ids.size(); ++k) add_piece(s, {mid, ids[k], ids[(k + 1) % ids.size()]}, e, cut);
+}
+
 /// Cut element c's pieces in 3D (c having planes): per fragment, its element's skin triangles
 /// clipped to it, and its faces on its cut planes (the wound, oriented out of the fragment) with
 /// the skin's crossings on their rims inserted, fanned from their centre where any was (so no
@@ -200,27 +237,8 @@ void fragment_pieces_3d(World& w, SurfaceMesh& s, int c) {
             extra.insert(extra.end(), others.begin(), others.end());
             bool inserted = insert_on_edges(poly, extra, tiny) > 0;
             std::vector<int> ids;
-            Vec3 centre = Vec3::Zero();
-            for (const Vec3& p : poly) {
-                const int id = point(p);
-                if (ids.empty() || id != ids.back()) ids.push_back(id);
-                centre += p;
-            }
-            if (ids.size() > 1 && ids.front() == ids.back()) ids.pop_back();
-            if (ids.size() < 3) return;  // its points snapped onto fewer: nothing left to show
-            // A point taken for the crack's or a neighbour's (snap_to_crack, shared_point) may lie
-            // on the line of its two neighbours: a fan from the first would have a flat triangle.
-            for (size_t k = 0; k < ids.size() && !inserted; ++k) {
-                const Vec3 p = vertex_rest(w, s, ids[(k + ids.size() - 1) % ids.size()]), q = vertex_rest(w, s, ids[k]),
-                           r = vertex_rest(w, s, ids[(k + 1) % ids.size()]);
-                inserted = (q - p).cross(r - q).norm() <= tiny * std::max((q - p).norm(), (r - q).norm());
-            }
-            if (!inserted) {
-                for (size_t k = 1; k + 1 < ids.size(); ++k) add_piece(s, {ids[0], ids[k], ids[k + 1]}, e, cut);
-                return;
-            }
-            const int mid = point(centre / static_cast<double>(poly.size()));
-            for (size_t k = 0; k < ids.size(); ++k) add_piece(s, {mid, ids[k], ids[(k + 1) % ids.size()]}, e, cut);
+            for (const Vec3& p : poly) ids.push_back(point(p));
+            add_fan(w, s, e, {fe, ve.side[v]}, poly, ids, inserted, cut, tiny);
         };
         std::vector<Vec3> skin;  // the clipped skin's points: the rims of the cut faces pass through them
         for (int bt : s.base_of[e]) {

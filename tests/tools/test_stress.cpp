@@ -126,12 +126,14 @@ TEST(Stress, ScalpelsCuttingAgainIn3dKeepTheSolverAndTheSurfacesVertices) {
 // the traces only; 22: two traces ending at one point of an edge (their planes cross a hair off
 // it); 24: a neighbour's further plane crossing a cut-once element's rim where its recorded trace
 // does not; 49: a point near two traces at 30 degrees, beyond `within` of their crossing (closed;
-// its two pinched edges are not traced yet).
+// its two pinched edges are not traced yet); 556 and 907 (of the first 1,000): a polygon fanned
+// from its first point with a flat triangle between points not next to each other (a triangle
+// without area each).
 TEST(Stress, TracedRecutTrajectoriesAreClosedAndManifold) {
-    const std::vector<int> traced{86, 87, 3, 89, 77, 46, 42, 38, 22, 24, 49};
+    const std::vector<int> traced{86, 87, 3, 89, 77, 46, 42, 38, 22, 24, 49, 556, 907};
     for (const int n : traced) {
         StressOptions o;
-        o.blades = 4, o.recut = true, o.count = 100, o.only = n, o.budget_s = 1e9, o.seed = 1, o.progress = false;
+        o.blades = 4, o.recut = true, o.count = 1000, o.only = n, o.budget_s = 1e9, o.seed = 1, o.progress = false;
         o.csv = (std::filesystem::temp_directory_path() / ("xcut_stress_traced_" + std::to_string(::getpid()) + ".csv")).string();
         o.csv_given = true;
         const StressSummary& r = run_stress(o).at("8 many blades, cut again");
