@@ -94,6 +94,23 @@ Vec3 tip_field(const World& w, const Eigen::VectorXd& b, int fe, const Vec2& X, 
     return x;
 }
 
+std::array<double, 6> first_edge_params(const World& w, int c) {
+    std::array<double, 6> t;
+    t.fill(-1.0);
+    const auto& n = w.elements.nodes[w.cuts.element[c]];
+    for (int p = 0; p < 4; ++p) {
+        const int k = w.cuts.point_edge[c][p];
+        if (k < 0) continue;
+        const Vec3 &a = w.nodes.rest[n[kTetEdges[k][0]]], &b = w.nodes.rest[n[kTetEdges[k][1]]];
+        t[k] = (w.cuts.points[c][p] - a).dot(b - a) / (b - a).squaredNorm();
+    }
+    return t;
+}
+
+std::array<double, 6> line_edge_params(const World& w, int c, size_t l) {
+    return l < w.cuts.line_edge_t[c].size() ? w.cuts.line_edge_t[c][l] : first_edge_params(w, c);
+}
+
 bool recut_allowed(const World& w) {
     const bool wanted = w.cut_state.recut < 0 ? w.elements.dim == 2 : w.cut_state.recut > 0;
     return wanted && (w.elements.dim == 2 || w.elements.dim == 3) && w.quadratic.count() == 0 && !w.snap.enabled && w.tips.follow_radius < 0.0 &&

@@ -3,6 +3,7 @@
 // surface code asks where the crack crosses an edge and whether the blade has crossed it; output
 // and studies ask a node's enriched displacement. They read the cut components only (CutElements,
 // EnrichedDofs); the EnrichmentSystem (systems/cut/enrichment_system.h) is what writes them.
+#include <array>
 #include <span>
 
 #include "engine/world.h"
@@ -56,6 +57,14 @@ inline Vec3 bound_value(const World& w, int element, const Eigen::Vector4d& b, c
 inline Vec3 bound_position(const World& w, int element, const Eigen::Vector4d& b) {
     return bound_value(w, element, b, w.nodes.position);
 }
+
+/// Where cut element c's first cut crosses its local edges (3D, kTetEdges order, from the edge's
+/// first node; -1 where it does not): its points.
+std::array<double, 6> first_edge_params(const World& world, int c);
+/// Where line l of cut element c crosses its local edges (3D, as first_edge_params): the cut's own
+/// points (CutElements::line_edge_t), or, for an element cut once along the nodes' sides (no
+/// lines), its first cut's.
+std::array<double, 6> line_edge_params(const World& world, int c, size_t l);
 
 /// Whether this world cuts an element again (linear elements, the XFEM cutter, no crack tips, and
 /// CutState::recut: on by default in 2D, asked for in 3D; in 3D the cuts a scene scripts, in 2D

@@ -90,7 +90,7 @@ double plane_edge_param(const World& w, const Fragment& f, int l, int p, int q) 
     for (int e = 0; e < 6; ++e) {
         const int i = n[kTetEdges[e][0]], j = n[kTetEdges[e][1]];
         if (!((i == p && j == q) || (i == q && j == p))) continue;
-        const double t = w.cuts.lines[c].empty() ? first_edge_params(w, c)[e] : w.cuts.line_edge_t[c][l][e];
+        const double t = line_edge_params(w, c, static_cast<size_t>(l))[e];
         return t >= 0.0 && i == q ? 1.0 - t : t;
     }
     return -1.0;

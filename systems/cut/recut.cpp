@@ -52,19 +52,6 @@ void ensure_lines(World& w, int c) {
 
 }  // namespace
 
-std::array<double, 6> first_edge_params(const World& w, int c) {
-    std::array<double, 6> t;
-    t.fill(-1.0);
-    const auto& n = w.elements.nodes[w.cuts.element[c]];
-    for (int p = 0; p < 4; ++p) {
-        const int k = w.cuts.point_edge[c][p];
-        if (k < 0) continue;
-        const Vec3 &a = w.nodes.rest[n[kTetEdges[k][0]]], &b = w.nodes.rest[n[kTetEdges[k][1]]];
-        t[k] = (w.cuts.points[c][p] - a).dot(b - a) / (b - a).squaredNorm();
-    }
-    return t;
-}
-
 CutLine first_cut_line(const World& w, int c) {
     const int e = w.cuts.element[c];
     if (w.elements.dim == 3) {
@@ -216,7 +203,7 @@ double incision_edge_param(const World& w, int a, int b, const Vec3& normal, dou
         if (k == 6) continue;
         const std::vector<CutLine> lines = lines_of(w, c);
         for (size_t l = 0; l < lines.size(); ++l) {
-            const double stored = l < w.cuts.line_edge_t[c].size() ? w.cuts.line_edge_t[c][l][k] : first_edge_params(w, c)[k];
+            const double stored = line_edge_params(w, c, l)[k];
             const double t = m[kTetEdges[k][0]] == a ? stored : 1.0 - stored;
             if (stored >= 0.0 && std::abs(lines[l].normal.dot(normal)) > kRecutCos && (best < 0.0 || std::abs(t - own) < std::abs(best - own)))
                 best = t;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/world.h"
+#include "systems/xfem_queries.h"  // first_edge_params, line_edge_params
 
 namespace xcut {
 
@@ -24,10 +25,6 @@ inline constexpr double kSameLineCos = 0.9998476951563913;
 /// The line of cut element c's first cut: through its edge points (2D: two; 3D: the plane through
 /// three or four), its normal toward the side H = +1 of the element's nodes.
 CutLine first_cut_line(const World& world, int c);
-
-/// Where cut element c's first cut crosses its local edges (3D, kTetEdges order, from the edge's
-/// first node; -1 where it does not): its points (CutElements::line_edge_t).
-std::array<double, 6> first_edge_params(const World& world, int c);
 
 /// Cut element c's lines: those it keeps once cut again, else its first cut's line alone.
 std::vector<CutLine> lines_of(const World& world, int c);

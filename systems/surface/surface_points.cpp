@@ -140,24 +140,17 @@ std::vector<double> edge_crossings(const World& w, int a, int b) {
         if (const double t = edge_crossing(w, a, b); t > 0.0 && t < 1.0) out.push_back(t);
         return out;
     }
-    const Vec3 &Xa = w.nodes.rest[a], &Xb = w.nodes.rest[b];
-    const auto add = [&](double from_a) {
-        const double t = surface_edge_param(a, b, from_a);
-        if (t > 0.0 && t < 1.0 && std::none_of(out.begin(), out.end(), [&](double u) { return std::abs(u - t) < kSameCrossing; }))
-            out.push_back(t);
-    };
-    for_elements_around(w, a, b, [&](int f) {
+    for_elements_around(w, a, b, [&](int f) {  // every plane's own point on the edge
         const int c = w.cuts.cut_of_element[f];
-        for (int k = 0; c >= 0 && w.cuts.lines[c].empty() && k < 4 && w.cuts.point_edge[c][k] >= 0; ++k) {
-            const int* ed = kTetEdges[w.cuts.point_edge[c][k]];
-            const int n0 = w.elements.nodes[f][ed[0]], n1 = w.elements.nodes[f][ed[1]];
-            if ((n0 == a && n1 == b) || (n0 == b && n1 == a)) add(std::clamp((w.cuts.points[c][k] - Xa).dot(Xb - Xa) / (Xb - Xa).squaredNorm(), 0.0, 1.0));
-        }
-        for (int k = 0; c >= 0 && !w.cuts.lines[c].empty() && k < 6; ++k) {  // every plane's own point (line_edge_t)
+        for (int k = 0; c >= 0 && k < 6; ++k) {
             const int n0 = w.elements.nodes[f][kTetEdges[k][0]], n1 = w.elements.nodes[f][kTetEdges[k][1]];
             if (!((n0 == a && n1 == b) || (n0 == b && n1 == a))) continue;
-            for (const auto& t : w.cuts.line_edge_t[c])
-                if (t[k] >= 0.0) add(n0 == a ? t[k] : 1.0 - t[k]);
+            for (size_t l = 0; l < std::max<size_t>(1, w.cuts.lines[c].size()); ++l) {
+                const double from_k = line_edge_params(w, c, l)[k];
+                const double t = from_k < 0.0 ? -1.0 : surface_edge_param(a, b, n0 == a ? from_k : 1.0 - from_k);
+                if (t > 0.0 && t < 1.0 && std::none_of(out.begin(), out.end(), [&](double u) { return std::abs(u - t) < kSameCrossing; }))
+                    out.push_back(t);
+            }
         }
     });
     std::sort(out.begin(), out.end());

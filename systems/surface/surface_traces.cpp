@@ -37,17 +37,9 @@ double plane_misfit(const World& w, int c, const std::array<Vec3, 4>& X) {
 /// lower-numbered node, so the element across the face, cut by the same incision, makes the same
 /// segment. False if it has no trace there.
 bool face_trace(const World& w, int e, int c, size_t l, int o, std::array<Vec3, 2>& ends) {
-    const bool once = w.cuts.lines[c].empty();
-    if (once ? l > 0 : l >= w.cuts.line_edge_t[c].size()) return false;
-    std::array<double, 6> edge_t;
-    edge_t.fill(-1.0);
-    if (!once) edge_t = w.cuts.line_edge_t[c][l];
+    if (l >= std::max<size_t>(1, w.cuts.lines[c].size())) return false;
+    const std::array<double, 6> edge_t = line_edge_params(w, c, l);
     const auto& en = w.elements.nodes[e];
-    for (int p = 0; once && p < 4 && w.cuts.point_edge[c][p] >= 0; ++p) {
-        const int k = w.cuts.point_edge[c][p];
-        const Vec3 &a = w.nodes.rest[en[kTetEdges[k][0]]], &b = w.nodes.rest[en[kTetEdges[k][1]]];
-        edge_t[k] = (w.cuts.points[c][p] - a).dot(b - a) / (b - a).squaredNorm();
-    }
     int m = 0;
     for (int k = 0; k < 6; ++k) {
         const int i = kTetEdges[k][0], j = kTetEdges[k][1];
