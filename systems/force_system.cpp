@@ -131,13 +131,14 @@ double elastic_energy_dim(const World& world) {
                                            lame_of(world.materials.list[el.material[e]], D), unused);
     });
     double quadratic = 0.0;
-    if (world.quadratic.count() > 0) {  // each element's rotation from its corners' F, as above
+    if (world.quadratic.count() > 0) {  // each element's rotation as update_rotations takes it
         const QuadraticElements& q = world.quadratic;
         std::vector<double> part(q.count());
         parallel_for(q.count(), [&](int t) {
             const int e = q.element[t];
-            const Mat3 R = extract_rotation(Mat3(edge_matrix<3>(gather_vectors(el.nodes[e], 4, x)) * el.dm_inv[e]), el.rotation[e]);
-            part[t] = quadratic_element_energy(quadratic_view(world), x, t, R);
+            const Mat3 F = edge_matrix<3>(gather_vectors(el.nodes[e], 4, x)) * el.dm_inv[e];
+            const QuadraticView view = quadratic_view(world);
+            part[t] = quadratic_element_energy(view, x, t, quadratic_rotation(view, x, t, F, el.rotation[e]));
         });
         quadratic = deterministic_sum(q.count(), [&](int t) { return part[t]; });
     }
@@ -166,6 +167,17 @@ void update_rotations(World& world) {
     } else {
         update_rotations_dim<2>(world);
     }
+    // One side of a cut quadratic element turns with its own material (quadratic_rotation).
+    const QuadraticElements& q = world.quadratic;
+    if (q.side_rule.empty()) return;
+    Elements& el = world.elements;
+    const QuadraticView view = quadratic_view(world);
+    const Vec3* x = world.nodes.position.data();
+    parallel_for(static_cast<int>(q.side_rule.size()), [&](int t) {
+        if (q.side_rule[t] < 0) return;
+        const int e = q.element[t];
+        el.rotation[e] = quadratic_rotation(view, x, t, Mat3::Identity(), el.rotation[e]);
+    });
 }
 
 void compute_forces(World& world) {

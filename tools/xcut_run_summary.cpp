@@ -17,7 +17,7 @@ RunFigures run_figures(const World& w, int steps, double secs) {
     const StepMetrics& m = w.metrics.current;
     f.time_s = w.time, f.wall_s = secs, f.steps = steps, f.steps_per_s = steps / std::max(secs, 1e-9);
     f.free_dofs = m.dofs, f.last_cg_iterations = m.cg_iterations, f.kinetic_J = m.kinetic_energy, f.elastic_J = m.elastic_energy;
-    for (int i = 0; i < w.nodes.count(); ++i)
+    for (int i = 0; i < w.mesh_nodes; ++i)
         f.max_displacement_m = std::max(f.max_displacement_m, (w.nodes.position[i] - w.nodes.rest[i]).norm());
     f.elements_split = w.cuts.count(), f.enriched_nodes = w.enriched.count();
     f.front_held_nodes = static_cast<int>(std::count(w.enriched.front_fixed.begin(), w.enriched.front_fixed.end(), 1));

@@ -13,6 +13,8 @@ namespace xcut {
 struct RunFigures {
     double time_s = 0.0, wall_s = 0.0, steps_per_s = 0.0;  ///< simulated and wall time [s]
     int steps = 0, free_dofs = 0, last_cg_iterations = 0;
+    /// The largest |x - X| over the mesh's nodes (corners and mid-edge nodes: the tissue's own), not
+    /// over the phantom DOF nodes, whose positions only extrapolate a cut side's field [m].
     double max_displacement_m = 0.0, kinetic_J = 0.0, elastic_J = 0.0;
     int elements_split = 0, enriched_nodes = 0, front_held_nodes = 0;  ///< XFEM
     double max_opening_m = 0.0;                                        ///< max |a_j|

@@ -1,6 +1,7 @@
 #include "systems/kernels/quadratic_elastic.h"
 
 #include "engine/parallel.h"
+#include "systems/kernels/polar_decomposition.h"
 
 namespace xcut {
 namespace {
@@ -68,6 +69,20 @@ double quadratic_forces(const QuadraticView& v, const Vec3* x, std::vector<Tet10
     std::vector<double> energy(n);
     parallel_for(n, [&](int t) { energy[t] = element_forces(v, x, t, v.elements.rotation[v.quadratic.element[t]], buffer[t]); });
     return deterministic_sum(n, [&](int t) { return energy[t]; });
+}
+
+Mat3 quadratic_rotation(const QuadraticView& v, const Vec3* x, int t, const Mat3& corners_f, const Mat3& warm) {
+    if (side_of(v, t) < 0) return extract_rotation(corners_f, warm);
+    const Tet10SideGradients G = rule_gradients(v, t);
+    const Tet10Vectors xs = gather(v.quadratic.nodes[t], x);
+    Mat3 F = Mat3::Zero();
+    double W = 0.0;
+    for (int q = 0; q < G.count; ++q) F += G.weight[q] * tet10_deformation_gradient(xs, G, q), W += G.weight[q];
+    F /= W;
+    if (!v.quadratic.planar) return extract_rotation(F, warm);
+    Mat3 R = Mat3::Identity();
+    R.topLeftCorner<2, 2>() = extract_rotation(Eigen::Matrix2d(F.topLeftCorner<2, 2>()));
+    return R;
 }
 
 double quadratic_element_energy(const QuadraticView& v, const Vec3* x, int t, const Mat3& R) {

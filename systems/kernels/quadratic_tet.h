@@ -17,6 +17,8 @@
 // Why one rotation per element, not per point: the rotation's change within a straight-edged element
 // is of the order of the strain's, which the linear law already neglects; per-point rotations would
 // make K depend on four polar decompositions for no gain in the small-strain regime the model is for.
+// One side of a cut element takes the polar factor of its F's mean over the side instead of its
+// corners' (quadratic_rotation, systems/kernels/quadratic_elastic.h): its corners may be phantoms.
 //
 // Lumped mass: HRZ (Hinton, Rock & Zienkiewicz 1976): the consistent mass's diagonal scaled to the
 // element's mass, rho V / 36 to each corner and 4 rho V / 27 to each mid-edge node. The row-sum
