@@ -8,14 +8,11 @@
 namespace xcut {
 
 bool edge_crossed(const World& w, int a, int b) {
-    const Elements& el = w.elements;
     for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
         const int f = w.incidence.entry[p] >> 2, c = w.cuts.cut_of_element[f];
-        if (c < 0) continue;
-        for (int k = 0; k < edge_count(el.dim); ++k) {
-            const int i = el.nodes[f][edge_nodes(el.dim, k)[0]], j = el.nodes[f][edge_nodes(el.dim, k)[1]];
-            if (((i == a && j == b) || (i == b && j == a)) && (w.cuts.crossed[c] >> k & 1)) return true;
-        }
+        bool from_a = true;
+        const int k = c < 0 ? -1 : local_edge_of(w, f, a, b, from_a);
+        if (k >= 0 && (w.cuts.crossed[c] >> k & 1)) return true;
     }
     return false;
 }
@@ -109,6 +106,15 @@ std::array<double, 6> first_edge_params(const World& w, int c) {
 
 std::array<double, 6> line_edge_params(const World& w, int c, size_t l) {
     return l < w.cuts.line_edge_t[c].size() ? w.cuts.line_edge_t[c][l] : first_edge_params(w, c);
+}
+
+int local_edge_of(const World& w, int f, int a, int b, bool& from_a) {
+    const auto& m = w.elements.nodes[f];
+    for (int k = 0; k < edge_count(w.elements.dim); ++k) {
+        const int i = m[edge_nodes(w.elements.dim, k)[0]], j = m[edge_nodes(w.elements.dim, k)[1]];
+        if ((i == a && j == b) || (i == b && j == a)) return from_a = i == a, k;
+    }
+    return -1;
 }
 
 bool recut_allowed(const World& w) {

@@ -65,6 +65,12 @@ std::array<double, 6> first_edge_params(const World& world, int c);
 /// points (CutElements::line_edge_t), or, for an element cut once along the nodes' sides (no
 /// lines), its first cut's.
 std::array<double, 6> line_edge_params(const World& world, int c, size_t l);
+/// Element f's local edge (kTetEdges order; a triangle's: kTriEdges) joining mesh nodes a and b, -1
+/// if it has none; `from_a`: whether the edge runs from a.
+int local_edge_of(const World& world, int f, int a, int b, bool& from_a);
+/// A parameter on element f's local edge k (from its first node, as line_edge_params) measured from
+/// node a instead: t, or 1 - t where the edge runs from b; -1 stays -1 (no crossing).
+inline double param_from(double t, bool from_a) { return t < 0.0 ? t : from_a ? t : 1.0 - t; }
 
 /// Whether this world cuts an element again (linear elements, the XFEM cutter, no crack tips, and
 /// CutState::recut: on by default in 2D, asked for in 3D; in 3D the cuts a scene scripts, in 2D

@@ -175,12 +175,9 @@ bool blade_entered_across(const World& w, int tool, int f, int a, int b) {
     if (tool < 0 || tool >= static_cast<int>(blades.size())) return false;
     const auto it = blades[tool].crossing.find(f);
     if (it == blades[tool].crossing.end()) return false;
-    const auto& m = w.elements.nodes[f];
-    for (int k = 0; k < 3; ++k) {
-        const int p = m[kTriEdges[k][0]], q = m[kTriEdges[k][1]];
-        if ((p == a && q == b) || (p == b && q == a)) return it->second.mask >> k & 1;
-    }
-    return false;
+    bool from_a = true;
+    const int k = local_edge_of(w, f, a, b, from_a);
+    return k >= 0 && (it->second.mask >> k & 1);
 }
 
 }  // namespace
@@ -197,14 +194,13 @@ double incision_edge_param(const World& w, int a, int b, const Vec3& normal, dou
         const int f = w.incidence.entry[p] >> 2;
         const int c = f < w.mesh_elements ? w.cuts.cut_of_element[f] : -1;
         if (c < 0) continue;
-        const auto& m = w.elements.nodes[f];
-        int k = 0;
-        while (k < 6 && !((m[kTetEdges[k][0]] == a && m[kTetEdges[k][1]] == b) || (m[kTetEdges[k][0]] == b && m[kTetEdges[k][1]] == a))) ++k;
-        if (k == 6) continue;
+        bool from_a = true;
+        const int k = local_edge_of(w, f, a, b, from_a);
+        if (k < 0) continue;
         const std::vector<CutLine> lines = lines_of(w, c);
         for (size_t l = 0; l < lines.size(); ++l) {
             const double stored = line_edge_params(w, c, l)[k];
-            const double t = m[kTetEdges[k][0]] == a ? stored : 1.0 - stored;
+            const double t = param_from(stored, from_a);
             if (stored >= 0.0 && std::abs(lines[l].normal.dot(normal)) > kRecutCos && (best < 0.0 || std::abs(t - own) < std::abs(best - own)))
                 best = t;
         }

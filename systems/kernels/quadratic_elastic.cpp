@@ -78,6 +78,7 @@ Mat3 quadratic_rotation(const QuadraticView& v, const Vec3* x, int t, const Mat3
     Mat3 F = Mat3::Zero();
     double W = 0.0;
     for (int q = 0; q < G.count; ++q) F += G.weight[q] * tet10_deformation_gradient(xs, G, q), W += G.weight[q];
+    if (!(W > 0.0)) return warm;  // a side without volume has no material to turn with
     F /= W;
     if (!v.quadratic.planar) return extract_rotation(F, warm);
     Mat3 R = Mat3::Identity();

@@ -142,15 +142,13 @@ std::vector<double> edge_crossings(const World& w, int a, int b) {
     }
     for_elements_around(w, a, b, [&](int f) {  // every plane's own point on the edge
         const int c = w.cuts.cut_of_element[f];
-        for (int k = 0; c >= 0 && k < 6; ++k) {
-            const int n0 = w.elements.nodes[f][kTetEdges[k][0]], n1 = w.elements.nodes[f][kTetEdges[k][1]];
-            if (!((n0 == a && n1 == b) || (n0 == b && n1 == a))) continue;
-            for (size_t l = 0; l < std::max<size_t>(1, w.cuts.lines[c].size()); ++l) {
-                const double from_k = line_edge_params(w, c, l)[k];
-                const double t = from_k < 0.0 ? -1.0 : surface_edge_param(a, b, n0 == a ? from_k : 1.0 - from_k);
-                if (t > 0.0 && t < 1.0 && std::none_of(out.begin(), out.end(), [&](double u) { return std::abs(u - t) < kSameCrossing; }))
-                    out.push_back(t);
-            }
+        bool from_a = true;
+        const int k = c >= 0 ? local_edge_of(w, f, a, b, from_a) : -1;
+        for (size_t l = 0; k >= 0 && l < std::max<size_t>(1, w.cuts.lines[c].size()); ++l) {
+            const double from = param_from(line_edge_params(w, c, l)[k], from_a);
+            const double t = from < 0.0 ? -1.0 : surface_edge_param(a, b, from);
+            if (t > 0.0 && t < 1.0 && std::none_of(out.begin(), out.end(), [&](double u) { return std::abs(u - t) < kSameCrossing; }))
+                out.push_back(t);
         }
     });
     std::sort(out.begin(), out.end());

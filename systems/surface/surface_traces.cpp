@@ -60,14 +60,9 @@ bool face_trace(const World& w, int e, int c, size_t l, int o, std::array<Vec3, 
 /// the plane's crossing (snap_to_crack), or, where it records none, the plane's crossing; -1 where
 /// the plane does not cross the edge.
 double line_crossing(const World& w, int f, int c, size_t l, int na, int nb) {
-    const auto& en = w.elements.nodes[f];
-    if (w.elements.dim == 3 && l < w.cuts.line_edge_t[c].size())
-        for (int k = 0; k < 6; ++k) {
-            const int i = en[kTetEdges[k][0]], j = en[kTetEdges[k][1]];
-            const double t = w.cuts.line_edge_t[c][l][k];
-            if (t >= 0.0 && i == na && j == nb) return t;
-            if (t >= 0.0 && i == nb && j == na) return 1.0 - t;
-        }
+    bool from_a = true;
+    const int k = w.elements.dim == 3 && l < w.cuts.line_edge_t[c].size() ? local_edge_of(w, f, na, nb, from_a) : -1;
+    if (k >= 0 && w.cuts.line_edge_t[c][l][k] >= 0.0) return param_from(w.cuts.line_edge_t[c][l][k], from_a);
     const CutLine& line = w.cuts.lines[c][l];
     const double da = line.normal.dot(w.nodes.rest[na] - line.origin), db = line.normal.dot(w.nodes.rest[nb] - line.origin);
     return (da > 0.0) == (db > 0.0) || da == 0.0 || db == 0.0 ? -1.0 : da / (da - db);
