@@ -133,12 +133,10 @@ double elastic_energy_dim(const World& world) {
     double quadratic = 0.0;
     if (world.quadratic.count() > 0) {  // each element's rotation as update_rotations takes it
         const QuadraticElements& q = world.quadratic;
+        const QuadraticView view = quadratic_view(world);
         std::vector<double> part(q.count());
         parallel_for(q.count(), [&](int t) {
-            const int e = q.element[t];
-            const Mat3 F = edge_matrix<3>(gather_vectors(el.nodes[e], 4, x)) * el.dm_inv[e];
-            const QuadraticView view = quadratic_view(world);
-            part[t] = quadratic_element_energy(view, x, t, quadratic_rotation(view, x, t, F, el.rotation[e]));
+            part[t] = quadratic_element_energy(view, x, t, quadratic_rotation(view, x, t, el.rotation[q.element[t]]));
         });
         quadratic = deterministic_sum(q.count(), [&](int t) { return part[t]; });
     }
@@ -176,7 +174,7 @@ void update_rotations(World& world) {
     parallel_for(static_cast<int>(q.side_rule.size()), [&](int t) {
         if (q.side_rule[t] < 0) return;
         const int e = q.element[t];
-        el.rotation[e] = quadratic_rotation(view, x, t, Mat3::Identity(), el.rotation[e]);
+        el.rotation[e] = quadratic_rotation(view, x, t, el.rotation[e]);
     });
 }
 

@@ -71,15 +71,21 @@ double quadratic_forces(const QuadraticView& v, const Vec3* x, std::vector<Tet10
     return deterministic_sum(n, [&](int t) { return energy[t]; });
 }
 
-Mat3 quadratic_rotation(const QuadraticView& v, const Vec3* x, int t, const Mat3& corners_f, const Mat3& warm) {
-    if (side_of(v, t) < 0) return extract_rotation(corners_f, warm);
-    const Tet10SideGradients G = rule_gradients(v, t);
-    const Tet10Vectors xs = gather(v.quadratic.nodes[t], x);
+Mat3 quadratic_rotation(const QuadraticView& v, const Vec3* x, int t, const Mat3& warm) {
     Mat3 F = Mat3::Zero();
-    double W = 0.0;
-    for (int q = 0; q < G.count; ++q) F += G.weight[q] * tet10_deformation_gradient(xs, G, q), W += G.weight[q];
-    if (!(W > 0.0)) return warm;  // a side without volume has no material to turn with
-    F /= W;
+    if (side_of(v, t) >= 0) {  // the mean over the side's rule
+        const Tet10SideGradients G = rule_gradients(v, t);
+        const Tet10Vectors xs = gather(v.quadratic.nodes[t], x);
+        double W = 0.0;
+        for (int q = 0; q < G.count; ++q) F += G.weight[q] * tet10_deformation_gradient(xs, G, q), W += G.weight[q];
+        if (!(W > 0.0)) return warm;  // a side without volume has no material to turn with
+        F /= W;
+    } else {  // the corner element's (a triangle's third column stays 0)
+        const int e = v.quadratic.element[t];
+        const auto& n = v.elements.nodes[e];
+        for (int k = 0; k < (v.quadratic.planar ? 2 : 3); ++k) F.col(k) = x[n[k + 1]] - x[n[0]];
+        F = F * v.elements.dm_inv[e];
+    }
     if (!v.quadratic.planar) return extract_rotation(F, warm);
     Mat3 R = Mat3::Identity();
     R.topLeftCorner<2, 2>() = extract_rotation(Eigen::Matrix2d(F.topLeftCorner<2, 2>()));

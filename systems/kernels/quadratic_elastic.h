@@ -27,13 +27,13 @@ LameParameters quadratic_lame(const Material& m, bool planar = false);
 /// Forces at positions x into buffer (sized here); returns the strain energy [J] (a fixed-order sum).
 double quadratic_forces(const QuadraticView& v, const Vec3* x, std::vector<Tet10Vectors>& buffer);
 /// Element t's rotation at positions x (warm: the last one, a start for the polar decomposition):
-/// a whole element's is the polar factor of its corner tetrahedron's F (`corners_f`), as the linear
+/// a whole element's is the polar factor of its corner tetrahedron's (triangle's) F, as the linear
 /// element's; one side of a cut element's is that of its deformation gradient's mean over the side's
 /// own rule. A side's corners include phantom nodes, placed by the side's quadratic field
 /// extrapolated beyond the material it holds: for a small side their F turns by 0.05-0.1 rad from
 /// step to step while the material barely moves, and at nu 0.49 each turn is a large change of the
 /// side's stiffness (docs/elements.md, "A nearly incompressible cut body").
-Mat3 quadratic_rotation(const QuadraticView& v, const Vec3* x, int t, const Mat3& corners_f, const Mat3& warm);
+Mat3 quadratic_rotation(const QuadraticView& v, const Vec3* x, int t, const Mat3& warm);
 /// Element t's strain energy at positions x with rotation R [J] (its rule: whole or side).
 double quadratic_element_energy(const QuadraticView& v, const Vec3* x, int t, const Mat3& R);
 /// Element t's K p into buffer[t].
