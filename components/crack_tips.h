@@ -1,8 +1,9 @@
 #pragma once
-// Crack tips enriched with branch functions (2D; systems/cut/crack_tip_system.h,
+// Crack tips (2D) and straight crack fronts (3D) enriched with branch functions
+// (systems/cut/crack_tip_system.h, systems/kernels/front_enrichment.h,
 // systems/kernels/branch_enrichment.h). Each enriched node carries, per tip, four branch functions
-// times a 2D amplitude; the amplitudes are condensed out of the step (they have no mass), so this
-// holds only what the condensation needs: which force elements the enrichment reaches and the
+// times an amplitude of the mesh's dimension; the amplitudes are condensed out of the step (they
+// have no mass), so this holds only what the condensation needs: which force elements the enrichment reaches and the
 // integrals of its shape functions' gradients over each, at rest (SI units).
 #include <Eigen/Core>
 #include <array>
@@ -28,6 +29,7 @@ struct CrackTips {
     // ---- per tip (rest configuration)
     std::vector<Vec3> point;       ///< where the crack ends [m]
     std::vector<Vec3> direction;   ///< the crack's unit direction at the tip, pointing ahead of it [-]
+    std::vector<Vec3> tangent;     ///< the front's unit tangent (3D: a straight front through point; 2D: z) [-]
     // ---- per enriched (tip, node) pair: functions 4 pair + l, 2 amplitudes each
     std::vector<int> node;         ///< the mesh node
     std::vector<int> tip;          ///< the tip
@@ -38,8 +40,8 @@ struct CrackTips {
     std::vector<int8_t> lip;       ///< the crack's side its part lies on (+1 the normal's, -1; 0 uncut: atan2)
     // ---- per zone element and function a (its own order)
     std::vector<int> function;     ///< global function: 4 pair + l
-    std::vector<Vec3> gradient;    ///< G_a = t ∫ ∇φ_a over the element's part [m^2.5]; z = 0
-    std::vector<Mat3> moment;      ///< M_ab = t ∫ ∇φ_a ∇φ_b^T, row-major by (a, b) [m^2]; z row, column 0
+    std::vector<Vec3> gradient;    ///< G_a = ∫ ∇φ_a over the element's part [m^2.5] (2D: t ∫, z = 0)
+    std::vector<Mat3> moment;      ///< M_ab = ∫ ∇φ_a ∇φ_b^T, row-major by (a, b) [m^2] (2D: t ∫, z row, column 0)
 
     // ---- blades that carry tips (scene cutter.tip; systems/cut/crack_tip_system.h, follow_blades)
     double follow_radius = -1.0;     ///< [m] each blade's tip enriched within this radius; < 0: off

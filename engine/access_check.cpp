@@ -48,7 +48,7 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
                   c.crossed_log, c.cut_of_element, c.lines, c.fragments, c.recut_log);
             h.all(w.virtual_elements.parent, w.virtual_elements.side, w.virtual_elements.element, w.virtual_elements.mask);
             const CrackTips& t = w.tips;
-            h.all(t.point, t.direction, t.node, t.tip, t.element, t.lip, t.first, t.moment_first, t.function, t.gradient, t.moment);
+            h.all(t.point, t.direction, t.tangent, t.node, t.tip, t.element, t.lip, t.first, t.moment_first, t.function, t.gradient, t.moment);
             const EnrichedDofs& en = w.enriched;
             return h.all(en.sign, en.enriched, en.front_fixed, en.phantom, en.node_of_phantom, en.phantom_from, en.sign_normal);
         }

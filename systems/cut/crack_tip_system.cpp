@@ -89,36 +89,41 @@ std::vector<ZonePart> parts_of(const World& w, int e, const TipFrame& f) {
 /// Appends zone element `part` of mesh element e with its enriched corners `slots`.
 void add_zone_part(World& w, int e, const ZonePart& part, const std::vector<int>& slots, const std::vector<int>& pair_of,
                    const TipFrame& f) {
-    CrackTips& ct = w.tips;
     std::array<int, 3> lip{};
     for (int k = 0; k < 3; ++k) lip[k] = node_lip(w, f, w.elements.nodes[e][k]);
     const BranchIntegrals bi = branch_integrals(rest_triangle(w, e), slots, lip, f, part.lip,
                                                 tip_polygon_rule(part.polygon, f, kRuleOrder));
     const double t = w.materials.list[w.elements.material[e]].thickness;
-    ct.element.push_back(part.element);
-    ct.lip.push_back(static_cast<int8_t>(part.lip));
-    ct.moment_first.push_back(static_cast<int>(ct.moment.size()));
-    for (size_t s = 0; s < slots.size(); ++s)
-        for (int l = 0; l < 4; ++l) {
-            ct.function.push_back(4 * pair_of[w.elements.nodes[e][slots[s]]] + l);
-            ct.gradient.emplace_back(t * bi.G[4 * s + l].x(), t * bi.G[4 * s + l].y(), 0.0);
-        }
-    for (const Eigen::Matrix2d& M : bi.M) {
-        Mat3 m = Mat3::Zero();
-        m.topLeftCorner<2, 2>() = t * M;
-        ct.moment.push_back(m);
+    std::vector<Vec3> G;
+    std::vector<Mat3> M;
+    for (const Vec2& g : bi.G) G.emplace_back(t * g.x(), t * g.y(), 0.0);
+    for (const Eigen::Matrix2d& m : bi.M) {
+        M.push_back(Mat3::Zero());
+        M.back().topLeftCorner<2, 2>() = t * m;
     }
-    ct.first.push_back(static_cast<int>(ct.function.size()));
+    add_zone_element(w, e, part.element, part.lip, slots, pair_of, G, M);
 }
 
-/// The condensation of the amplitudes at the current rotations, and the maps it is made of.
+/// Force element fe's Lamé parameters [Pa]: plane stress in 2D (as the ForceSystem's), 3D's own.
+template <int D>
+LameParameters tip_lame(const World& w, int fe) {
+    if constexpr (D == 2) return plane_lame(w, fe);
+    const Material& m = w.materials.list[w.elements.material[fe]];
+    return {m.lambda(), m.mu()};
+}
+
+/// The condensation of the amplitudes at the current rotations, and the maps it is made of; D
+/// amplitudes a function (the mesh's dimension).
+template <int D>
 class Condensation {
 public:
+    using Mat = MatD<D>;
+    using Vec = VecD<D>;
     /// H = Σ_z R K R^T over the zone, factored.
     void factor(const World& w) {
         const CrackTips& ct = w.tips;
-        Eigen::MatrixXd H = Eigen::MatrixXd::Zero(2 * ct.functions(), 2 * ct.functions());
-        stiffness_blocks(w, [&](int fa, int fb, const Eigen::Matrix2d& K) { H.block<2, 2>(2 * fa, 2 * fb) += K; });
+        Eigen::MatrixXd H = Eigen::MatrixXd::Zero(D * ct.functions(), D * ct.functions());
+        stiffness_blocks(w, [&](int fa, int fb, const Mat& K) { H.template block<D, D>(D * fa, D * fb) += K; });
         // Jacobi scaling first: far from the tip a shifted function is nearly linear over its
         // element, so its diagonal is orders of magnitude below the tip's (Béchet et al. 2005).
         scale_ = H.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
@@ -141,23 +146,23 @@ public:
     /// DOF node) to the amplitudes' forces, at the current rotations.
     void block(const World& w, BesideBlock& out) const {
         const CrackTips& ct = w.tips;
-        out.rows = 2 * ct.functions();
-        stiffness_blocks(w, [&](int fa, int fb, const Eigen::Matrix2d& K) {
-            for (int i = 0; i < 2; ++i)
-                for (int j = 0; j < 2; ++j) out.stiffness.emplace_back(2 * fa + i, 2 * fb + j, K(i, j));
+        out.rows = D * ct.functions();
+        stiffness_blocks(w, [&](int fa, int fb, const Mat& K) {
+            for (int i = 0; i < D; ++i)
+                for (int j = 0; j < D; ++j) out.stiffness.emplace_back(D * fa + i, D * fb + j, K(i, j));
         });
         for (int z = 0; z < ct.zone(); ++z) {
             const int fe = ct.element[z];
-            for (int k = 0; k < 3; ++k)
-                for (int d = 0; d < 2; ++d) {  // node k moved along axis d
+            for (int k = 0; k <= D; ++k)
+                for (int d = 0; d < D; ++d) {  // node k moved along axis d
                     std::array<Vec3, 4> x;
                     x.fill(Vec3::Zero());
                     x[k][d] = 1.0;
-                    const Eigen::Matrix2d RS = rotated_stress(w, fe, x, 0.0);
+                    const Mat RS = rotated_stress(w, fe, x, 0.0);
                     const int column = 3 * w.elements.nodes[fe][k] + d;
                     for (int a = ct.first[z]; a < ct.first[z + 1]; ++a) {
-                        const Vec2 g = RS * ct.gradient[a].head<2>();
-                        for (int i = 0; i < 2; ++i) out.coupling.emplace_back(2 * ct.function[a] + i, column, g[i]);
+                        const Vec g = RS * ct.gradient[a].template head<D>();
+                        for (int i = 0; i < D; ++i) out.coupling.emplace_back(D * ct.function[a] + i, column, g[i]);
                     }
                 }
         }
@@ -165,13 +170,14 @@ public:
     /// g = Σ_z R σ(R^T F - shift I) G_a, F from the nodal vectors v (positions, or a direction with shift 0).
     Eigen::VectorXd coupling(const World& w, const Vec3* v, double shift) const {
         const CrackTips& ct = w.tips;
-        Eigen::VectorXd g = Eigen::VectorXd::Zero(2 * ct.functions());
+        Eigen::VectorXd g = Eigen::VectorXd::Zero(D * ct.functions());
         for (int z = 0; z < ct.zone(); ++z) {
             const int fe = ct.element[z];
             std::array<Vec3, 4> x{};
-            for (int k = 0; k < 3; ++k) x[k] = v[w.elements.nodes[fe][k]];
-            const Eigen::Matrix2d RS = rotated_stress(w, fe, x, shift);
-            for (int a = ct.first[z]; a < ct.first[z + 1]; ++a) g.segment<2>(2 * ct.function[a]) += RS * ct.gradient[a].head<2>();
+            for (int k = 0; k <= D; ++k) x[k] = v[w.elements.nodes[fe][k]];
+            const Mat RS = rotated_stress(w, fe, x, shift);
+            for (int a = ct.first[z]; a < ct.first[z + 1]; ++a)
+                g.template segment<D>(D * ct.function[a]) += RS * ct.gradient[a].template head<D>();
         }
         return g;
     }
@@ -180,14 +186,14 @@ public:
         const CrackTips& ct = w.tips;
         for (int z = 0; z < ct.zone(); ++z) {
             const int fe = ct.element[z];
-            const Eigen::Matrix2d R = w.elements.rotation[fe].topLeftCorner<2, 2>();
-            Eigen::Matrix2d B = Eigen::Matrix2d::Zero();
+            const Mat R = w.elements.rotation[fe].template topLeftCorner<D, D>();
+            Mat B = Mat::Zero();
             for (int a = ct.first[z]; a < ct.first[z + 1]; ++a)
-                B += (R.transpose() * y.segment<2>(2 * ct.function[a])) * ct.gradient[a].head<2>().transpose();
+                B += (R.transpose() * y.template segment<D>(D * ct.function[a])) * ct.gradient[a].template head<D>().transpose();
             std::array<Vec3, 4> f;
-            scatter_stress<2>(R, linear_stress<2>(B, plane_lame(w, fe)),
-                              w.elements.dm_inv[fe].topLeftCorner<2, 2>(), scale, f);
-            for (int k = 0; k < 3; ++k) out.segment<3>(3 * w.elements.nodes[fe][k]) += f[k];
+            scatter_stress<D>(R, linear_stress<D>(B, tip_lame<D>(w, fe)),
+                              w.elements.dm_inv[fe].template topLeftCorner<D, D>(), scale, f);
+            for (int k = 0; k <= D; ++k) out.segment<3>(3 * w.elements.nodes[fe][k]) += f[k];
         }
     }
     /// H^+ g through the scaled factor P^T L D L^T P, dropped pivots as 0.
@@ -204,12 +210,12 @@ public:
     }
 
 private:
-    /// R σ(R^T F - shift I) of force element fe with nodal vectors x (its first three), F = D(x) D_m^-1.
-    static Eigen::Matrix2d rotated_stress(const World& w, int fe, const std::array<Vec3, 4>& x, double shift) {
-        const Eigen::Matrix2d R = w.elements.rotation[fe].topLeftCorner<2, 2>();
-        const Eigen::Matrix2d dm_inv = w.elements.dm_inv[fe].topLeftCorner<2, 2>();
-        const Eigen::Matrix2d H = R.transpose() * edge_matrix<2>(x) * dm_inv - shift * Eigen::Matrix2d::Identity();
-        return R * linear_stress<2>(H, plane_lame(w, fe));
+    /// R σ(R^T F - shift I) of force element fe with nodal vectors x (its first D + 1), F = D(x) D_m^-1.
+    static Mat rotated_stress(const World& w, int fe, const std::array<Vec3, 4>& x, double shift) {
+        const Mat R = w.elements.rotation[fe].template topLeftCorner<D, D>();
+        const Mat dm_inv = w.elements.dm_inv[fe].template topLeftCorner<D, D>();
+        const Mat H = R.transpose() * edge_matrix<D>(x) * dm_inv - shift * Mat::Identity();
+        return R * linear_stress<D>(H, tip_lame<D>(w, fe));
     }
     /// f(fa, fb, R K_ab R^T) for every pair of functions of every zone element (H's terms).
     template <class F>
@@ -217,13 +223,12 @@ private:
         const CrackTips& ct = w.tips;
         for (int z = 0; z < ct.zone(); ++z) {
             const int fe = ct.element[z], n = ct.first[z + 1] - ct.first[z];
-            const Eigen::Matrix2d R = w.elements.rotation[fe].topLeftCorner<2, 2>();
-            const LameParameters lame = plane_lame(w, fe);
+            const Mat R = w.elements.rotation[fe].template topLeftCorner<D, D>();
+            const LameParameters lame = tip_lame<D>(w, fe);
             for (int a = 0; a < n; ++a)
                 for (int b = 0; b < n; ++b) {
-                    const Eigen::Matrix2d M = ct.moment[ct.moment_first[z] + a * n + b].topLeftCorner<2, 2>();
-                    const Eigen::Matrix2d K = lame.lambda * M + lame.mu * M.transpose() +
-                                              lame.mu * M.trace() * Eigen::Matrix2d::Identity();
+                    const Mat M = ct.moment[ct.moment_first[z] + a * n + b].template topLeftCorner<D, D>();
+                    const Mat K = lame.lambda * M + lame.mu * M.transpose() + lame.mu * M.trace() * Mat::Identity();
                     f(ct.function[ct.first[z] + a], ct.function[ct.first[z] + b], R * K * R.transpose());
                 }
         }
@@ -233,27 +238,44 @@ private:
     Eigen::VectorXd inverse_pivot_;  ///< 1 / D of the scaled factor, 0 where dropped
 };
 
+/// Both dimensions' condensations; `with` hands the world's to f.
+struct Condensations {
+    Condensation<2> plane;
+    Condensation<3> space;
+    template <class F>
+    auto with(const World& w, F&& f) {
+        return w.elements.dim == 3 ? f(space) : f(plane);
+    }
+    template <class F>
+    auto with(const World& w, F&& f) const {
+        return w.elements.dim == 3 ? f(space) : f(plane);
+    }
+};
+
 class CrackTipTerm final : public StepTerm {
 public:
     const char* name() const override { return "crack tips"; }
     bool active(const World& w) const override { return w.tips.count() > 0; }
     void linearize(World& w) override {
-        if (active(w)) c_.factor(w), factored_ = {w.step, w.tips.version};
+        if (active(w)) c_.with(w, [&](auto& c) { c.factor(w); }), factored_ = {w.step, w.tips.version};
     }
     /// f = -G_x^T b, b = -H^-1 g: the force of the condensed energy ½ g·b (added to the elastic energy).
     void force(World& w, bool first) override {
         if (first) throw std::logic_error("the crack-tip term adds to the elastic term's force: it comes after it");
         ensure_factor(w);
-        const Eigen::VectorXd g = c_.coupling(w, w.nodes.position.data(), 1.0), b = -c_.solve(g);
-        w.forces.elastic_energy += 0.5 * g.dot(b);
-        c_.scatter(w, b, -1.0, w.forces.force);
+        c_.with(w, [&](const auto& c) {
+            const Eigen::VectorXd g = c.coupling(w, w.nodes.position.data(), 1.0), b = -c.solve(g);
+            w.forces.elastic_energy += 0.5 * g.dot(b);
+            c.scatter(w, b, -1.0, w.forces.force);
+        });
     }
     /// out (+)= -G_x^T H^-1 G_x p.
     void product(World& w, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
         if (first) out.setZero(3 * w.nodes.count());
         ensure_factor(w);
-        const Eigen::VectorXd y = c_.solve(c_.coupling(w, reinterpret_cast<const Vec3*>(p.data()), 0.0));
-        c_.scatter(w, y, -1.0, out);
+        c_.with(w, [&](const auto& c) {
+            c.scatter(w, c.solve(c.coupling(w, reinterpret_cast<const Vec3*>(p.data()), 0.0)), -1.0, out);
+        });
     }
     void product_in_team(World& w, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
 #pragma omp single
@@ -267,7 +289,7 @@ public:
     /// The amplitudes' sparse system, for the assembled methods' factor (systems/solver/beside_factor.h).
     bool beside_block(World& w, BesideBlock& out) const override {
         if (!active(w)) return false;
-        c_.block(w, out);
+        c_.with(w, [&](const auto& c) { c.block(w, out); });
         return true;
     }
     bool gives_beside_block() const override { return true; }
@@ -279,14 +301,14 @@ private:
     void ensure_factor(World& w) {
         if (factored_ != std::array<int, 2>{w.step, w.tips.version}) linearize(w);
     }
-    Condensation c_;
+    Condensations c_;
     std::array<int, 2> factored_{-1, -1};  ///< step and zone version of the factor
 };
 
 }  // namespace
 
 void enrich_crack_tip(World& w, const Vec3& point, const Vec3& direction, const TipZone& zone) {
-    if (w.elements.dim != 2) throw std::invalid_argument("crack-tip enrichment: 2D meshes only (a 3D front is not enriched yet)");
+    if (w.elements.dim != 2) throw std::invalid_argument("crack-tip enrichment: 2D meshes only (a 3D mesh takes a front: enrich_crack_front)");
     if (w.snap.enabled) throw std::invalid_argument("crack-tip enrichment is XFEM's: not with the snapping cutter");
     if (!(xy(direction).norm() > 0.0)) throw std::invalid_argument("crack-tip enrichment: the crack's direction is zero");
     if (!(zone.radius >= 0.0)) throw std::invalid_argument("crack-tip enrichment: the zone's radius must be >= 0 m");
@@ -300,14 +322,22 @@ void enrich_crack_tip(World& w, const Vec3& point, const Vec3& direction, const 
                                                 point.x(), point.y()));
     for (int i = 0; i < w.mesh_nodes; ++i)
         if ((xy(w.nodes.rest[i]) - f.point).norm() <= zone.radius) nodes.push_back(i);
+    const std::vector<int> pair_of =
+        add_tip(w, Vec3(f.point.x(), f.point.y(), 0.0), Vec3(f.direction.x(), f.direction.y(), 0.0), Vec3::UnitZ(), nodes);
+    for (int e = 0; e < w.mesh_elements; ++e) {
+        const std::vector<int> slots = enriched_slots(w, e, pair_of);
+        if (slots.empty()) continue;
+        for (const ZonePart& part : parts_of(w, e, f)) add_zone_part(w, e, part, slots, pair_of, f);
+    }
+}
+
+std::vector<int> add_tip(World& w, const Vec3& point, const Vec3& direction, const Vec3& tangent, std::vector<int> nodes) {
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-
     CrackTips& ct = w.tips;
     const int tip = ct.count();
     ++ct.version;
-    ct.point.emplace_back(f.point.x(), f.point.y(), 0.0);
-    ct.direction.emplace_back(f.direction.x(), f.direction.y(), 0.0);
+    ct.point.push_back(point), ct.direction.push_back(direction), ct.tangent.push_back(tangent);
     std::vector<int> pair_of(w.mesh_nodes, -1);
     for (int i : nodes) {
         pair_of[i] = static_cast<int>(ct.node.size());
@@ -315,19 +345,37 @@ void enrich_crack_tip(World& w, const Vec3& point, const Vec3& direction, const 
         ct.tip.push_back(tip);
     }
     if (ct.first.empty()) ct.first.push_back(0);
-    for (int e = 0; e < w.mesh_elements; ++e) {
-        std::vector<int> slots;
-        for (int k = 0; k < 3; ++k)
-            if (pair_of[w.elements.nodes[e][k]] >= 0) slots.push_back(k);
-        if (slots.empty()) continue;
-        for (const ZonePart& part : parts_of(w, e, f)) add_zone_part(w, e, part, slots, pair_of, f);
-    }
+    return pair_of;
+}
+
+void add_zone_element(World& w, int e, int force_element, int lip, const std::vector<int>& slots,
+                      const std::vector<int>& pair_of, const std::vector<Vec3>& G, const std::vector<Mat3>& M) {
+    CrackTips& ct = w.tips;
+    ct.element.push_back(force_element);
+    ct.lip.push_back(static_cast<int8_t>(lip));
+    ct.moment_first.push_back(static_cast<int>(ct.moment.size()));
+    for (size_t s = 0; s < slots.size(); ++s)
+        for (int l = 0; l < 4; ++l) {
+            ct.function.push_back(4 * pair_of[w.elements.nodes[e][slots[s]]] + l);
+            ct.gradient.push_back(G[4 * s + l]);
+        }
+    ct.moment.insert(ct.moment.end(), M.begin(), M.end());
+    ct.first.push_back(static_cast<int>(ct.function.size()));
+}
+
+std::vector<int> enriched_slots(const World& w, int e, const std::vector<int>& pair_of) {
+    std::vector<int> slots;
+    for (int k = 0; k <= w.elements.dim; ++k)
+        if (pair_of[w.elements.nodes[e][k]] >= 0) slots.push_back(k);
+    return slots;
 }
 
 Eigen::VectorXd crack_tip_amplitudes(World& w) {
-    Condensation c;
-    c.factor(w);
-    return -c.solve(c.coupling(w, w.nodes.position.data(), 1.0));
+    Condensations both;
+    return both.with(w, [&](auto& c) -> Eigen::VectorXd {
+        c.factor(w);
+        return -c.solve(c.coupling(w, w.nodes.position.data(), 1.0));
+    });
 }
 
 std::shared_ptr<StepTerm> crack_tip_step_term() { return std::make_shared<CrackTipTerm>(); }

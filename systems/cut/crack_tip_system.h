@@ -1,6 +1,7 @@
 #pragma once
-// Crack-tip enrichment (2D): the branch functions of systems/kernels/branch_enrichment.h on the
-// nodes around a crack's tip, as a term of the implicit step (systems/step_term.h).
+// Crack-tip enrichment: the branch functions of systems/kernels/branch_enrichment.h on the nodes
+// around a crack's tip (2D) or along a straight crack front (3D, systems/kernels/front_enrichment.h),
+// as a term of the implicit step (systems/step_term.h).
 //
 // The field of a zone element (one of the elements its enriched nodes belong to, or one side of such
 // an element that is cut) is its corotational linear field plus Σ_a N_k ψ_l b_a, with b_a the
@@ -35,6 +36,33 @@ struct TipZone {
 /// points per fan triangle). Throws std::invalid_argument for a 3D mesh, the snapping cutter, a
 /// tip outside the mesh, a zero direction or a negative radius.
 void enrich_crack_tip(World& world, const Vec3& point, const Vec3& direction, const TipZone& zone = {});
+
+/// Enriches a straight crack front in a 3D mesh of linear tetrahedra (systems/kernels/front_enrichment.h):
+/// the line through rest point `point` along `tangent`, the crack behind it along -`direction`
+/// (made normal to the tangent), over `zone` (the elements the line runs through, or touches along a
+/// face or an edge, and the mesh nodes within `zone.radius` of the line). Each zone element's
+/// integrals are taken at once, in slabs along the front. Throws std::invalid_argument for a 2D mesh,
+/// quadratic elements, the snapping cutter, an element cut more than once in the zone, a front that
+/// misses the mesh, a zero or parallel direction and tangent, or a negative radius.
+void enrich_crack_front(World& world, const Vec3& point, const Vec3& direction, const Vec3& tangent,
+                        const TipZone& zone = {});
+/// Zone building, 2D and 3D: registers a tip (rest point, unit direction and tangent) and its
+/// enriched mesh nodes (sorted, made unique) in world.tips, and returns each mesh node's (tip, node)
+/// pair, -1 where it is not enriched.
+std::vector<int> add_tip(World& world, const Vec3& point, const Vec3& direction, const Vec3& tangent, std::vector<int> nodes);
+/// Appends zone element `force_element` (mesh element e, or a side of its cut, on the crack's side
+/// `lip`, 0: each point's own) with the functions of its enriched corners `slots`, their gradient
+/// integrals G and moments M (CrackTips::gradient, CrackTips::moment, in the functions' order).
+void add_zone_element(World& world, int e, int force_element, int lip, const std::vector<int>& slots,
+                      const std::vector<int>& pair_of, const std::vector<Vec3>& G, const std::vector<Mat3>& M);
+/// The local corners of mesh element e whose nodes have a pair in `pair_of` (add_tip).
+std::vector<int> enriched_slots(const World& world, int e, const std::vector<int>& pair_of);
+
+/// The displacement the fronts' functions add at rest point X of force element fe (its barycentric
+/// coordinates `bary`), amplitudes b (crack_tip_amplitudes): Σ_k N_k Σ_l (F_l(X) - F_l(X_k)) b_kl,
+/// on the element's lip (or X's side of the crack's plane) [m]. 3D; zero in 2D.
+Vec3 front_enrichment_at(const World& world, const Eigen::VectorXd& amplitudes, int fe, const Vec3& X,
+                         const Eigen::Vector4d& bary);
 
 /// Blades carry tips (2D, scene cutter.tip, CrackTips::follow_radius >= 0): a bladed tool whose
 /// blade point lies in an uncut mesh element (the one the semi-progressive front has not split yet)

@@ -66,9 +66,8 @@ double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
     return (a + t * ab - p).norm();
 }
 
-/// Adds the Duffy-collapsed rule of triangle (A, B, C), collapsed onto A. A triangle that spans more
-/// than 45 degrees at A is halved first: the rule is exact in r, and the angular integrand is
-/// then smooth enough for the Gauss rule to reach rounding.
+}  // namespace
+
 void add_duffy(const Vec2& A, const Vec2& B, const Vec2& C, const std::vector<double>& gx,
                const std::vector<double>& gw, double min_area, std::vector<QuadraturePoint>& out) {
     const double det = std::abs(cross2(B - A, C - B));
@@ -85,8 +84,6 @@ void add_duffy(const Vec2& A, const Vec2& B, const Vec2& C, const std::vector<do
             out.push_back({A + u * (B - A) + u * v * (C - B), gw[i] * gw[j] * u * det});
         }
 }
-
-}  // namespace
 
 std::vector<QuadraturePoint> tip_polygon_rule(const std::vector<Vec2>& polygon, const TipFrame& tip, int order) {
     std::vector<QuadraturePoint> out;

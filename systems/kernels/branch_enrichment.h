@@ -48,6 +48,14 @@ struct QuadraturePoint {
     double weight;
 };
 
+/// Adds the Duffy-collapsed rule of triangle (A, B, C), collapsed onto A, from the Gauss-Legendre
+/// rule (gx, gw) on [0, 1] in both directions; weights are the area's share, >= 0. A triangle that
+/// spans more than 45 degrees at A is halved first: the rule is exact in r, and the angular
+/// integrand is then smooth enough for the Gauss rule to reach rounding. Triangles of area below
+/// `min_area` add nothing.
+void add_duffy(const Vec2& A, const Vec2& B, const Vec2& C, const std::vector<double>& gx, const std::vector<double>& gw,
+               double min_area, std::vector<QuadraturePoint>& out);
+
 /// A rule on a convex polygon (either orientation) for integrands singular as 1/r at the tip:
 /// triangles fanned from the tip when it lies in the polygon's closure (the point where the crack
 /// behind the tip leaves the polygon made a vertex, so the crack is a fan edge and no triangle spans

@@ -20,12 +20,12 @@ namespace {
 using testing::grid;
 using testing::world_from_mesh;
 
-constexpr double kX = 0.031, kDt = 0.01;  // incision line x [m] (mid-cell); step [s]
+constexpr double kBladeX = 0.031, kDt = 0.01;  // incision line x [m] (mid-cell); step [s]
 
 Keyframe key(double t, double y) {
     Keyframe k;
     k.time = t;
-    k.position = Vec3(kX, y, 0.0);
+    k.position = Vec3(kBladeX, y, 0.0);
     return k;
 }
 
@@ -98,7 +98,7 @@ PatchRun run_patch(bool transfer, int threads) {
             EXPECT_EQ(w.tips.count(), 1) << "step " << n;
             if (w.tips.count() == 1) {
                 EXPECT_LT((w.tips.point[0] - w.tools.position[0]).norm(), 2e-3) << "step " << n;
-                EXPECT_NEAR(w.tips.point[0].x(), kX, 2e-3);
+                EXPECT_NEAR(w.tips.point[0].x(), kBladeX, 2e-3);
             }
         }
         if (split && n > 1) worst = std::max(worst, std::abs(energy(w) - before)), ++splits;
@@ -146,7 +146,7 @@ TEST(CrackTipFollow, ABladeThatStandsKeepsItsTipWhileTheTissueDriftsUnderIt) {
     }
     EXPECT_GT(moving_builds, 60);  // the tip follows a moving blade (0.2 mm a step, 2 mm cells)
     EXPECT_LE(standing_builds, 1);  // at most the split of the element the blade stopped past
-    EXPECT_LT((w.tips.point[0] - Vec3(kX, 0.021, 0.0)).norm(), 2e-3);
+    EXPECT_LT((w.tips.point[0] - Vec3(kBladeX, 0.021, 0.0)).norm(), 2e-3);
 }
 
 TEST(CrackTipFollow, ACrackTurnsOnlyOnceTheBladeHasRunAQuarterEdgeTheNewWay) {
@@ -172,7 +172,7 @@ TEST(CrackTipFollow, ACrackTurnsOnlyOnceTheBladeHasRunAQuarterEdgeTheNewWay) {
         dynamics_step(w);
     }
     EXPECT_GE(creeping_builds, 2);  // the tip moved with the creeping blade
-    EXPECT_GT(w.tips.point[0].x(), kX + 5e-5);
+    EXPECT_GT(w.tips.point[0].x(), kBladeX + 5e-5);
 }
 
 // A blade that carries its tip rebuilds the zone every step it moves: those steps are preconditioned

@@ -90,6 +90,7 @@ TEST(LockingBench, TinyRunScoresBothElementsAgainstCalculix) {
         EXPECT_TRUE(said) << "the suite says why it did not score the quadratic run";
         CutBlockSpec spec;
         spec.poisson = nu;
+        spec.reference_grading = 1.0;  // the locking suite's reference (tools/bench/bench_locking_cut.cpp)
         const ExternalReference ref = calculix_reference(5, cut_block_parameters(spec), {8, 16, 32}, o.cache_dir);
         ASSERT_TRUE(ref.available) << ref.why;
         const double quadratic = cut_block_run(spec, 4, "xfem-quadratic", reference_points(ref)).error;

@@ -8,7 +8,7 @@ uses (`xcut bench --suite accuracy` passes them as JSON).
 PROBLEM 3: the cantilever under its own weight on 20-node hexahedra (C3D20), clamped at x = 0; the
   value is the mean downward deflection of the nodes at x = L [m].
 PROBLEM 5: the block with a partial planar cut on C3D20, nodes duplicated across the cut part of
-  the plane x = cut_x (a conforming crack); both end faces held and pulled by +-pull; the values
+  the plane x = cut_x (a conforming crack), the grid graded toward the front if "front_grading" != 1; both end faces held and pulled by +-pull; the values
   are the displacements at the suite's sample points [m], interpolated with the elements' own
   quadratic shape functions.
 PROBLEM 14: Cook's membrane (Cook 1974): the tapered panel with corners (0, 0), (48, 44), (48, 60),
@@ -180,12 +180,25 @@ def cantilever(p, n, ccx, work):
     return {"n": n, "values": [value], "dofs": 3 * len(g.coords), "seconds": seconds}
 
 
+# With "front_grading" g != 1 the block's x and z planes crowd toward the crack front (the line
+# x = cut_x, z = H - d) as (i / k)^g, as the plate's toward its tip (its cells are long along the
+# front: y stays uniform). g = 2 took the reference's own error estimate from 0.32 % (uniform) to
+# 0.12 % at levels 8-64 (observed order 1.15 -> 1.61) at nu 0.3; at nu 0.49 it is worse than uniform
+# (1.6 % against 1.4 % at levels 8-32: thin fully integrated C3D20 cells lock), so the locking suite
+# keeps the uniform grid.
+
+
 def cut_block(p, n, ccx, work):
     L, B, H = p["size"]
     cut_x, depth, pull = p["cut_x"], p["depth"], p["pull"]
     front = H - depth
-    planes = [planes_through(L, n, [cut_x]), planes_through(B, max(1, round(n * B / L)), []),
-              planes_through(H, max(2, round(n * H / L)), [front])]
+    grading = p.get("front_grading", 1.0)
+    if grading == 1.0:
+        planes = [planes_through(L, n, [cut_x]), planes_through(B, max(1, round(n * B / L)), []),
+                  planes_through(H, max(2, round(n * H / L)), [front])]
+    else:
+        planes = [planes_toward(L, n, cut_x, grading), planes_through(B, max(1, round(n * B / L)), []),
+                  planes_toward(H, max(2, round(n * H / L)), front, grading)]
     ic = planes[0].index(cut_x)  # the cut plane's index among the x planes
     kf = planes[2].index(front)
 
@@ -233,13 +246,13 @@ TIP_GRADING = 3.0
 SMALLEST_CELL = 1e-3
 
 
-def planes_toward(length, cells, mark):
+def planes_toward(length, cells, mark, grading=TIP_GRADING):
     """`cells` cells over [0, length], `mark` a plane, each side's planes crowded toward it."""
     out = {0.0, length, mark}
     for lo, hi in ((0.0, mark), (mark, length)):
         k = max(1, round(cells * (hi - lo) / length))
         for i in range(1, k):
-            t = max((i / k) ** TIP_GRADING, SMALLEST_CELL * i / k)
+            t = max((i / k) ** grading, SMALLEST_CELL * i / k)
             out.add(mark - t * (mark - lo) if hi == mark else mark + t * (hi - mark))
     return sorted(out)
 
