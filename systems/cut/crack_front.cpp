@@ -15,8 +15,8 @@
 namespace xcut {
 namespace {
 
-constexpr int kFrontRuleOrder = 6;  ///< Gauss points per direction of a section's Duffy triangles
-constexpr int kFrontSlabOrder = 6;  ///< Gauss points per slab along the front (graded toward its ends: docs/xfem.md)
+constexpr int kFrontRuleOrder = 4;  ///< Gauss points per direction of a section's Duffy triangles
+constexpr int kFrontSlabOrder = 5;  ///< Gauss points per slab along the front (graded toward its ends: docs/xfem.md)
 /// A cut whose normal is within this cosine of the crack's lies on the crack's plane: its sides are
 /// the crack's lips (else each point's side of the plane decides) [-].
 constexpr double kSameCrackCos = 0.99;

@@ -61,7 +61,9 @@ struct HalfSpace {
 /// along the front and discontinuous across the crack's plane: slabs along the front, `slab_order`
 /// Gauss-Legendre heights a slab, and at each the 2D tip rule of order `order` over the section's
 /// halves either side of the crack's plane. Each point carries the side (+1, -1) of the crack's
-/// plane it lies on, for the functions' lip behind the front.
+/// plane it lies on, for the functions' lip behind the front. A whole tetrahedron strictly on one
+/// side of the crack's plane (its integrands smooth) takes the conical product rule instead
+/// (Stroud 1971: 4³ points).
 struct FrontRule {
     std::vector<VolumePoint> points;
     std::vector<int> side;

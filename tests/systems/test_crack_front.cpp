@@ -68,6 +68,25 @@ TEST(FrontEnrichment, ATetrahedronsRuleIsTheSumOfItsSidesRules) {
     EXPECT_NEAR(whole, fine, 1e-5 * fine);  // 1.6e-6 measured
 }
 
+TEST(FrontEnrichment, ATetrahedronOffTheCracksPlaneTakesTheConicalRule) {
+    // Wholly on one side of the crack's plane: 64 points of the conical product rule, exact for the
+    // volume and a quadratic, and within 2e-4 of the slab rule (forced by a half-space that keeps it
+    // all) on the near-singular 1/r of a front one tenth of its size away (9.1e-5 measured).
+    const std::array<Vec3, 4> X = {Vec3(0.1, 0.1, 0), Vec3(1.1, 0.1, 0.1), Vec3(0.2, 1.1, -0.1), Vec3(0.1, 0.2, 1)};
+    const FrontFrame f{Vec3::Zero(), Vec3::UnitX(), Vec3::UnitZ()};  // the crack's plane: y = 0
+    const FrontRule conical = front_tet_rule(X, HalfSpace{}, f, 6, 6);
+    const FrontRule slabs = front_tet_rule(X, HalfSpace{Vec3(0, -1, 0), Vec3::UnitY()}, f, 6, 6);
+    EXPECT_EQ(conical.points.size(), 64u);
+    EXPECT_GT(slabs.points.size(), 10 * conical.points.size());
+    const double volume = std::abs((X[1] - X[0]).dot((X[2] - X[0]).cross(X[3] - X[0]))) / 6.0;
+    const auto y2 = [](const Vec3& p) { return p.y() * p.y(); };
+    const auto inverse_r = [&](const Vec3& p) { return 1.0 / front_distance(f, p); };
+    EXPECT_NEAR(rule_sum(conical, [](const Vec3&) { return 1.0; }), volume, 1e-15);
+    EXPECT_NEAR(rule_sum(conical, y2), rule_sum(slabs, y2), 1e-13);
+    EXPECT_NEAR(rule_sum(conical, inverse_r), rule_sum(slabs, inverse_r), 2e-4 * rule_sum(slabs, inverse_r));
+    for (int side : conical.side) EXPECT_EQ(side, 1);
+}
+
 TEST(FrontEnrichment, TheFunctionsAreTheTipsInTheFrontsPlane) {
     // At X = P + x1 d + x2 n + s t the functions are the 2D tip's at (x1, x2), whatever s; their
     // gradients have no part along the front and are the functions' derivatives.
