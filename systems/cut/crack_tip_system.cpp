@@ -127,14 +127,6 @@ public:
         // Jacobi scaling first: far from the tip a shifted function is nearly linear over its
         // element, so its diagonal is orders of magnitude below the tip's (Béchet et al. 2005).
         scale_ = H.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
-        // In 3D first the blocked Cholesky factor, 5x faster than the pivoted LDL^T at a front's
-        // hundreds of amplitudes; where H is only semi-definite (a zone that is the whole body) it
-        // fails, and the LDL^T below drops the dependencies. (2D keeps the LDL^T: the same bits.)
-        if constexpr (D == 3) {
-            llt_.compute(scale_.asDiagonal() * H * scale_.asDiagonal());
-            cholesky_ = llt_.info() == Eigen::Success;
-            if (cholesky_) return;
-        }
         ldlt_.compute(scale_.asDiagonal() * H * scale_.asDiagonal());
         // Pivots at rounding are the functions' own dependencies, not a defect: z̄ √r e^{3iθ/2} =
         // z √r e^{-iθ/2} makes four combinations of them, with amplitudes linear in the nodes'
@@ -209,11 +201,6 @@ public:
     /// ones, which pack L anew at every call.)
     Eigen::VectorXd solve(const Eigen::VectorXd& g) const {
         Eigen::VectorXd y = scale_.cwiseProduct(g);
-        if (cholesky_) {
-            llt_.matrixL().solveInPlace(y);
-            llt_.matrixU().solveInPlace(y);
-            return y.cwiseProduct(scale_);
-        }
         y = ldlt_.transpositionsP() * y;
         ldlt_.matrixL().solveInPlace(y);
         y.array() *= inverse_pivot_.array();
@@ -247,8 +234,6 @@ private:
         }
     }
     Eigen::LDLT<Eigen::MatrixXd> ldlt_;
-    Eigen::LLT<Eigen::MatrixXd> llt_;
-    bool cholesky_ = false;          ///< llt_ holds the factor (3D, H positive definite)
     Eigen::VectorXd scale_;          ///< H's Jacobi scaling, 1 / sqrt(H_ii)
     Eigen::VectorXd inverse_pivot_;  ///< 1 / D of the scaled factor, 0 where dropped
 };
