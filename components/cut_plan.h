@@ -13,7 +13,11 @@ struct ScriptedCut {
     /// The polygon is drawn on the body at rest ("frame": "rest"), as a surgeon marks the skin
     /// before cutting: it cuts the material it was drawn on wherever the tissue has moved since.
     bool at_rest = false;
+    /// "front.radius" [m]: the crack front where the cut ends inside the tissue is enriched with
+    /// the branch functions over the nodes within it (systems/cut/scripted_front_system.h); < 0: not.
+    double front_radius = -1.0;
     bool applied = false;
+    bool front_enriched = false;  ///< its front is in world.tips
 };
 
 struct CutPlan {

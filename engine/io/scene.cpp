@@ -430,13 +430,18 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
     }
 
     for (const JsonFields& c : top.array_of_objects("cuts", kMaxScriptedCuts)) {
-        c.allow_only({"time", "polygon", "frame"});
+        c.allow_only({"time", "polygon", "frame", "front"});
         ScriptedCut cut;
         cut.time = c.number("time", 0.0, 0.0);
         cut.at_rest = c.choice("frame", "current", {"current", "rest"}) == "rest";
         cut.polygon = c.vec3_list("polygon", 1000);
         if (cut.polygon.size() < 2) c.fail("polygon", "needs 2 points (a segment, 2D) or at least 3 (a planar polygon, 3D)");
         check_cut_polygon(c, cut.polygon);
+        if (c.has("front")) {
+            const JsonFields front = c.object("front");
+            front.allow_only({"radius"});
+            cut.front_radius = front.number("radius", 0.0, 0.0);
+        }
         scene.cuts.push_back(cut);
     }
 
@@ -565,6 +570,7 @@ World build_world(const Scene& scene) {
         throw InputError(scene.file, "cutter.recut",
                          "an element is cut again by the XFEM cutter on linear elements without crack tips only: this "
                          "scene has \"type\": \"snap\", quadratic elements or \"tip\"");
+    check_cut_fronts(scene, world);
     world.body_names = std::move(bodies.names);
     world.mesh_file_index = std::move(bodies.file_index);
     if (!world.mesh_file_index.empty())  // the mid-edge nodes of quadratic elements are in no file

@@ -191,6 +191,22 @@ void check_output_volume(const Scene& scene, const World& w, int steps) {
                                      steps, o.every, bytes / 1e9, scene.max_output_gb));
 }
 
+void check_cut_fronts(const Scene& scene, const World& w) {
+    for (size_t i = 0; i < scene.cuts.size(); ++i) {
+        const ScriptedCut& c = scene.cuts[i];
+        if (c.front_radius < 0.0) continue;
+        const auto fail = [&](const std::string& why) { throw InputError(scene.file, fmt::format("cuts[{}].front", i), why); };
+        if (scene.cutter == "snap") fail("crack-front enrichment is XFEM's: it needs \"cutter.type\": \"xfem\"");
+        if (scene.cut_front == "progressive")
+            fail("the front is enriched in the elements the cut leaves whole, which the \"progressive\" front splits: use "
+                 "\"cutter.front\": \"semi\"");
+        if (scene.tip_radius >= 0.0) fail("not with \"cutter.tip\": the blades' tips take the enrichment over");
+        if (w.quadratic.count() > 0) fail("the branch functions enrich linear elements only (material.element \"linear\")");
+        if (!c.at_rest && c.time > 0.0)
+            fail("the front is placed on the body at rest: draw the polygon there (\"frame\": \"rest\") or cut at time 0");
+    }
+}
+
 std::vector<std::string> end_of_run_notes(const World& w) {
     std::vector<std::string> out;
     const BodyExtents rest = body_extents(w, true), now = body_extents(w, false);

@@ -33,6 +33,12 @@ std::vector<std::string> plausibility_warnings(const Scene& scene, const World& 
 /// `steps` steps exceeds scene.max_output_gb.
 void check_output_volume(const Scene& scene, const World& world, int steps);
 
+/// Throws InputError naming cuts[i].front when a cut asks for its front to be enriched in a scene
+/// that cannot carry it: the snapping cutter, the progressive front, blades carrying tips
+/// (cutter.tip), quadratic elements, or a polygon drawn in the current configuration after time 0
+/// (the front is placed on the body at rest: "frame": "rest").
+void check_cut_fronts(const Scene& scene, const World& world);
+
 /// Each body's centre (mean of its mesh nodes) and extent (box diagonal) at rest [m].
 struct BodyExtents {
     std::vector<Vec3> centre;

@@ -371,6 +371,7 @@ std::vector<int> enriched_slots(const World& w, int e, const std::vector<int>& p
 }
 
 Eigen::VectorXd crack_tip_amplitudes(World& w) {
+    if (w.tips.functions() == 0) return {};  // no tips: no amplitudes (H would be empty)
     Condensations both;
     return both.with(w, [&](auto& c) -> Eigen::VectorXd {
         c.factor(w);

@@ -76,7 +76,8 @@ bool follow_blades(World& world);
 SystemDesc crack_tip_system();
 
 /// The amplitudes b of every function (2 per function, world frame [sqrt(m)]) at the current
-/// positions and rotations, as the step's term condenses them: for output and tests.
+/// positions and rotations, as the step's term condenses them: for output and tests (empty
+/// without tips).
 Eigen::VectorXd crack_tip_amplitudes(World& world);
 
 /// What the volume output shows inside each tip's element (CrackTips::shown_*): the mesh element
