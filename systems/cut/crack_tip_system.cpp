@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "engine/error.h"
+#include "systems/kernels/block_sums.h"
 #include "systems/kernels/branch_enrichment.h"
 #include "systems/kernels/corotational_kernel.h"
 #include "systems/xfem_queries.h"
@@ -144,13 +145,13 @@ public:
     /// The sparse system the condensation is the Schur complement of (BesideBlock): H's blocks as
     /// factor() sums them, and C = ∂g/∂x, the coupling's map from the nodes' displacements (3 per
     /// DOF node) to the amplitudes' forces, at the current rotations.
+    /// Each (function, function) and (function, node) block is summed over the zone before it is
+    /// written (a front's zone repeats a pair in every element around both nodes).
     void block(const World& w, BesideBlock& out) const {
         const CrackTips& ct = w.tips;
         out.rows = D * ct.functions();
-        stiffness_blocks(w, [&](int fa, int fb, const Mat& K) {
-            for (int i = 0; i < D; ++i)
-                for (int j = 0; j < D; ++j) out.stiffness.emplace_back(D * fa + i, D * fb + j, K(i, j));
-        });
+        BlockSums<D, D> H, C;  // C's columns: the node's axes
+        stiffness_blocks(w, [&](int fa, int fb, const Mat& K) { H.at(fa, fb) += K; });
         for (int z = 0; z < ct.zone(); ++z) {
             const int fe = ct.element[z];
             for (int k = 0; k <= D; ++k)
@@ -159,13 +160,12 @@ public:
                     x.fill(Vec3::Zero());
                     x[k][d] = 1.0;
                     const Mat RS = rotated_stress(w, fe, x, 0.0);
-                    const int column = 3 * w.elements.nodes[fe][k] + d;
-                    for (int a = ct.first[z]; a < ct.first[z + 1]; ++a) {
-                        const Vec g = RS * ct.gradient[a].template head<D>();
-                        for (int i = 0; i < D; ++i) out.coupling.emplace_back(D * ct.function[a] + i, column, g[i]);
-                    }
+                    for (int a = ct.first[z]; a < ct.first[z + 1]; ++a)
+                        C.at(ct.function[a], w.elements.nodes[fe][k]).col(d) += RS * ct.gradient[a].template head<D>();
                 }
         }
+        H.write(D, D, out.stiffness);
+        C.write(D, 3, out.coupling);
     }
     /// g = Σ_z R σ(R^T F - shift I) G_a, F from the nodal vectors v (positions, or a direction with shift 0).
     Eigen::VectorXd coupling(const World& w, const Vec3* v, double shift) const {

@@ -33,7 +33,7 @@
 namespace xcut {
 
 struct BesideFactor {
-    Eigen::SparseMatrix<double> matrix;  ///< M, both triangles
+    Eigen::SparseMatrix<double> matrix;  ///< M's lower triangle (all the factor's Lower view reads)
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt;
     uint64_t topology = 0;      ///< A's pattern it was made for
     uint64_t version = 0;       ///< the term's beside_version it was made for
