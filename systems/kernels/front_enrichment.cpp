@@ -131,6 +131,67 @@ FrontRule conical_rule(const std::array<Vec3d, 4>& X, int n, int side) {
     return out;
 }
 
+/// A part this far from the front's line, against its tetrahedron's size, holds no singularity: the
+/// conical rule takes its tetrahedra (within 9.1e-5 of the slab rule on 1/r at this distance) [-].
+constexpr double kSmoothDistance = 0.1;
+
+/// Distance from the front's line to tetrahedron L (front coordinates: the line is x1 = x2 = 0):
+/// from the origin to the hull of its corners' (x1, x2), 0 inside it [m].
+double line_distance(const std::array<Vec3d, 4>& L) {
+    const auto cross = [](const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); };
+    for (int skip = 0; skip < 4; ++skip) {  // inside a triangle of three corners: inside the hull
+        std::array<Vec2, 3> t;
+        for (int k = 0, j = 0; k < 4; ++k)
+            if (k != skip) t[j++] = L[k].head<2>();
+        const double c0 = cross(t[1] - t[0], -t[0]), c1 = cross(t[2] - t[1], -t[1]), c2 = cross(t[0] - t[2], -t[2]);
+        if ((c0 >= 0.0 && c1 >= 0.0 && c2 >= 0.0) || (c0 <= 0.0 && c1 <= 0.0 && c2 <= 0.0)) return 0.0;
+    }
+    double d = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 4; ++a)
+        for (int b = a + 1; b < 4; ++b) {  // the hull's edges are among the corners' pairs
+            const Vec2 p = L[a].head<2>(), q = L[b].head<2>(), e = q - p;
+            const double t = e.squaredNorm() > 0.0 ? std::clamp(-p.dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+            d = std::min(d, (p + t * e).norm());
+        }
+    return d;
+}
+
+/// Appends the tetrahedra of tetrahedron X's part where (x - point) . normal >= 0: X itself, one
+/// tetrahedron, or a prism's three (its lateral faces lie on X's faces and the plane: planar).
+void clip_tet(const std::array<Vec3d, 4>& X, const Vec3d& point, const Vec3d& normal, std::vector<std::array<Vec3d, 4>>& out) {
+    std::array<double, 4> l;
+    std::vector<int> in, off;
+    for (int k = 0; k < 4; ++k) l[k] = (X[k] - point).dot(normal), (l[k] >= 0.0 ? in : off).push_back(k);
+    const auto at = [&](int a, int b) { return Vec3d(X[a] + l[a] / (l[a] - l[b]) * (X[b] - X[a])); };
+    const auto prism = [&](const Vec3d& a, const Vec3d& b, const Vec3d& c, const Vec3d& a2, const Vec3d& b2, const Vec3d& c2) {
+        out.push_back({a, b, c, a2}), out.push_back({b, c, a2, b2}), out.push_back({c, a2, b2, c2});
+    };
+    if (in.size() == 4) out.push_back(X);
+    else if (in.size() == 1) out.push_back({X[in[0]], at(in[0], off[0]), at(in[0], off[1]), at(in[0], off[2])});
+    else if (in.size() == 2) prism(X[in[0]], at(in[0], off[0]), at(in[0], off[1]), X[in[1]], at(in[1], off[0]), at(in[1], off[1]));
+    else if (in.size() == 3) prism(X[in[0]], X[in[1]], X[in[2]], at(in[0], off[0]), at(in[1], off[0]), at(in[2], off[0]));
+}
+
+/// The conical rule over the part of X in `keep`, split by the crack's plane (each side's points
+/// carry it), for a part away from the front (line_distance): smooth on each side.
+FrontRule split_conical_rule(const std::array<Vec3d, 4>& X, const HalfSpace& keep, const FrontFrame& front, double h) {
+    std::vector<std::array<Vec3d, 4>> kept, sided;
+    if (keep.normal.squaredNorm() > 0.0) clip_tet(X, keep.point, keep.normal, kept);
+    else kept.push_back(X);
+    FrontRule out;
+    for (int side : {1, -1}) {
+        sided.clear();
+        for (const auto& T : kept) clip_tet(T, front.point, side * front.normal(), sided);
+        for (const auto& T : sided) {
+            if (std::abs((T[1] - T[0]).dot((T[2] - T[0]).cross(T[3] - T[0]))) <= 1e-12 * h * h * h) continue;
+            const FrontRule r = conical_rule(T, kConicalOrder, side);
+            out.points.insert(out.points.end(), r.points.begin(), r.points.end());
+            out.side.insert(out.side.end(), r.side.begin(), r.side.end());
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 bool front_in_tet(const std::array<Vec3d, 4>& X, const FrontFrame& front, double& from, double& to) {
@@ -169,6 +230,7 @@ FrontRule front_tet_rule(const std::array<Vec3d, 4>& X, const HalfSpace& keep, c
     const bool above = std::all_of(L.begin(), L.end(), [](const Vec3d& l) { return l.y() > 0.0; });
     const bool below = std::all_of(L.begin(), L.end(), [](const Vec3d& l) { return l.y() < 0.0; });
     if (!clipped && (above || below)) return conical_rule(X, kConicalOrder, above ? 1 : -1);
+    if (line_distance(L) >= kSmoothDistance * h) return split_conical_rule(X, keep, front, h);
     // The part's half-spaces in the front's coordinates, a . x + c >= 0: the tetrahedron's faces
     // (each toward its opposite corner), the kept half-space, and (last) the crack's plane's side.
     std::vector<Vec3d> a;

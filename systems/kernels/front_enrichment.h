@@ -63,7 +63,8 @@ struct HalfSpace {
 /// halves either side of the crack's plane. Each point carries the side (+1, -1) of the crack's
 /// plane it lies on, for the functions' lip behind the front. A whole tetrahedron strictly on one
 /// side of the crack's plane (its integrands smooth) takes the conical product rule instead
-/// (Stroud 1971: 4³ points).
+/// (Stroud 1971: 4³ points), and so does a part a tenth of its tetrahedron's size or more from the
+/// front's line, on each tetrahedron of its split by the kept half-space and the crack's plane.
 struct FrontRule {
     std::vector<VolumePoint> points;
     std::vector<int> side;

@@ -87,6 +87,38 @@ TEST(FrontEnrichment, ATetrahedronOffTheCracksPlaneTakesTheConicalRule) {
     for (int side : conical.side) EXPECT_EQ(side, 1);
 }
 
+TEST(FrontEnrichment, APartFarFromTheFrontTakesTheConicalRuleOnEachSide) {
+    // Behind the front (x < 0), two sizes from it, across the crack's plane y = 0 (one corner above
+    // it): the conical rule on the tetrahedra of each side. Each side's volume is exact (the side
+    // above is the tetrahedron similar at A, cut where its edges cross y = 0), as is its first
+    // moment; clipped by z <= 0.5 (only D above), the whole less the tetrahedron cut off at D.
+    const std::array<Vec3, 4> X = {Vec3(-3, 0.5, 0), Vec3(-2.5, -0.5, 0), Vec3(-3.5, -0.4, 0.2), Vec3(-3, -0.3, 1)};
+    const FrontFrame f{Vec3::Zero(), Vec3::UnitX(), Vec3::UnitZ()};
+    const FrontRule r = front_tet_rule(X, HalfSpace{}, f, 6, 6);
+    EXPECT_EQ(r.points.size() % 64, 0u);  // 64 a tetrahedron: 1 above, 3 below (a prism)
+    EXPECT_LE(r.points.size(), 4u * 64u);
+    const double volume = std::abs((X[1] - X[0]).dot((X[2] - X[0]).cross(X[3] - X[0]))) / 6.0;
+    double above = volume;
+    std::array<Vec3, 4> small{X[0], X[0], X[0], X[0]};
+    for (int b = 1; b < 4; ++b) {
+        const double t = X[0].y() / (X[0].y() - X[b].y());
+        above *= t, small[b] = X[0] + t * (X[b] - X[0]);
+    }
+    const Vec3 centre = (small[0] + small[1] + small[2] + small[3]) / 4.0;
+    double up = 0.0, down = 0.0;
+    Vec3 moment = Vec3::Zero();
+    for (size_t q = 0; q < r.points.size(); ++q) {
+        (r.side[q] > 0 ? up : down) += r.points[q].weight;
+        if (r.side[q] > 0) moment += r.points[q].weight * r.points[q].X;
+    }
+    EXPECT_NEAR(up, above, 1e-14);
+    EXPECT_NEAR(down, volume - above, 1e-14);
+    EXPECT_LT((moment - above * centre).norm(), 1e-13);
+    const FrontRule clipped = front_tet_rule(X, HalfSpace{Vec3(0, 0, 0.5), Vec3(0, 0, -1)}, f, 6, 6);
+    EXPECT_NEAR(rule_sum(clipped, [](const Vec3&) { return 1.0; }), volume * (1.0 - 0.5 * 0.5 * 0.625), 1e-14);
+    EXPECT_EQ(clipped.points.size() % 64, 0u);
+}
+
 TEST(FrontEnrichment, TheFunctionsAreTheTipsInTheFrontsPlane) {
     // At X = P + x1 d + x2 n + s t the functions are the 2D tip's at (x1, x2), whatever s; their
     // gradients have no part along the front and are the functions' derivatives.
