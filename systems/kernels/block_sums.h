@@ -5,6 +5,7 @@
 // in the contributions' order, gives the values setFromTriplets would, with one triplet per entry.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <array>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
