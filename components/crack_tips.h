@@ -53,11 +53,14 @@ struct CrackTips {
     int phantoms_seen = 0;           ///< phantoms then: later ones take the tips' field (transfer)
     int version = 0;                 ///< counts the zones built (a factor knows which it was made for)
 
-    // ---- the amplitudes at the step's end positions (2 per function, world frame [sqrt(m)]), for
-    //      what is shown: taken by the CrackTipDisplaySystem when a surface or the volume output
-    //      shows the tips, valid while amplitude_step is the world's step
+    // ---- the amplitudes at the latest positions the step's term evaluated (D per function, world
+    //      frame [sqrt(m)]): the step's end (the SolverSystem, once the step is counted), a static
+    //      solve's last iterate. What is shown, the phantoms' transfer and the probes read them
+    //      (step_tip_amplitudes, systems/cut/crack_tip_system.h) while amplitude_step is the world's
+    //      step and amplitude_version the zones' version, instead of factoring H again
     Eigen::VectorXd amplitude;
     int amplitude_step = -1;
+    int amplitude_version = -1;
 
     // ---- what is shown inside the tips' elements (show_crack_tips, at the steps the volume output
     //      writes or a visual surface shows; engine/io/clipped_cells.cpp and

@@ -63,9 +63,9 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
     scheduler.add(solver_system(world, terms));
     prepare_linear_solver(world, *terms);
     scheduler.add(watchdog_system());
-    // A 2D tip's element and surface show the opening up to the tip (3D: not yet, docs/xfem.md).
-    if (world.tips.follow_radius >= 0.0 || (world.elements.dim == 2 && has_scripted_fronts(world)))
-        scheduler.add(crack_tip_display_system());
+    // The surface follows the tips' field (2D: slit up to the tip; 3D: no slit inside an element
+    // the front runs through, docs/xfem.md), a 2D tip's element in the volume output too.
+    if (world.tips.follow_radius >= 0.0 || has_scripted_fronts(world)) scheduler.add(crack_tip_display_system());
     scheduler.add(mapping_system());
     scheduler.add({"OutputSystem", kNodes | kElements | kOutput, 0, [&sim](World& w) {
                        if (sim.output) sim.output->frame_if_due(w);

@@ -63,6 +63,11 @@ void StepOperator::add_start_forces(World& world) const {
         }
 }
 
+void StepOperator::finish_step(World& world) const {
+    for (const auto& t : terms)
+        if (t->active(world)) t->finish_step(world);
+}
+
 bool StepOperator::any_beside(const World& world) const {
     bool any = false;
     in_order(terms, world, [](const StepTerm& t) { return t.beside_assembly(); }, [&](StepTerm&, bool) { any = true; });

@@ -92,6 +92,10 @@ public:
     /// ForceSystem; the contacts': the CollisionSystem). A term without one (the crack tips) has it
     /// added by the SolverSystem as the step begins (StepOperator::add_start_forces).
     virtual bool from_system() const { return true; }
+    /// Once the step is taken (positions final, world.step counted): what the term keeps of the
+    /// step's end for the systems after the solver (the crack tips' amplitudes at the new positions,
+    /// through the step's own factor).
+    virtual void finish_step(World&) {}
 };
 
 /// A held term whose stiffness product is one serial pass over its own entries (the penalty
@@ -138,6 +142,8 @@ struct StepOperator {
     /// Linearizes and adds the force of every active term that no scheduled system computes
     /// (from_system false), at the step's start.
     void add_start_forces(World& world) const;
+    /// Every active term's finish_step, once the step is taken.
+    void finish_step(World& world) const;
     /// Whether an active term is kept beside the assembly now.
     bool any_beside(const World& world) const;
     /// out += scale mask (K_t (mask p)) over the active terms kept beside the assembly; whether any is.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "systems/kernels/front_enrichment.h"
 #include "systems/kernels/mesh_measures.h"
 
 namespace xcut {
@@ -54,12 +55,18 @@ Vec3 enriched_velocity(const World& w, int j) {
     return w.enriched.sign[j] > 0 ? Vec3(-d) : d;
 }
 
-int tip_node_lip(const World& w, const Vec2& tip_point, const Vec2& tip_direction, int node) {
-    const Vec2 rel = w.nodes.rest[node].head<2>() - tip_point, normal(-tip_direction.y(), tip_direction.x());
-    if (rel.dot(tip_direction) >= 0.0 || std::abs(rel.dot(normal)) > 1e-12 * rel.norm()) return 0;
+int crack_node_lip(const World& w, const Vec3& point, const Vec3& direction, const Vec3& normal, int node) {
+    const Vec3 rel = w.nodes.rest[node] - point;
+    if (rel.dot(direction) >= 0.0 || std::abs(rel.dot(normal)) > 1e-12 * rel.norm()) return 0;
     const int H = node < static_cast<int>(w.enriched.sign.size()) ? w.enriched.sign[node] : 0;
     if (H == 0) return 1;
-    return w.enriched.sign_normal[node].head<2>().dot(normal) >= 0.0 ? H : -H;
+    return w.enriched.sign_normal[node].dot(normal) >= 0.0 ? H : -H;
+}
+
+int tip_node_lip(const World& w, const Vec2& tip_point, const Vec2& tip_direction, int node) {
+    const Vec3 point(tip_point.x(), tip_point.y(), w.nodes.rest[node].z());  // the node's own plane
+    return crack_node_lip(w, point, Vec3(tip_direction.x(), tip_direction.y(), 0.0),
+                          Vec3(-tip_direction.y(), tip_direction.x(), 0.0), node);
 }
 
 Vec3 tip_enrichment(const World& w, const Eigen::VectorXd& b, int z, const Vec2& X, const Vec3& L, int lip) {
@@ -78,6 +85,26 @@ Vec3 tip_enrichment(const World& w, const Eigen::VectorXd& b, int z, const Vec2&
         if (k == 3) continue;  // (a zone element's functions are its corners')
         const BranchValues Fk = branch_functions(f, w.nodes.rest[node].head<2>(), tip_node_lip(w, f.point, f.direction, node));
         for (int l = 0; l < 4; ++l) u.head<2>() += L[k] * (F.f[l] - Fk.f[l]) * b.segment<2>(2 * (4 * pair + l));
+    }
+    return u;
+}
+
+Vec3 front_enrichment(const World& w, const Eigen::VectorXd& b, int z, const Vec3& X, const Eigen::Vector4d& bary) {
+    const CrackTips& ct = w.tips;
+    Vec3 u = Vec3::Zero();
+    if (w.elements.dim != 3 || ct.first[z + 1] == ct.first[z]) return u;
+    std::array<int, 4> corner;
+    for (int k = 0; k < 4; ++k) corner[k] = mesh_node(w, w.elements.nodes[ct.element[z]][k]);  // a virtual element's may be phantoms
+    const int tip = ct.tip[ct.function[ct.first[z]] / 4];  // a zone element's functions are one front's
+    const FrontFrame f{ct.point[tip], ct.direction[tip], ct.tangent[tip]};
+    const int lip = ct.lip[z] != 0 ? ct.lip[z] : ((X - f.point).dot(f.normal()) >= 0.0 ? 1 : -1);
+    const FrontValues F = front_functions(f, X, lip);
+    for (int a = ct.first[z]; a < ct.first[z + 1]; a += 4) {  // (slot, l): four functions a slot
+        const int pair = ct.function[a] / 4, node = ct.node[pair];
+        const int k = static_cast<int>(std::find(corner.begin(), corner.end(), node) - corner.begin());
+        if (k == 4) continue;
+        const FrontValues Fk = front_functions(f, w.nodes.rest[node], crack_node_lip(w, f.point, f.direction, f.normal(), node));
+        for (int l = 0; l < 4; ++l) u += bary[k] * (F.f[l] - Fk.f[l]) * b.segment<3>(3 * (4 * pair + l));
     }
     return u;
 }

@@ -25,6 +25,9 @@ double crack_edge_param(const World& world, int a, int b);
 /// elsewhere (atan2 decides). A node's branch-function shift F_l(X_j) is taken on that lip, so
 /// every element around it agrees.
 int tip_node_lip(const World& world, const Vec2& tip_point, const Vec2& tip_direction, int node);
+/// The same for a crack's plane in 3D (2D: z's), behind `point` along -`direction`, its lips on
+/// either side of `normal` (each unit).
+int crack_node_lip(const World& world, const Vec3& point, const Vec3& direction, const Vec3& normal, int node);
 
 /// The enrichment of zone element z (CrackTips index) at its rest point X with barycentric L over
 /// its mesh element's corners: Σ_k L_k Σ_l (F_l(X) - F_l(X_k)) b_kl over the corners its functions
@@ -32,6 +35,12 @@ int tip_node_lip(const World& world, const Vec2& tip_point, const Vec2& tip_dire
 /// enriched position is its element's linear interpolation plus this over the zone elements that
 /// are its force element (systems/cut/crack_tip_system.h).
 Vec3 tip_enrichment(const World& world, const Eigen::VectorXd& amplitudes, int z, const Vec2& X, const Vec3& L, int lip);
+
+/// A straight crack front's enrichment (3D, systems/kernels/front_enrichment.h) of zone element z
+/// at its rest point X with barycentric `bary`: Σ_k N_k Σ_l (F_l(X) - F_l(X_k)) b_kl on z's lip
+/// (CrackTips::lip; 0: X's side of the crack's plane), b 3 per function, world frame [m]. The
+/// displacement the surface, the probes and the volume output add to the linear interpolation.
+Vec3 front_enrichment(const World& world, const Eigen::VectorXd& amplitudes, int z, const Vec3& X, const Eigen::Vector4d& bary);
 
 /// The enriched position at rest point X of force element fe (barycentric L over its corners): its
 /// linear interpolation plus tip_enrichment over the zone elements that are fe, on lip `lip` for

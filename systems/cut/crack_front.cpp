@@ -27,13 +27,7 @@ std::array<Vec3, 4> front_rest_tet(const World& w, int e) {
 }
 
 /// The lip of a node on the crack's plane behind the front, from its Heaviside sign; 0 elsewhere.
-int front_node_lip(const World& w, const FrontFrame& f, int node) {
-    const Vec3 rel = w.nodes.rest[node] - f.point, normal = f.normal();
-    if (rel.dot(f.direction) >= 0.0 || std::abs(rel.dot(normal)) > 1e-12 * rel.norm()) return 0;
-    const int H = node < static_cast<int>(w.enriched.sign.size()) ? w.enriched.sign[node] : 0;
-    if (H == 0) return 1;
-    return w.enriched.sign_normal[node].dot(normal) >= 0.0 ? H : -H;
-}
+int front_node_lip(const World& w, const FrontFrame& f, int node) { return crack_node_lip(w, f.point, f.direction, f.normal(), node); }
 
 struct FrontPart {
     int element;     ///< force element
@@ -110,25 +104,9 @@ void enrich_crack_front(World& w, const Vec3& point, const Vec3& direction, cons
 }
 
 Vec3 front_enrichment_at(const World& w, const Eigen::VectorXd& b, int fe, const Vec3& X, const Eigen::Vector4d& bary) {
-    const CrackTips& ct = w.tips;
     Vec3 u = Vec3::Zero();
-    if (w.elements.dim != 3) return u;
-    std::array<int, 4> corner;
-    for (int k = 0; k < 4; ++k) corner[k] = mesh_node(w, w.elements.nodes[fe][k]);  // a virtual element's may be phantoms
-    for (int z = 0; z < ct.zone(); ++z) {
-        if (ct.element[z] != fe || ct.first[z + 1] == ct.first[z]) continue;
-        const int tip = ct.tip[ct.function[ct.first[z]] / 4];  // a zone element's functions are one front's
-        const FrontFrame f{ct.point[tip], ct.direction[tip], ct.tangent[tip]};
-        const int lip = ct.lip[z] != 0 ? ct.lip[z] : ((X - f.point).dot(f.normal()) >= 0.0 ? 1 : -1);
-        const FrontValues F = front_functions(f, X, lip);
-        for (int a = ct.first[z]; a < ct.first[z + 1]; a += 4) {  // (slot, l): four functions a slot
-            const int pair = ct.function[a] / 4, node = ct.node[pair];
-            const int k = static_cast<int>(std::find(corner.begin(), corner.end(), node) - corner.begin());
-            if (k == 4) continue;
-            const FrontValues Fk = front_functions(f, w.nodes.rest[node], front_node_lip(w, f, node));
-            for (int l = 0; l < 4; ++l) u += bary[k] * (F.f[l] - Fk.f[l]) * b.segment<3>(3 * (4 * pair + l));
-        }
-    }
+    for (int z = 0; z < w.tips.zone(); ++z)
+        if (w.tips.element[z] == fe) u += front_enrichment(w, b, z, X, bary);
     return u;
 }
 

@@ -267,7 +267,14 @@ public:
             const Eigen::VectorXd g = c.coupling(w, w.nodes.position.data(), 1.0), b = -c.solve(g);
             w.forces.elastic_energy += 0.5 * g.dot(b);
             c.scatter(w, b, -1.0, w.forces.force);
+            publish(w, b);
         });
+    }
+    /// The amplitudes at the step's end positions, through the factor of the step's last
+    /// linearization (the rotations are still its own): one solve, no factor.
+    void finish_step(World& w) override {
+        if (factored_[1] != w.tips.version) linearize(w);
+        c_.with(w, [&](const auto& c) { publish(w, -c.solve(c.coupling(w, w.nodes.position.data(), 1.0))); });
     }
     /// out (+)= -G_x^T H^-1 G_x p.
     void product(World& w, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
@@ -296,6 +303,10 @@ public:
     uint64_t beside_version(const World& w) const override { return static_cast<uint64_t>(w.tips.version); }
 
 private:
+    static void publish(World& w, const Eigen::VectorXd& b) {
+        CrackTips& ct = w.tips;
+        ct.amplitude = b, ct.amplitude_step = w.step, ct.amplitude_version = ct.version;
+    }
     /// A step whose rotations came from the ForceSystem (no linearize through the terms) factors
     /// H at its first use.
     void ensure_factor(World& w) {
@@ -379,6 +390,14 @@ Eigen::VectorXd crack_tip_amplitudes(World& w) {
     });
 }
 
+const Eigen::VectorXd& step_tip_amplitudes(World& w) {
+    CrackTips& ct = w.tips;
+    const bool kept = ct.amplitude_step == w.step && ct.amplitude_version == ct.version &&
+                      ct.amplitude.size() == w.elements.dim * ct.functions();
+    if (!kept) ct.amplitude = crack_tip_amplitudes(w), ct.amplitude_step = w.step, ct.amplitude_version = ct.version;
+    return ct.amplitude;
+}
+
 std::shared_ptr<StepTerm> crack_tip_step_term() { return std::make_shared<CrackTipTerm>(); }
 
 namespace {
@@ -406,7 +425,7 @@ bool blade_rest_point(const World& w, int t, Vec3& rest) {
 void transfer_to_phantoms(World& w) {
     const CrackTips& ct = w.tips;
     if (ct.count() == 0 || w.enriched.count() <= ct.phantoms_seen) return;
-    const Eigen::VectorXd b = crack_tip_amplitudes(w);
+    const Eigen::VectorXd b = step_tip_amplitudes(w);
     for (int p = ct.phantoms_seen; p < w.enriched.count(); ++p) {
         const int node = w.enriched.node_of_phantom[p];
         Vec3 shift = Vec3::Zero();
@@ -529,8 +548,7 @@ void show_crack_tips(World& w) {
     ct.shown_tip.clear(), ct.shown_element.clear(), ct.shown_cells.clear();
     ct.shown_rest.clear(), ct.shown_position.clear(), ct.shown_velocity.clear();
     if (ct.count() == 0 || w.elements.dim != 2) return;
-    ct.amplitude = crack_tip_amplitudes(w), ct.amplitude_step = w.step;
-    const Eigen::VectorXd& b = ct.amplitude;
+    const Eigen::VectorXd& b = step_tip_amplitudes(w);
     for (int tip = 0; tip < ct.count(); ++tip) {
         const TipFrame f{xy(ct.point[tip]), xy(ct.direction[tip])};
         const int e = tip_element(w, f);
@@ -565,9 +583,12 @@ SystemDesc crack_tip_display_system() {
                  [](World& w) {
                      const OutputSettings& o = w.output;
                      const bool volume = o.vtu && output_frame_due(o, w.step);
-                     if (w.tips.count() > 0 && (volume || w.visual.vertex_count() > 0)) show_crack_tips(w);
+                     if (w.tips.count() == 0 || !(volume || w.visual.vertex_count() > 0)) return;
+                     step_tip_amplitudes(w);  // the step's own: no factor
+                     show_crack_tips(w);
                  },
-                 "the opening inside the crack tips' elements, for the visual surface and the volume output (2D)"};
+                 "the crack tips' amplitudes for the visual surface; the opening inside the tips' elements for the "
+                 "volume output (2D)"};
     return s.also_reads(kXfem | kOutput | kSurfaces);
 }
 

@@ -79,6 +79,10 @@ SystemDesc crack_tip_system();
 /// positions and rotations, as the step's term condenses them: for output and tests (empty
 /// without tips).
 Eigen::VectorXd crack_tip_amplitudes(World& world);
+/// The same at the step's end without a factor of its own: the ones the step's term left
+/// (CrackTips::amplitude: the SolverSystem's step, a static solve's last iterate) while they are
+/// this step's and these zones', else crack_tip_amplitudes (kept there for the step's other readers).
+const Eigen::VectorXd& step_tip_amplitudes(World& world);
 
 /// What the volume output shows inside each tip's element (CrackTips::shown_*): the mesh element
 /// the tip lies in (uncut, the tip strictly inside) as four triangles fanned from the tip, with the
@@ -87,10 +91,10 @@ Eigen::VectorXd crack_tip_amplitudes(World& world);
 /// the branch functions carry up to the tip, which the element's nodes alone do not show. A tip on
 /// an edge or at a node, or in a cut element, is shown whole.
 void show_crack_tips(World& world);
-/// The CrackTipDisplaySystem, before the MappingSystem: show_crack_tips at every step when the
-/// world has a visual surface (systems/surface/surface_tips.h opens it inside the tips' elements),
-/// else at the steps the volume output writes. It keeps the amplitudes it used
-/// (CrackTips::amplitude) for the surface.
+/// The CrackTipDisplaySystem, before the MappingSystem: step_tip_amplitudes and show_crack_tips at
+/// every step when the world has a visual surface (systems/surface/surface_tips.h places it by the
+/// enriched field, and opens it inside a 2D tip's elements), else at the steps the volume output
+/// writes. The amplitudes are the step's own (CrackTips::amplitude), which the surface reads.
 SystemDesc crack_tip_display_system();
 
 /// The term: active when the world has tips; the assembled methods apply it beside A.

@@ -211,6 +211,7 @@ void implicit_euler_step(World& world, const StepOperator& op) {
 
     world.time += s.dt;
     ++world.step;
+    op.finish_step(world);
     Metrics& metrics = world.metrics;
     StepMetrics& m = metrics.current;
     m.step = world.step;
@@ -274,6 +275,7 @@ StaticResult static_solve(World& world, const StepOperator& op, double tolerance
         const bool progressed = solve.cg.relative_residual < 0.5;
         last_update = progressed && unorm > 0.0 ? std::sqrt(deterministic_dot(dx, dx)) / unorm : 1.0;
     }
+    op.finish_step(world);  // what the terms keep of the final state (the crack tips' amplitudes)
     return result;
 }
 

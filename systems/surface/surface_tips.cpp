@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/parallel.h"
 #include "systems/surface/surface_cut_parts.h"
 #include "systems/xfem_queries.h"
 
@@ -236,10 +237,19 @@ void take_off_tip_opening(SurfaceMesh& s) {
 void open_tips_on_surface(World& w, SurfaceMesh& s) {
     take_off_tip_opening(s);
     const CrackTips& ct = w.tips;
-    if (w.elements.dim != 2 || ct.zone() == 0 || s.vertex_count() == 0 || ct.amplitude_step != w.step ||
-        ct.shown_step != w.step)
+    if (ct.zone() == 0 || s.vertex_count() == 0 || ct.amplitude_step != w.step || ct.amplitude_version != ct.version)
         return;
     const ZoneIndex zi(w);
+    if (w.elements.dim == 3) {  // the fronts' field on every vertex of the zone's elements; no slit laid
+        parallel_for(s.vertex_count(), [&](int v) {
+            const int fe = s.element[v];
+            if (zi.head[fe] < 0) return;
+            const Vec3 X = vertex_rest(w, s, v);
+            for (int z = zi.head[fe]; z >= 0; z = zi.next[z]) s.position[v] += front_enrichment(w, ct.amplitude, z, X, s.bary[v]);
+        });
+        return;
+    }
+    if (ct.shown_step != w.step) return;
     for (int v = 0; v < s.vertex_count(); ++v) {  // the enriched field where the zone reaches
         const int fe = s.element[v];
         if (zi.head[fe] < 0) continue;

@@ -13,6 +13,7 @@
 #include "systems/cut/crack_tip_system.h"
 #include "systems/cut/scripted_front_system.h"
 #include "systems/pipeline.h"
+#include "systems/xfem_queries.h"
 #include "tools/studies/accuracy_problems.h"
 
 namespace xcut {
@@ -167,6 +168,52 @@ TEST(ScriptedFront, A2DSegmentGetsATipAtEachEndInsideTheTissue) {
     }
     const std::string e = load_error(plate_scene(-0.01, 0.07));
     EXPECT_EQ(e.rfind("cuts[0].front: both ends of the segment lie outside the tissue", 0), 0u) << e;
+}
+
+/// Vertex v of surface s at rest, and as its element's corners alone place it [m].
+std::pair<Vec3, Vec3> vertex_rest_and_linear(const World& w, const SurfaceMesh& s, int v) {
+    Vec3 X = Vec3::Zero(), x = Vec3::Zero();
+    for (int k = 0; k < 4; ++k) {
+        const int node = w.elements.nodes[s.element[v]][k];
+        X += s.bary[v][k] * w.nodes.rest[mesh_node(w, node)], x += s.bary[v][k] * w.nodes.position[node];
+    }
+    return {X, x};
+}
+
+TEST(ScriptedFront, TheStepsAmplitudesPlaceTheSurfaceByTheEnrichedField) {
+    auto sim = make_simulation(load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/slit_block_front.json"), false);
+    for (int n = 0; n < 5; ++n) step_simulation(*sim);
+    World& w = sim->world;
+    const SurfaceMesh& s = w.visual;
+    ASSERT_GT(s.vertex_count(), 0);
+    ASSERT_EQ(w.tips.amplitude_step, w.step);  // the step's end, left by the solver's term
+    const Eigen::VectorXd fresh = crack_tip_amplitudes(w);  // H factored anew at the same rotations
+    ASSERT_EQ(fresh.size(), w.tips.amplitude.size());
+    EXPECT_GT(fresh.norm(), 0.0);
+    EXPECT_LE((fresh - w.tips.amplitude).norm(), 1e-12 * fresh.norm());
+
+    // Every vertex at the enriched field of its element's lip (the probes' field, which problem 5
+    // checks against CalculiX); the lips' vertices within a cell of the front further apart than the
+    // corners alone place them.
+    const Vec3 front = w.tips.point[0], normal = w.tips.direction[0].cross(w.tips.tangent[0]);
+    int moved = 0;
+    double worst = 0.0, opened = 0.0, linear = 0.0;
+    for (int v = 0; v < s.vertex_count(); ++v) {
+        const auto [X, x] = vertex_rest_and_linear(w, s, v);
+        const Vec3 u = front_enrichment_at(w, fresh, s.element[v], X, s.bary[v]);
+        worst = std::max(worst, (s.position[v] - x - u).norm());
+        moved += u.norm() > 1e-9;
+        const Vec3 r = X - front;
+        if (s.side[v] != 0 && r.dot(w.tips.direction[0]) < 0.0 && r.dot(w.tips.direction[0]) > -0.0025 &&
+            std::abs(r.dot(normal)) < 1e-9) {  // a wound vertex within a cell behind the front
+            const Vec3 n = s.side[v] > 0 ? normal : -normal;
+            opened += (s.position[v] - X).dot(n), linear += (x - X).dot(n);
+        }
+    }
+    EXPECT_GT(moved, 0);
+    EXPECT_LT(worst, 1e-15);
+    EXPECT_GT(std::abs(linear), 0.0);
+    EXPECT_GT(std::abs(opened), 1.5 * std::abs(linear)) << opened << " " << linear;  // 2.3 x at 5 steps
 }
 
 TEST(ScriptedFront, ALaterCutThroughTheZoneBuildsItAgain) {
