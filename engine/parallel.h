@@ -32,6 +32,20 @@ inline void parallel_for(int count, Body&& body, int min_parallel = kParallelMin
     for (int i = 0; i < count; ++i) body(i);
 }
 
+/// Calls body(i) for i in [0, count) when the items cost unevenly and each is large (a zone
+/// element's quadrature: thousands of points beside a few dozen): handed to the threads one at a
+/// time as they come free. Each body(i) writes only its own results, so they do not depend on
+/// which thread ran it; body must not throw.
+template <class Body>
+inline void parallel_for_uneven(int count, Body&& body) {
+    if (count < 2 || thread_count() == 1) {
+        for (int i = 0; i < count; ++i) body(i);
+        return;
+    }
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
+    for (int i = 0; i < count; ++i) body(i);
+}
+
 /// Sum of term(i) over [0, count) in a fixed association order: 64 blocks, each summed serially,
 /// then the block sums summed serially. Independent of the thread count.
 template <class Term>

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/parallel.h"
 #include "systems/cut/crack_tip_system.h"
 #include "systems/kernels/cut_geometry.h"
 #include "systems/kernels/front_enrichment.h"
@@ -89,18 +90,30 @@ void enrich_crack_front(World& w, const Vec3& point, const Vec3& direction, cons
     for (int i = 0; i < w.mesh_nodes; ++i)
         if (front_distance(f, w.nodes.rest[i]) <= zone.radius) nodes.push_back(i);
     const std::vector<int> pair_of = add_tip(w, f.point, f.direction, f.tangent, nodes);
+    struct Job {
+        int e;
+        std::vector<int> slots;
+        std::array<int, 4> lip;
+        FrontPart part;
+    };
+    std::vector<Job> jobs;  // the zone's parts in order; their integrals on the threads, appended in order
     for (int e = 0; e < w.mesh_elements; ++e) {
-        const std::vector<int> slots = enriched_slots(w, e, pair_of);
+        std::vector<int> slots = enriched_slots(w, e, pair_of);
         if (slots.empty()) continue;
-        const std::array<Vec3, 4> X = front_rest_tet(w, e);
         std::array<int, 4> lip{};
         for (int k = 0; k < 4; ++k) lip[k] = front_node_lip(w, f, w.elements.nodes[e][k]);
-        for (const FrontPart& part : front_parts(w, e, f)) {
-            const FrontIntegrals fi =
-                front_integrals(X, slots, lip, f, part.lip, front_tet_rule(X, part.keep, f, kFrontRuleOrder, kFrontSlabOrder));
-            add_zone_element(w, e, part.element, part.lip, slots, pair_of, fi.G, fi.M);
-        }
+        for (const FrontPart& part : front_parts(w, e, f)) jobs.push_back({e, slots, lip, part});
     }
+    std::vector<FrontIntegrals> integrals(jobs.size());
+    parallel_for_uneven(static_cast<int>(jobs.size()), [&](int j) {
+        const Job& job = jobs[j];
+        const std::array<Vec3, 4> X = front_rest_tet(w, job.e);
+        integrals[j] = front_integrals(X, job.slots, job.lip, f, job.part.lip,
+                                       front_tet_rule(X, job.part.keep, f, kFrontRuleOrder, kFrontSlabOrder));
+    });
+    for (size_t j = 0; j < jobs.size(); ++j)
+        add_zone_element(w, jobs[j].e, jobs[j].part.element, jobs[j].part.lip, jobs[j].slots, pair_of, integrals[j].G,
+                         integrals[j].M);
 }
 
 Vec3 front_enrichment_at(const World& w, const Eigen::VectorXd& b, int fe, const Vec3& X, const Eigen::Vector4d& bary) {

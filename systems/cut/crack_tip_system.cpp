@@ -9,12 +9,17 @@
 #include <stdexcept>
 
 #include "engine/error.h"
+#include "engine/parallel.h"
 #include "systems/kernels/block_sums.h"
 #include "systems/kernels/branch_enrichment.h"
 #include "systems/kernels/corotational_kernel.h"
+#include "systems/cut/tip_triangles.h"
 #include "systems/xfem_queries.h"
 
 namespace xcut {
+
+using namespace tip_triangles;
+
 namespace {
 
 constexpr int kRuleOrder = 8;  ///< Gauss points per direction of a fan triangle's Duffy rule
@@ -23,25 +28,10 @@ constexpr int kRuleOrder = 8;  ///< Gauss points per direction of a fan triangle
 /// accuracy suite's zones is 1e-4).
 constexpr double kDroppedPivot = 1e-10;
 
-Vec2 xy(const Vec3& v) { return v.head<2>(); }
-
 /// Force element fe's Lamé parameters under plane stress [Pa] (2D only, as the ForceSystem's).
 LameParameters plane_lame(const World& w, int fe) {
     const Material& m = w.materials.list[w.elements.material[fe]];
     return {m.lambda_plane_stress(), m.mu()};
-}
-
-std::array<Vec2, 3> rest_triangle(const World& w, int e) {
-    const auto& n = w.elements.nodes[e];
-    return {xy(w.nodes.rest[n[0]]), xy(w.nodes.rest[n[1]]), xy(w.nodes.rest[n[2]])};
-}
-
-/// The barycentric coordinates of point T in triangle X.
-Vec3 barycentric(const std::array<Vec2, 3>& X, const Vec2& T) {
-    Eigen::Matrix2d D;
-    D << X[1] - X[0], X[2] - X[0];
-    const Vec2 l = D.partialPivLu().solve(T - X[0]);
-    return Vec3(1.0 - l.x() - l.y(), l.x(), l.y());
 }
 
 /// Whether rest point T lies in the closure of triangle X (to 1e-9 of its barycentric coordinates).
@@ -87,14 +77,25 @@ std::vector<ZonePart> parts_of(const World& w, int e, const TipFrame& f) {
     return parts;
 }
 
-/// Appends zone element `part` of mesh element e with its enriched corners `slots`.
-void add_zone_part(World& w, int e, const ZonePart& part, const std::vector<int>& slots, const std::vector<int>& pair_of,
-                   const TipFrame& f) {
+/// A zone part of mesh element e with its enriched corners `slots`: its integrals taken on the
+/// threads (zone_integrals), then appended in order (add_zone_part).
+struct ZoneJob {
+    int e;
+    ZonePart part;
+    std::vector<int> slots;
+};
+
+/// Zone part `job`'s integrals (tip frame f, 8 x 8 Duffy points per fan triangle).
+BranchIntegrals zone_integrals(const World& w, const ZoneJob& job, const TipFrame& f) {
     std::array<int, 3> lip{};
-    for (int k = 0; k < 3; ++k) lip[k] = node_lip(w, f, w.elements.nodes[e][k]);
-    const BranchIntegrals bi = branch_integrals(rest_triangle(w, e), slots, lip, f, part.lip,
-                                                tip_polygon_rule(part.polygon, f, kRuleOrder));
-    const double t = w.materials.list[w.elements.material[e]].thickness;
+    for (int k = 0; k < 3; ++k) lip[k] = node_lip(w, f, w.elements.nodes[job.e][k]);
+    return branch_integrals(rest_triangle(w, job.e), job.slots, lip, f, job.part.lip,
+                            tip_polygon_rule(job.part.polygon, f, kRuleOrder));
+}
+
+/// Appends zone part `job` with its integrals `bi` (2D: times the thickness).
+void add_zone_part(World& w, const ZoneJob& job, const BranchIntegrals& bi, const std::vector<int>& pair_of) {
+    const double t = w.materials.list[w.elements.material[job.e]].thickness;
     std::vector<Vec3> G;
     std::vector<Mat3> M;
     for (const Vec2& g : bi.G) G.emplace_back(t * g.x(), t * g.y(), 0.0);
@@ -102,7 +103,7 @@ void add_zone_part(World& w, int e, const ZonePart& part, const std::vector<int>
         M.push_back(Mat3::Zero());
         M.back().topLeftCorner<2, 2>() = t * m;
     }
-    add_zone_element(w, e, part.element, part.lip, slots, pair_of, G, M);
+    add_zone_element(w, job.e, job.part.element, job.part.lip, job.slots, pair_of, G, M);
 }
 
 /// Force element fe's Lamé parameters [Pa]: plane stress in 2D (as the ForceSystem's), 3D's own.
@@ -335,11 +336,15 @@ void enrich_crack_tip(World& w, const Vec3& point, const Vec3& direction, const 
         if ((xy(w.nodes.rest[i]) - f.point).norm() <= zone.radius) nodes.push_back(i);
     const std::vector<int> pair_of =
         add_tip(w, Vec3(f.point.x(), f.point.y(), 0.0), Vec3(f.direction.x(), f.direction.y(), 0.0), Vec3::UnitZ(), nodes);
+    std::vector<ZoneJob> jobs;
     for (int e = 0; e < w.mesh_elements; ++e) {
         const std::vector<int> slots = enriched_slots(w, e, pair_of);
         if (slots.empty()) continue;
-        for (const ZonePart& part : parts_of(w, e, f)) add_zone_part(w, e, part, slots, pair_of, f);
+        for (ZonePart& part : parts_of(w, e, f)) jobs.push_back({e, std::move(part), slots});
     }
+    std::vector<BranchIntegrals> integrals(jobs.size());
+    parallel_for_uneven(static_cast<int>(jobs.size()), [&](int j) { integrals[j] = zone_integrals(w, jobs[j], f); });
+    for (size_t j = 0; j < jobs.size(); ++j) add_zone_part(w, jobs[j], integrals[j], pair_of);
 }
 
 std::vector<int> add_tip(World& w, const Vec3& point, const Vec3& direction, const Vec3& tangent, std::vector<int> nodes) {
@@ -519,77 +524,6 @@ SystemDesc crack_tip_system() {
     SystemDesc s{"CrackTipSystem", kNodes | kElements | kTools | kCutEvents, kNodes | kXfem,
                  [](World& w) { follow_blades(w); }, "crack tips at the blades (2D)"};
     return s.also_reads(kXfem);
-}
-
-namespace {
-
-/// Where the crack behind tip f enters triangle X (systems/kernels/branch_enrichment.h, ray_exit).
-bool crack_entry(const std::array<Vec2, 3>& X, const TipFrame& f, int& edge, Vec2& E) {
-    return ray_exit(X, f.point, -f.direction, -1, edge, E);
-}
-
-/// The uncut mesh element of the zone that holds tip f strictly inside; -1 if none.
-int tip_element(const World& w, const TipFrame& f) {
-    const CrackTips& ct = w.tips;
-    const std::vector<int>& cut_of = w.cuts.cut_of_element;
-    for (int z = 0; z < ct.zone(); ++z) {
-        const int e = ct.element[z];
-        if (e >= w.mesh_elements || (e < static_cast<int>(cut_of.size()) && cut_of[e] >= 0)) continue;
-        if (w.elements.weight[e] > 0.0 && barycentric(rest_triangle(w, e), f.point).minCoeff() > 1e-9) return e;
-    }
-    return -1;
-}
-
-}  // namespace
-
-void show_crack_tips(World& w) {
-    CrackTips& ct = w.tips;
-    ct.shown_step = w.step;
-    ct.shown_tip.clear(), ct.shown_element.clear(), ct.shown_cells.clear();
-    ct.shown_rest.clear(), ct.shown_position.clear(), ct.shown_velocity.clear();
-    if (ct.count() == 0 || w.elements.dim != 2) return;
-    const Eigen::VectorXd& b = step_tip_amplitudes(w);
-    for (int tip = 0; tip < ct.count(); ++tip) {
-        const TipFrame f{xy(ct.point[tip]), xy(ct.direction[tip])};
-        const int e = tip_element(w, f);
-        int edge = -1;
-        Vec2 E = Vec2::Zero();
-        if (e < 0 || std::count(ct.shown_element.begin(), ct.shown_element.end(), e) > 0) continue;
-        const std::array<Vec2, 3> corners = rest_triangle(w, e);
-        if (!crack_entry(corners, f, edge, E)) continue;
-        const auto& n = w.elements.nodes[e];
-        const int a = kTriEdges[edge][0], c = kTriEdges[edge][1], o = 3 - a - c;
-        const int lip_a = cross2(f.direction, xy(w.nodes.rest[n[a]]) - f.point) > 0.0 ? 1 : -1;
-        const double z = w.nodes.rest[n[a]].z();
-        const std::array<Vec2, 3> X{E, E, f.point};
-        const std::array<int, 3> lip{lip_a, -lip_a, 0};
-        std::array<Vec3, 3> rest, position, velocity;
-        for (int p = 0; p < 3; ++p) {
-            rest[p] = Vec3(X[p].x(), X[p].y(), z);
-            const Vec3 L = barycentric(corners, X[p]);
-            position[p] = tip_field(w, b, e, X[p], L, tip, lip[p]);
-            velocity[p] = L[0] * w.nodes.velocity[n[0]] + L[1] * w.nodes.velocity[n[1]] + L[2] * w.nodes.velocity[n[2]];
-        }
-        // Fanned from the tip (point 2): a and the entry on a's lip (point 0), the entry on c's lip
-        // (point 1) and c, then the two whole edges.
-        ct.shown_tip.push_back(tip), ct.shown_element.push_back(e);
-        ct.shown_cells.push_back({-3, n[a], -1, -3, -2, n[c], -3, n[c], n[o], -3, n[o], n[a]});
-        ct.shown_rest.push_back(rest), ct.shown_position.push_back(position), ct.shown_velocity.push_back(velocity);
-    }
-}
-
-SystemDesc crack_tip_display_system() {
-    SystemDesc s{"CrackTipDisplaySystem", kNodes | kElements, kXfem,
-                 [](World& w) {
-                     const OutputSettings& o = w.output;
-                     const bool volume = o.vtu && output_frame_due(o, w.step);
-                     if (w.tips.count() == 0 || !(volume || w.visual.vertex_count() > 0)) return;
-                     step_tip_amplitudes(w);  // the step's own: no factor
-                     show_crack_tips(w);
-                 },
-                 "the crack tips' amplitudes for the visual surface; the opening inside the tips' elements for the "
-                 "volume output (2D)"};
-    return s.also_reads(kXfem | kOutput | kSurfaces);
 }
 
 }  // namespace xcut
