@@ -8,6 +8,7 @@
 
 #include "systems/cut/crack_tip_system.h"
 #include "systems/kernels/front_enrichment.h"
+#include "systems/xfem_queries.h"
 
 namespace xcut {
 namespace {
@@ -88,6 +89,21 @@ std::vector<CutFront> polygon_front(const World& w, const std::vector<Vec3>& pol
     return {{P, t.cross(normal).normalized(), t}};  // outward: the interior lies to the left of the edge
 }
 
+/// Whether a cut element from `first` on (CutElements index) shares a node with an element of a
+/// front's zone: its parts, or its nodes' sides, may have changed (a split elsewhere changes
+/// neither).
+bool cuts_reach_zones(const World& w, int first) {
+    const CrackTips& ct = w.tips;
+    const int corners = w.elements.nodes_per_element();
+    std::vector<uint8_t> near(w.mesh_nodes, 0);
+    for (int z = 0; z < ct.zone(); ++z)
+        for (int k = 0; k < corners; ++k) near[mesh_node(w, w.elements.nodes[ct.element[z]][k])] = 1;
+    for (int c = std::max(first, 0); c < w.cuts.count(); ++c)
+        for (int k = 0; k < corners; ++k)
+            if (near[mesh_node(w, w.elements.nodes[w.cuts.element[c]][k])]) return true;
+    return false;
+}
+
 }  // namespace
 
 std::vector<CutFront> scripted_cut_fronts(const World& w, const std::vector<Vec3>& polygon) {
@@ -109,6 +125,10 @@ bool enrich_scripted_fronts(World& w) {
                                    [](const ScriptedCut& c) { return c.front_radius >= 0.0 && c.applied && !c.front_enriched; });
     const bool any = std::any_of(cuts.begin(), cuts.end(), [](const ScriptedCut& c) { return c.front_enriched; });
     if (!fresh && (!any || w.cuts.count() == w.tips.cuts_seen)) return false;
+    if (!fresh && !cuts_reach_zones(w, w.tips.cuts_seen)) {  // split elsewhere: the zones stand as they are
+        w.tips.cuts_seen = w.cuts.count();
+        return false;
+    }
     CrackTips rebuilt;  // every front again: their zones' parts follow the cut elements
     rebuilt.version = w.tips.version;
     rebuilt.follow_radius = w.tips.follow_radius;

@@ -29,8 +29,9 @@ std::vector<CutFront> scripted_cut_fronts(const World& world, const std::vector<
 
 /// Enriches the fronts of the scripted cuts applied so far that ask for one (after the
 /// EnrichmentSystem has split their elements), each over its radius, and builds every front's zone
-/// again when the cut elements changed since (a later cut through a zone: its integrals follow the
-/// new parts). Returns whether it built the zones. A front the enrichment refuses throws
+/// again when an element cut since shares a node with a zone's element (a later cut through a zone:
+/// its integrals follow the new parts; a split elsewhere, a scalpel's away from the fronts, leaves
+/// the zones as they are and costs no integral). Returns whether it built the zones. A front the enrichment refuses throws
 /// std::invalid_argument naming the cut ("cuts[i].front: ...").
 bool enrich_scripted_fronts(World& world);
 

@@ -216,6 +216,30 @@ TEST(ScriptedFront, TheStepsAmplitudesPlaceTheSurfaceByTheEnrichedField) {
     EXPECT_GT(std::abs(opened), 1.5 * std::abs(linear)) << opened << " " << linear;  // 2.3 x at 5 steps
 }
 
+TEST(ScriptedFront, ALaterCutAwayFromTheZoneLeavesItAsABuildWouldMakeIt) {
+    // Across y at x = 50 mm, 25 mm ahead of the tip (zone: 4 mm), at the second step.
+    auto sim = make_simulation(
+        load_scene_text(plate_scene(-0.01, 0.0253, R"(, {"time": 0.001, "polygon": [[0.05, -0.01, 0], [0.05, 0.05, 0]]})"),
+                        "tips.json", "."), false);
+    step_simulation(*sim);
+    World& w = sim->world;
+    const int version = w.tips.version, cut = w.cuts.count();
+    step_simulation(*sim);
+    ASSERT_GT(w.cuts.count(), cut);
+    EXPECT_EQ(w.tips.cuts_seen, w.cuts.count());
+    EXPECT_EQ(w.tips.version, version);  // not built again
+    const CrackTips kept = w.tips;
+    w.tips.cuts_seen = 0;  // every cut new: the front's own reach its zone
+    ASSERT_TRUE(enrich_scripted_fronts(w));
+    EXPECT_GT(w.tips.version, version);
+    EXPECT_EQ(w.tips.element, kept.element);
+    EXPECT_EQ(w.tips.function, kept.function);
+    ASSERT_EQ(w.tips.gradient.size(), kept.gradient.size());
+    ASSERT_EQ(w.tips.moment.size(), kept.moment.size());
+    for (size_t a = 0; a < kept.gradient.size(); ++a) EXPECT_EQ(w.tips.gradient[a], kept.gradient[a]);
+    for (size_t a = 0; a < kept.moment.size(); ++a) EXPECT_EQ(w.tips.moment[a], kept.moment[a]);
+}
+
 TEST(ScriptedFront, ALaterCutThroughTheZoneBuildsItAgain) {
     // Across y at x = 28.1 mm, 2.8 mm ahead of the tip (zone: 4 mm), at the second step.
     auto sim = make_simulation(
