@@ -371,10 +371,11 @@ public:
 
     /// cholesky / direct beside a term that gives its block (the crack tips): CG preconditioned by
     /// the factor of the whole sparse system (systems/solver/beside_factor.h), computed in the step
-    /// (only 2D scenes carry tips) and kept as A's own is: renewed when the block, A's pattern or
-    /// the scales change, when it has preconditioned refactor_every solves, when CG needed more
-    /// than refactor_iterations with it, and every solve for direct. False if no term gives a block,
-    /// or while the block moves from step to step (systems/solver/beside_factor.h says why).
+    /// (not yet off it: docs/xfem.md, Crack fronts in 3D, says what that costs at a front's cut)
+    /// and kept as A's own is: renewed when the block, A's pattern or the scales change, when it
+    /// has preconditioned refactor_every solves, when CG needed more than refactor_iterations with
+    /// it, and every solve for direct. False if no term gives a block, or while the block moves
+    /// from step to step (systems/solver/beside_factor.h says why).
     bool beside_cholesky(double mass_scale) {
         moving_term_ = nullptr;
         StepTerm* term = op_.block_term(w_);
