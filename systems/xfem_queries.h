@@ -3,6 +3,7 @@
 // surface code asks where the crack crosses an edge and whether the blade has crossed it; output
 // and studies ask a node's enriched displacement. They read the cut components only (CutElements,
 // EnrichedDofs); the EnrichmentSystem (systems/cut/enrichment_system.h) is what writes them.
+#include <Eigen/LU>
 #include <array>
 #include <span>
 
@@ -47,6 +48,30 @@ Vec3 front_enrichment(const World& world, const Eigen::VectorXd& amplitudes, int
 /// tip `tip` and each other tip's on the element's own lip (CrackTips::lip; 0: atan2) [m]. What the
 /// volume output and the visual surface show inside the tips' elements.
 Vec3 tip_field(const World& world, const Eigen::VectorXd& amplitudes, int fe, const Vec2& X, const Vec3& L, int tip, int lip);
+
+/// The rest triangles of a 2D mesh as the crack tips' code takes them (systems/cut/crack_tip_system.cpp,
+/// crack_tip_display.cpp, systems/surface/surface_tips.cpp): a mesh element's corners in the plane,
+/// and a point's barycentric coordinates in them (by LU: engine/fragment_geometry.h's
+/// triangle_barycentric rounds differently, and the tips' recorded runs were made with this one).
+namespace tip_triangles {
+
+inline Vec2 xy(const Vec3& v) { return v.head<2>(); }
+
+/// Mesh element e's rest corners in the plane [m].
+inline std::array<Vec2, 3> rest_triangle(const World& w, int e) {
+    const auto& n = w.elements.nodes[e];
+    return {xy(w.nodes.rest[n[0]]), xy(w.nodes.rest[n[1]]), xy(w.nodes.rest[n[2]])};
+}
+
+/// The barycentric coordinates of point T in triangle X.
+inline Vec3 barycentric(const std::array<Vec2, 3>& X, const Vec2& T) {
+    Eigen::Matrix2d D;
+    D << X[1] - X[0], X[2] - X[0];
+    const Vec2 l = D.partialPivLu().solve(T - X[0]);
+    return Vec3(1.0 - l.x() - l.y(), l.x(), l.y());
+}
+
+}  // namespace tip_triangles
 
 /// The mesh node that DOF node `node` is (itself) or copies (a phantom's node).
 inline int mesh_node(const World& world, int node) {

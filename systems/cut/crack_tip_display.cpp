@@ -3,7 +3,6 @@
 #include <algorithm>
 
 #include "systems/cut/crack_tip_system.h"
-#include "systems/cut/tip_triangles.h"
 #include "systems/xfem_queries.h"
 
 namespace xcut {

@@ -13,7 +13,6 @@
 #include "systems/kernels/block_sums.h"
 #include "systems/kernels/branch_enrichment.h"
 #include "systems/kernels/corotational_kernel.h"
-#include "systems/cut/tip_triangles.h"
 #include "systems/xfem_queries.h"
 
 namespace xcut {
@@ -112,6 +111,12 @@ LameParameters tip_lame(const World& w, int fe) {
     if constexpr (D == 2) return plane_lame(w, fe);
     const Material& m = w.materials.list[w.elements.material[fe]];
     return {m.lambda(), m.mu()};
+}
+
+/// Keeps amplitudes b as this step's and these zones' (CrackTips::amplitude).
+void keep_amplitudes(World& w, Eigen::VectorXd b) {
+    CrackTips& ct = w.tips;
+    ct.amplitude = std::move(b), ct.amplitude_step = w.step, ct.amplitude_version = ct.version;
 }
 
 /// The condensation of the amplitudes at the current rotations, and the maps it is made of; D
@@ -268,14 +273,13 @@ public:
             const Eigen::VectorXd g = c.coupling(w, w.nodes.position.data(), 1.0), b = -c.solve(g);
             w.forces.elastic_energy += 0.5 * g.dot(b);
             c.scatter(w, b, -1.0, w.forces.force);
-            publish(w, b);
         });
     }
     /// The amplitudes at the step's end positions, through the factor of the step's last
     /// linearization (the rotations are still its own): one solve, no factor.
     void finish_step(World& w) override {
         if (factored_[1] != w.tips.version) linearize(w);
-        c_.with(w, [&](const auto& c) { publish(w, -c.solve(c.coupling(w, w.nodes.position.data(), 1.0))); });
+        c_.with(w, [&](const auto& c) { keep_amplitudes(w, -c.solve(c.coupling(w, w.nodes.position.data(), 1.0))); });
     }
     /// out (+)= -G_x^T H^-1 G_x p.
     void product(World& w, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
@@ -304,10 +308,6 @@ public:
     uint64_t beside_version(const World& w) const override { return static_cast<uint64_t>(w.tips.version); }
 
 private:
-    static void publish(World& w, const Eigen::VectorXd& b) {
-        CrackTips& ct = w.tips;
-        ct.amplitude = b, ct.amplitude_step = w.step, ct.amplitude_version = ct.version;
-    }
     /// A step whose rotations came from the ForceSystem (no linearize through the terms) factors
     /// H at its first use.
     void ensure_factor(World& w) {
@@ -399,7 +399,7 @@ const Eigen::VectorXd& step_tip_amplitudes(World& w) {
     CrackTips& ct = w.tips;
     const bool kept = ct.amplitude_step == w.step && ct.amplitude_version == ct.version &&
                       ct.amplitude.size() == w.elements.dim * ct.functions();
-    if (!kept) ct.amplitude = crack_tip_amplitudes(w), ct.amplitude_step = w.step, ct.amplitude_version = ct.version;
+    if (!kept) keep_amplitudes(w, crack_tip_amplitudes(w));
     return ct.amplitude;
 }
 

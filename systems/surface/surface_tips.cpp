@@ -1,6 +1,5 @@
 #include "systems/surface/surface_tips.h"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 
@@ -22,14 +21,7 @@ struct ZoneIndex {
 };
 
 /// Barycentric coordinates of rest point X in mesh element e (a triangle).
-Vec3 triangle_bary(const World& w, int e, const Vec2& X) {
-    const auto& n = w.elements.nodes[e];
-    const Vec2 X0 = w.nodes.rest[n[0]].head<2>();
-    Eigen::Matrix2d D;
-    D << w.nodes.rest[n[1]].head<2>() - X0, w.nodes.rest[n[2]].head<2>() - X0;
-    const Vec2 l = D.partialPivLu().solve(X - X0);
-    return Vec3(1.0 - l.x() - l.y(), l.x(), l.y());
-}
+Vec3 triangle_bary(const World& w, int e, const Vec2& X) { return tip_triangles::barycentric(tip_triangles::rest_triangle(w, e), X); }
 
 /// A vertex of the overlay, bound to mesh element e at rest point X, placed at x.
 int add_vertex(World& w, SurfaceMesh& s, int e, const Vec2& X, const Vec3& x) {
