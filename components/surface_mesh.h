@@ -62,8 +62,20 @@ struct SurfaceMesh {
     std::vector<std::array<int, 3>> tip_saved_triangles;
     std::vector<int> tip_saved_owner;
     std::vector<uint8_t> tip_saved_cut_face;
+    /// Where wounds touch along a line or coincide, laid over the surface after each cut and taken
+    /// off before the next (systems/surface/surface_manifold.h): the first copy of a vertex (-1:
+    /// nothing laid), the vertex each copy was made of, and the triangles as the cut made them.
+    int manifold_first_vertex = -1;
+    std::vector<int> manifold_source;
+    std::vector<std::array<int, 3>> manifold_saved_triangles;
+    std::vector<int> manifold_saved_owner;
+    std::vector<uint8_t> manifold_saved_cut_face;
 
     int vertex_count() const { return static_cast<int>(position.size()); }
+    /// The vertex v was made of: itself, unless it is a copy where wounds touch (manifold_source).
+    int source_vertex(int v) const {
+        return manifold_first_vertex >= 0 && v >= manifold_first_vertex ? manifold_source[v - manifold_first_vertex] : v;
+    }
 };
 
 }  // namespace xcut

@@ -135,7 +135,7 @@ void detect_contacts(World& w, CollisionModel& m) {
         collide_tool(*m.surface, m.tool_shape[i], pose, result);
         std::vector<int> candidates;
         for (size_t k = 0; k < result.numContacts(); ++k)
-            for (int v : s.triangles[result.getContact(k).b1]) candidates.push_back(v);
+            for (int v : s.triangles[result.getContact(k).b1]) candidates.push_back(s.source_vertex(v));  // a copy: its vertex
         std::sort(candidates.begin(), candidates.end());
         candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
         const Eigen::Matrix3d R = tb.orientation[i].toRotationMatrix();

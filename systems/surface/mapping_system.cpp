@@ -8,6 +8,7 @@
 #include "engine/parallel.h"
 #include "systems/kernels/quadratic_tet.h"
 #include "systems/surface/surface_cut.h"
+#include "systems/surface/surface_manifold.h"
 #include "systems/surface/surface_tips.h"
 
 namespace xcut {
@@ -154,6 +155,7 @@ int map_cuts(World& w, SurfaceMesh& s) {
     if (s.vertex_count() == 0 ||
         (s.cuts_mapped >= w.cuts.count() && s.crossings_mapped >= crossings && s.recuts_mapped >= recuts))
         return 0;
+    take_off_pinch_split(w, s);  // cut as it was made, without the copies where wounds touch
     int rebound = 0;
     for (int k = s.recuts_mapped; k < recuts; ++k) {  // an element cut again: its vertices go to its fragments
         const int c = w.cuts.recut_log[k];
@@ -176,6 +178,7 @@ int map_cuts(World& w, SurfaceMesh& s) {
         }
     }
     cut_surface(w, s, s.cuts_mapped, s.crossings_mapped, s.recuts_mapped);
+    split_pinched_edges(w, s);
     s.cuts_mapped = w.cuts.count();
     s.crossings_mapped = crossings;
     s.recuts_mapped = recuts;

@@ -46,7 +46,9 @@ std::string block_scene(const std::vector<Vec3>& polygon, const BlockScene& o) {
         o.cutter.empty() ? "" : ", \"cutter\": " + o.cutter);
 }
 std::string block_scene(const std::vector<Vec3>& polygon, const std::string& front) {
-    return block_scene(polygon, BlockScene{front});
+    BlockScene o;
+    o.front = front;
+    return block_scene(polygon, o);
 }
 
 /// The probes' displacements (the fronts' functions added, as the accuracy suite takes them) at
@@ -138,7 +140,9 @@ TEST(ScriptedFront, ScenesThatCannotCarryAFrontAreRefusedByField) {
     for (const auto& [scene, why] : refused) {
         const std::string e = load_error(block_scene(poly, scene));
         EXPECT_NE(e.find(why), std::string::npos) << e;
-        if (why != "cutter.tip") EXPECT_EQ(e.rfind("cuts[0].front: ", 0), 0u) << e;  // cutter.tip: 2D only, said first
+        if (why != "cutter.tip") {  // cutter.tip: 2D only, said first
+            EXPECT_EQ(e.rfind("cuts[0].front: ", 0), 0u) << e;
+        }
     }
     EXPECT_EQ(load_error(block_scene(poly, "{\"radius\": -1}")).rfind("cuts[0].front.radius", 0), 0u);
     EXPECT_EQ(load_error(block_scene(poly, "{\"radial\": 1}")).rfind("cuts[0].front", 0), 0u);
@@ -163,7 +167,9 @@ TEST(ScriptedFront, A2DSegmentGetsATipAtEachEndInsideTheTissue) {
         ASSERT_EQ(ct.count(), tips);
         EXPECT_LT((ct.point.back() - Vec3(x1, 0.0201, 0)).norm(), 1e-15);  // the end inside, the crack behind it
         EXPECT_LT((ct.direction.back() - Vec3(1, 0, 0)).norm(), 1e-15);
-        if (tips == 2) EXPECT_LT((ct.point[0] - Vec3(x0, 0.0201, 0)).norm() + (ct.direction[0] + Vec3(1, 0, 0)).norm(), 1e-15);
+        if (tips == 2) {
+            EXPECT_LT((ct.point[0] - Vec3(x0, 0.0201, 0)).norm() + (ct.direction[0] + Vec3(1, 0, 0)).norm(), 1e-15);
+        }
         EXPECT_GT(ct.zone(), 0);
     }
     const std::string e = load_error(plate_scene(-0.01, 0.07));
