@@ -6,6 +6,8 @@
 #include <map>
 #include <numeric>
 
+#include "systems/xfem_queries.h"
+
 namespace xcut {
 namespace {
 
@@ -50,16 +52,23 @@ using Pairs = std::map<std::pair<std::pair<int, int>, int>, int>;
 std::vector<uint8_t> coincident_pairs(const SurfaceMesh& s, const std::vector<uint8_t>& near) {
     const int triangles = static_cast<int>(s.triangles.size());
     std::vector<uint8_t> gone(triangles, 0);
-    std::map<std::array<int, 3>, std::array<std::vector<int>, 2>> by_corners;  // sorted corners -> by orientation
+    std::vector<std::pair<std::array<int, 4>, int>> keyed;  // (sorted corners, orientation) -> triangle
     for (int t = 0; t < triangles; ++t) {
         std::array<int, 3> c = s.triangles[t];
         if (!near[c[0]] || !near[c[1]] || !near[c[2]]) continue;
         const int parity = (c[0] < c[1]) + (c[1] < c[2]) + (c[0] < c[2]);  // 3 or 1 ascending pairs: even
         std::sort(c.begin(), c.end());
-        by_corners[c][parity % 2].push_back(t);
+        keyed.push_back({{c[0], c[1], c[2], parity % 2}, t});
     }
-    for (const auto& [corners, ways] : by_corners)
-        for (size_t k = 0; k < std::min(ways[0].size(), ways[1].size()); ++k) gone[ways[0][k]] = gone[ways[1][k]] = 1;
+    std::sort(keyed.begin(), keyed.end());  // deterministic: by corners, orientation, triangle
+    for (size_t i = 0; i < keyed.size();) {
+        size_t j = i;
+        while (j < keyed.size() && std::equal(keyed[j].first.begin(), keyed[j].first.begin() + 3, keyed[i].first.begin())) ++j;
+        size_t odd = i;  // the first of the other orientation
+        while (odd < j && keyed[odd].first[3] == 0) ++odd;
+        for (size_t k = 0; i + k < odd && odd + k < j; ++k) gone[keyed[i + k].second] = gone[keyed[odd + k].second] = 1;
+        i = j;
+    }
     return gone;
 }
 
@@ -67,16 +76,25 @@ std::vector<uint8_t> coincident_pairs(const SurfaceMesh& s, const std::vector<ui
 /// open edge is left as it is); marks both ends `pinched`.
 Pairs pinched_pairs(const SurfaceMesh& s, const std::vector<uint8_t>& near, const std::vector<uint8_t>& gone,
                     std::vector<uint8_t>& pinched) {
-    std::map<std::pair<int, int>, std::vector<EdgeUse>> edges;  // ordered: deterministic
+    std::vector<std::pair<std::pair<int, int>, EdgeUse>> keyed;  // (edge, use), sorted: deterministic
     for (int t = 0; t < static_cast<int>(s.triangles.size()); ++t)
         for (int k = 0; k < 3 && !gone[t]; ++k) {
             const int a = s.triangles[t][k], b = s.triangles[t][(k + 1) % 3];
-            if (near[a] && near[b]) edges[{std::min(a, b), std::max(a, b)}].push_back({t, a < b});
+            if (near[a] && near[b]) keyed.push_back({{std::min(a, b), std::max(a, b)}, {t, a < b}});
         }
+    std::sort(keyed.begin(), keyed.end(), [](const auto& l, const auto& r) {
+        return l.first != r.first ? l.first < r.first : l.second.triangle < r.second.triangle;
+    });
     Pairs pair_of;
-    for (const auto& [edge, uses] : edges) {
+    std::vector<EdgeUse> uses;
+    for (size_t i = 0; i < keyed.size();) {
+        size_t j = i;
+        uses.clear();
+        for (; j < keyed.size() && keyed[j].first == keyed[i].first; ++j) uses.push_back(keyed[j].second);
+        const std::pair<int, int> edge = keyed[i].first;
+        i = j;
         const auto forward = std::count_if(uses.begin(), uses.end(), [](const EdgeUse& u) { return u.forward; });
-        if (uses.size() <= 2 || 2 * forward != static_cast<long>(uses.size())) continue;
+        if (uses.size() <= 2 || 2 * forward != static_cast<long>(uses.size())) continue;  // manifold, or open
         const std::vector<int> partner = pair_uses(s, uses);
         for (size_t k = 0; k < uses.size(); ++k) pair_of[{edge, uses[k].triangle}] = uses[partner[k]].triangle;
         pinched[edge.first] = pinched[edge.second] = 1;
@@ -121,7 +139,9 @@ void split_fans(SurfaceMesh& s, int v, const std::vector<int>& tris, const Pairs
 }  // namespace
 
 void split_pinched_edges(const World& w, SurfaceMesh& s) {
-    if (w.elements.dim != 3 || w.snap.enabled || s.manifold_first_vertex >= 0) return;
+    // Elements cut once leave closed 2-manifolds by their vertex keys alone (systems/surface/surface_cut.h):
+    // only where elements are cut again can wounds touch so.
+    if (w.elements.dim != 3 || w.snap.enabled || !recut_allowed(w) || s.manifold_first_vertex >= 0) return;
     const int vertices = s.vertex_count(), triangles = static_cast<int>(s.triangles.size());
     // Only a cut element's pieces can meet more than one other triangle at an edge: the edges whose
     // both ends a cut element's triangle uses hold every such edge, and every triangle using one.
