@@ -173,7 +173,7 @@ void split_pinched_edges(const World& w, SurfaceMesh& s) {
 void take_off_pinch_split(World& w, SurfaceMesh& s) {
     if (s.manifold_first_vertex < 0) return;
     Grasps& g = w.grasps;
-    for (int i = 0; i < g.count(); ++i)
+    for (size_t i = 0; i < std::min(g.surface.size(), g.vertex.size()); ++i)
         if ((g.surface[i] == 0 ? &w.collision : &w.visual) == &s)
             for (int& v : g.vertex[i]) v = s.source_vertex(v);
     s.triangles.swap(s.manifold_saved_triangles);
