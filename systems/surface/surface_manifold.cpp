@@ -136,6 +136,43 @@ void split_fans(SurfaceMesh& s, int v, const std::vector<int>& tris, const Pairs
     }
 }
 
+/// Whether triangle `tri` runs along `edge` from its first end to its second.
+bool runs_forward(const std::array<int, 3>& tri, const std::pair<int, int>& edge) {
+    for (int k = 0; k < 3; ++k)
+        if (tri[k] == edge.first && tri[(k + 1) % 3] == edge.second) return true;
+    return false;
+}
+
+/// The pinched edges of four triangles the fans left pinched (three of them still share the copies
+/// of its ends: their pairs are joined round both ends by other edges) paired the other way.
+/// `made`: the triangles as the cut made them. Whether any was.
+bool pair_other_way(const SurfaceMesh& s, const std::vector<std::array<int, 3>>& made, Pairs& pair_of) {
+    std::map<std::pair<int, int>, std::vector<int>> of_edge;  // in order of (edge, triangle)
+    for (const auto& [key, partner] : pair_of) of_edge[key.first].push_back(key.second);
+    bool any = false;
+    for (const auto& [edge, tris] : of_edge) {
+        std::map<std::pair<int, int>, int> shared;  // the copies of its ends -> triangles using them
+        int most = 0;
+        for (int t : tris) {
+            std::pair<int, int> ends{-1, -1};
+            for (int c : s.triangles[t]) {
+                if (s.source_vertex(c) == edge.first) ends.first = c;
+                if (s.source_vertex(c) == edge.second) ends.second = c;
+            }
+            most = std::max(most, ++shared[ends]);
+        }
+        if (most <= 2 || tris.size() != 4) continue;
+        const int t0 = tris[0], p = pair_of.at({edge, t0});
+        int q = -1, r = -1;  // of the other two: q runs against t0, r with it
+        for (int t : tris)
+            if (t != t0 && t != p) (runs_forward(made[t], edge) != runs_forward(made[t0], edge) ? q : r) = t;
+        if (q < 0 || r < 0) continue;
+        pair_of[{edge, t0}] = q, pair_of[{edge, q}] = t0, pair_of[{edge, p}] = r, pair_of[{edge, r}] = p;
+        any = true;
+    }
+    return any;
+}
+
 }  // namespace
 
 void split_pinched_edges(const World& w, SurfaceMesh& s) {
@@ -152,7 +189,7 @@ void split_pinched_edges(const World& w, SurfaceMesh& s) {
             for (int v : s.triangles[t]) near[v] = 1;
     const std::vector<uint8_t> gone = coincident_pairs(s, near);
     std::vector<uint8_t> pinched(vertices, 0);
-    const Pairs pair_of = pinched_pairs(s, near, gone, pinched);
+    Pairs pair_of = pinched_pairs(s, near, gone, pinched);
     if (pair_of.empty() && std::find(gone.begin(), gone.end(), 1) == gone.end()) return;
     s.manifold_first_vertex = vertices;
     s.manifold_saved_triangles = s.triangles, s.manifold_saved_owner = s.triangle_owner, s.manifold_saved_cut_face = s.cut_face;
@@ -161,6 +198,14 @@ void split_pinched_edges(const World& w, SurfaceMesh& s) {
         for (int v : s.triangles[t])
             if (pinched[v] && !gone[t]) around[v].push_back(t);
     for (const auto& [v, tris] : around) split_fans(s, v, tris, pair_of);
+    // Where the preferred pairs leave an edge pinched (each pair's lens joined to the other's round
+    // both ends), the other pairing (one wound through the face) is tried once, from the cut's own.
+    if (pair_other_way(s, s.manifold_saved_triangles, pair_of)) {
+        s.triangles = s.manifold_saved_triangles;
+        s.position.resize(vertices), s.element.resize(vertices), s.bary.resize(vertices), s.side.resize(vertices);
+        s.manifold_source.clear();
+        for (const auto& [v, tris] : around) split_fans(s, v, tris, pair_of);
+    }
     int kept = 0;
     for (int t = 0; t < triangles; ++t) {
         if (gone[t]) continue;

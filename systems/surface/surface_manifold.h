@@ -9,7 +9,8 @@
 // edge used more than twice are paired, one each way, those of one element and one kind (skin with
 // skin, wound with wound) first; round every vertex of such an edge the triangles joined through
 // their pairs make one fan, and each fan after the first takes a copy of the vertex, bound where it
-// is bound (so it moves with it). The copies are laid over the surface as the crack tips' opening
+// is bound (so it moves with it). Where those pairs stay joined round both ends by other edges, the
+// edge's four triangles are paired the other way and the fans made again. The copies are laid over the surface as the crack tips' opening
 // is (systems/surface/surface_tips.h) and taken off before the surface is cut again; contacts and
 // grasps act on the vertex a copy was made of, so nothing is pushed or held twice.
 #include "engine/world.h"

@@ -157,10 +157,12 @@ TEST(Stress, TracedRecutTrajectoriesAreClosedAndManifold) {
 // (the lens closes onto the skin: skin and wound in one edge) and two cut-once elements' lenses
 // touching on the face between them; 4 and 12, a cut-once element's lens and an element cut
 // again touching so; 64, a wound whose two lips are made of the same vertices (two triangles on the
-// same corners, one each way); 55, a piece of skin made twice, one each way. Before the split
-// they held 10, 2, 4, 18 and 1 pinched edges (with no open one): now none, and the steps are
-// the same (the copies move with their vertices; contacts and grasps act on the vertex itself).
-TEST(Stress, WoundsTouchingAlongATraceKeepTheSurfaceManifold) { expect_closed_and_manifold({2, 4, 12, 64, 55}); }
+// same corners, one each way); 55, a piece of skin made twice, one each way; 228, two lenses
+// whose own pairs stay joined round both ends of the edge (paired the other way: one wound through
+// the face). Before the split they held 10, 2, 4, 18, 1 and 2 pinched edges (with no open one):
+// now none, and the steps are the same (the copies move with their vertices; contacts and grasps
+// act on the vertex itself).
+TEST(Stress, WoundsTouchingAlongATraceKeepTheSurfaceManifold) { expect_closed_and_manifold({2, 4, 12, 64, 55, 228}); }
 
 // Crack tips at the blade (2D patch, seed 11; tips within 0, 2 and 4 mm, blades that enter, leave,
 // cross their own path and stand): no NaN, CG within its bound, the sheet's vertices on live
