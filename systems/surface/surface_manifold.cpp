@@ -6,6 +6,7 @@
 #include <map>
 #include <numeric>
 
+#include "systems/surface/surface_arrays.h"
 #include "systems/xfem_queries.h"
 
 namespace xcut {
@@ -202,17 +203,11 @@ void split_pinched_edges(const World& w, SurfaceMesh& s) {
     // both ends), the other pairing (one wound through the face) is tried once, from the cut's own.
     if (pair_other_way(s, s.manifold_saved_triangles, pair_of)) {
         s.triangles = s.manifold_saved_triangles;
-        s.position.resize(vertices), s.element.resize(vertices), s.bary.resize(vertices), s.side.resize(vertices);
+        keep_vertices(s, static_cast<size_t>(vertices));
         s.manifold_source.clear();
         for (const auto& [v, tris] : around) split_fans(s, v, tris, pair_of);
     }
-    int kept = 0;
-    for (int t = 0; t < triangles; ++t) {
-        if (gone[t]) continue;
-        s.triangles[kept] = s.triangles[t], s.triangle_owner[kept] = s.triangle_owner[t], s.cut_face[kept] = s.cut_face[t];
-        ++kept;
-    }
-    s.triangles.resize(kept), s.triangle_owner.resize(kept), s.cut_face.resize(kept);
+    drop_triangles(s, gone);
 }
 
 void take_off_pinch_split(World& w, SurfaceMesh& s) {
@@ -225,8 +220,7 @@ void take_off_pinch_split(World& w, SurfaceMesh& s) {
     s.triangle_owner.swap(s.manifold_saved_owner);
     s.cut_face.swap(s.manifold_saved_cut_face);
     s.manifold_saved_triangles.clear(), s.manifold_saved_owner.clear(), s.manifold_saved_cut_face.clear();
-    const size_t n = static_cast<size_t>(s.manifold_first_vertex);
-    s.position.resize(n), s.element.resize(n), s.bary.resize(n), s.side.resize(n);
+    keep_vertices(s, static_cast<size_t>(s.manifold_first_vertex));
     s.manifold_first_vertex = -1;
     s.manifold_source.clear();
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/parallel.h"
+#include "systems/surface/surface_arrays.h"
 #include "systems/surface/surface_cut_parts.h"
 #include "systems/xfem_queries.h"
 
@@ -220,8 +221,7 @@ void take_off_tip_opening(SurfaceMesh& s) {
     s.triangles.swap(s.tip_saved_triangles);
     s.triangle_owner.swap(s.tip_saved_owner);
     s.cut_face.swap(s.tip_saved_cut_face);
-    const size_t n = static_cast<size_t>(s.tip_first_vertex);
-    s.position.resize(n), s.element.resize(n), s.bary.resize(n), s.side.resize(n);
+    keep_vertices(s, static_cast<size_t>(s.tip_first_vertex));
     s.tip_first_vertex = -1;
     s.tip_vertices.clear();
 }
@@ -259,16 +259,10 @@ void open_tips_on_surface(World& w, SurfaceMesh& s) {
         if (overlay.walk(ct.shown_element[i], hidden)) {
             overlay.lay(hidden);
         } else {  // the crack meets a corner: the element shown whole
-            s.position.resize(first_vertex), s.element.resize(first_vertex), s.bary.resize(first_vertex), s.side.resize(first_vertex);
+            keep_vertices(s, static_cast<size_t>(first_vertex));
         }
     }
-    size_t kept = 0;  // the tips' elements' own pieces go; the fans stay
-    for (size_t t = 0; t < s.triangles.size(); ++t) {
-        if (t < hidden.size() && hidden[t]) continue;
-        s.triangles[kept] = s.triangles[t], s.triangle_owner[kept] = s.triangle_owner[t], s.cut_face[kept] = s.cut_face[t];
-        ++kept;
-    }
-    s.triangles.resize(kept), s.triangle_owner.resize(kept), s.cut_face.resize(kept);
+    drop_triangles(s, hidden);  // the tips' elements' own pieces go; the fans stay
 }
 
 }  // namespace xcut
