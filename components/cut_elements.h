@@ -124,12 +124,15 @@ struct CutEvent {
     std::array<double, 6> edge_t{};       ///< per local edge: crossing parameter in [0, 1] from its first node
     std::array<uint8_t, 6> edge_has_t{};  ///< edge_t is given (else taken from the levels)
     int tool = -1;                        ///< the bladed tool whose blade made it, -1 a scripted cut
-    /// A further cut through an element already cut (2D): the line where its levels change sign
+    /// A further cut through an element already cut: the line (plane) where its levels change sign
     /// divides the element's fragments it crosses from side to side within `extent`
     /// (systems/cut/recut.h).
     bool again = false;
     bool bounded = false;                 ///< the cut ends inside the element: only `extent` is cut
-    std::array<Vec3, 2> extent{Vec3::Zero(), Vec3::Zero()};  ///< rest points on the line between which it cuts [m]
+    /// 2D: rest points on the line between which it cuts [m]. 3D (a T's stem, systems/cut/stem_3d.h):
+    /// a rest point on the blade's edge where it began [m] and the unit normal of the boundary
+    /// through that edge, toward the part of the plane it cuts.
+    std::array<Vec3, 2> extent{Vec3::Zero(), Vec3::Zero()};
 };
 
 /// Local edges of a tetrahedron / triangle as node pairs.

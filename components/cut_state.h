@@ -35,6 +35,10 @@ struct BladeCut {
     std::unordered_map<int, ElementCrossings> crossing;  ///< partly crossed elements
     std::array<std::vector<int>, 3> lists;  ///< L1, L2, L3 (element ids)
     std::vector<int> front;           ///< elements the last quad crossed: seeds of the next search
+    /// 3D, elements already cut that the blade's edge passed through where it began to cut (its
+    /// first quad after cutting nothing): that edge, tip and heel [m], current positions. Where a
+    /// T's stem starts (systems/cut/stem_3d.h); dropped with the partly crossed elements.
+    std::map<int, std::array<Vec3, 2>> began_in;
 };
 
 struct CutState {

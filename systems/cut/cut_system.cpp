@@ -9,6 +9,7 @@
 #include "systems/cut/edge_geometry.h"
 #include "systems/cut/quad_reach.h"
 #include "systems/cut/recut.h"
+#include "systems/cut/stem_3d.h"
 #include "systems/cut/skin_flap.h"
 #include "systems/kernels/intersection.h"
 #include "systems/kernels/blade_pose.h"
@@ -293,8 +294,8 @@ void note_recut(World& w, int e, const CutQuad& q, const Vec3& quad_normal, int 
 /// progressive front one the blade has only entered is split as a tip element (tip_event), and a
 /// tip element's later crossings are queued as events for the enrichment. An element already cut
 /// (2D) is cut again once fully crossed, or where the quad, starting inside it at `start`, leaves it
-/// (the stem of a T: stem_event).
-void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed, int tool, const Vec3& start) {
+/// (the stem of a T: stem_event; in 3D, where the blade began inside it: stem_event_3d).
+void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed, int tool, const CutQuad& q) {
     CutState& cs = w.cut_state;
     const int need = w.elements.dim == 3 ? 3 : 2;
     for (int e : crossed) {
@@ -303,13 +304,18 @@ void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed, int 
         const bool full = count >= need;
         if (!w.cuts.cut_of_element.empty() && w.cuts.cut_of_element[e] >= 0 && !c.split) {  // cut again, once fully crossed
             CutEvent ev;
-            const bool stem = count == 1 && stem_event(w, e, __builtin_ctz(c.mask), c.t[__builtin_ctz(c.mask)], start, ev);
-            if ((full && make_event(w, e, c, ev)) || stem) {
+            const auto began = bc.began_in.find(e);  // 3D: the element a stem starts in waits for it
+            const bool stem = began != bc.began_in.end()
+                                  ? stem_event_3d(w, e, began->second, q.corner[3], c, ev)
+                                  : count == 1 && stem_event(w, e, __builtin_ctz(c.mask), c.t[__builtin_ctz(c.mask)], q.corner[0], ev);
+            const bool whole = full && began == bc.began_in.end();
+            if ((whole && make_event(w, e, c, ev)) || stem) {
                 ev.again = true, ev.tool = tool;
                 w.pending_cuts.push_back(ev);
                 ++cs.elements_split;
             }
-            if (full || stem) {
+            if (whole || stem) {
+                if (stem) bc.began_in.erase(e);
                 remove_from_list(bc, e, c.list);
                 bc.crossing.erase(e);
             } else if (count != c.list) {
@@ -396,6 +402,7 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
         std::sort(candidates.begin(), candidates.end());
         candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
     }
+    note_stem_starts(w, bc, q, candidates);
     const auto& cut = w.cuts.cut_of_element;
     std::vector<int> crossed;
     for (int e : candidates) {
@@ -422,7 +429,7 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
         if (found > 0) crossed.push_back(e);
     }
     const int queued_before = cs.elements_split;
-    split_or_list(w, bc, crossed, tool, q.corner[0]);
+    split_or_list(w, bc, crossed, tool, q);
     if (static_cast<int>(cs.split_by_tool.size()) <= tool) cs.split_by_tool.resize(tool + 1, 0);
     cs.split_by_tool[tool] += cs.elements_split - queued_before;
     // Elements the search no longer reaches are dropped: the blade has left them.
@@ -434,6 +441,7 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
         remove_from_list(bc, it->first, it->second.list);
         it = bc.crossing.erase(it);
     }
+    std::erase_if(bc.began_in, [&](const auto& b) { return !std::binary_search(candidates.begin(), candidates.end(), b.first); });
     bc.front = crossed;
     const double ms = (wall_seconds() - t0) * 1e3;
     cs.update_ms += ms;

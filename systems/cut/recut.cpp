@@ -6,6 +6,7 @@
 #include "engine/fragment_geometry.h"
 #include "engine/setup.h"
 #include "systems/cut/enrichment_system.h"
+#include "systems/cut/stem_3d.h"
 #include "systems/kernels/cut_geometry.h"
 #include "systems/xfem_queries.h"
 
@@ -259,8 +260,8 @@ void join_incision_points(const World& w, CutEvent& ev) {
 
 void join_earlier_points(const World& w, CutEvent& ev) {
     const int e = ev.element;
-    if (e < 0 || e >= w.mesh_elements || ev.bounded) return;
-    if (w.elements.dim == 3) {
+    if (e < 0 || e >= w.mesh_elements || (ev.bounded && w.elements.dim == 2)) return;
+    if (w.elements.dim == 3) {  // a stem too: its crossings are its incision's in the elements beside
         if (ev.tool >= 0) join_incision_points(w, ev);
         return;
     }
@@ -375,8 +376,17 @@ bool record_recut_3d(World& w, const CutEvent& ev, int c) {
             continue;
         }
         const uint32_t with = mask | bound_by(k);
-        parts.push_back({polyhedron_volume(fragment_faces(X, planes.data(), n, with | (1u << k))),
-                         polyhedron_volume(fragment_faces(X, planes.data(), n, with & ~(1u << k)))});
+        const std::vector<FragmentFace> above = fragment_faces(X, planes.data(), n, with | (1u << k));
+        if (ev.bounded) {  // a stem: only a fragment whose section lies ahead of its start (stem_3d.h)
+            std::vector<Vec3> section;
+            for (const FragmentFace& f : above)
+                if (f.plane == k) section.insert(section.end(), f.polygon.begin(), f.polygon.end());
+            if (!stem_covers(ev, section, longest_edge(X))) {
+                parts.push_back({});
+                continue;
+            }
+        }
+        parts.push_back({polyhedron_volume(above), polyhedron_volume(fragment_faces(X, planes.data(), n, with & ~(1u << k)))});
     }
     const double volume = std::abs((X[1] - X[0]).cross(X[2] - X[0]).dot(X[3] - X[0])) / 6.0;
     std::array<double, 6> edge_t;  // the event's own crossings of the edges

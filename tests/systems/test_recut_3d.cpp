@@ -208,6 +208,17 @@ TEST(Recut3d, TheVolumeOutputWritesEachFragmentAsTetrahedraOfItsVolume) {
     EXPECT_GT(fragments, 0);
 }
 
+/// How far along x the rest plane y = `y` reaches inside element e: its largest crossing of e's
+/// edges [m].
+double section_reach(const World& w, int e, double y) {
+    double reach = -1.0;
+    for (const auto& edge : kTetEdges) {
+        const Vec3 &a = w.nodes.rest[w.elements.nodes[e][edge[0]]], &b = w.nodes.rest[w.elements.nodes[e][edge[1]]];
+        if ((a.y() < y) != (b.y() < y)) reach = std::max(reach, a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
+    }
+    return reach;
+}
+
 /// scenes/cruciate.json to t = 1 s ("cutter.recut" as given): of the elements the second cut's
 /// plane crosses in full within its extent (at rest: the cut is made on the stretched, sagging
 /// skin, at y = 21 mm, about 20.98 mm at rest), those it left whole or split along another plane
@@ -223,7 +234,7 @@ struct Cruciate {
 /// The fragments of the elements cut again that hold one copy of a mesh node must lie in one
 /// quadrant of the X (the sides of its two planes, at rest: x0, y0): counts the pairs that do not.
 /// Fragments whose centre lies within 0.05 mm of a plane (slivers) are left out.
-int quadrants_joined(const World& w, double x0, double y0) {
+int quadrants_joined(const World& w, double x0, double y0, double from_x = -1.0) {
     std::map<std::pair<int, int>, std::vector<int>> quadrants_of;  // (mesh node, copy) -> quadrants
     for (int c = 0; c < w.cuts.count(); ++c) {
         if (w.cuts.lines[c].size() < 2) continue;
@@ -236,7 +247,7 @@ int quadrants_joined(const World& w, double x0, double y0) {
             for (const FragmentFace& f : fragment_faces(X, lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v]))
                 for (const Vec3& p : f.polygon) centre += p, ++n;
             centre /= n;
-            if (std::abs(centre.x() - x0) < 5e-5 || std::abs(centre.y() - y0) < 5e-5) continue;
+            if (std::abs(centre.x() - x0) < 5e-5 || std::abs(centre.y() - y0) < 5e-5 || centre.x() < from_x) continue;
             const int q = (centre.x() > x0 ? 1 : 0) + (centre.y() > y0 ? 2 : 0);
             for (int a = 0; a < 4; ++a)
                 quadrants_of[{w.elements.nodes[e][a], w.elements.nodes[w.virtual_elements.element[v]][a]}].push_back(q);
@@ -263,7 +274,7 @@ nlohmann::json scalpel(const char* name, const Vec3& from, const Vec3& to, doubl
 
 /// The cruciate scene to `until` [s]; with `scalpels`, its two cuts made by two scalpels along
 /// the same lines instead (the first drawn 0.2-1.0 s, the second 1.3-2.1 s).
-Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int threads = 2) {
+Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int threads = 2, double second_from = 0.016) {
     std::ifstream in(std::string(XCUT_SOURCE_DIR) + "/scenes/cruciate.json");
     nlohmann::json j;
     in >> j;
@@ -271,7 +282,7 @@ Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int
     if (scalpels) {
         j.erase("cuts");
         j["tools"] = {scalpel("first", Vec3(0.031, 0.006, 0.0), Vec3(0.031, 0.034, 0.0), 0.2, 1.0),
-                      scalpel("second", Vec3(0.016, 0.021, 0.0), Vec3(0.046, 0.021, 0.0), 1.3, 2.1)};
+                      scalpel("second", Vec3(second_from, 0.021, 0.0), Vec3(0.046, 0.021, 0.0), 1.3, 2.1)};
     }
     set_thread_count(threads);
     auto sim = make_simulation(load_scene_text(j.dump(), "cruciate", "."), /*with_output=*/false);
@@ -286,7 +297,7 @@ Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int
             if (std::abs(l.normal.y()) > kAlongY && y < 0.0) y = l.origin.y();
             if (std::abs(l.normal.x()) > kAlongY && x < 0.0) x = l.origin.x();
         }
-    out.joined = quadrants_joined(w, x, y);
+    out.joined = quadrants_joined(w, x, y, second_from > 0.0165 ? x : -1.0);
     EXPECT_NEAR(y, 0.02 + 0.001 * 40.0 / 41.0, 2e-4);
     for (int e = 0; e < w.mesh_elements; ++e) {
         int below = 0, above = 0;
@@ -296,7 +307,8 @@ Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int
             (X.y() < y ? below : above) += 1;
             x_min = std::min(x_min, X.x()), x_max = std::max(x_max, X.x());
         }
-        if (below == 0 || above == 0 || x_min < 0.0165 || x_max > 0.0455) continue;  // not crossed within the cut
+        if (below == 0 || above == 0 || x_max > 0.0455) continue;  // not crossed within the cut
+        if (second_from < 0.0165 ? x_min < 0.0165 : section_reach(w, e, y) <= second_from + 1e-4) continue;
         const int c = w.cuts.cut_of_element[e];
         bool split_along = false;
         if (c >= 0) {
@@ -340,6 +352,22 @@ TEST(Recut3d, TwoScalpelsCrossingInTheSkinSplitEveryElementTheSecondCrossesWithA
     const Cruciate bridged = run_cruciate(false, true, 2.3);  // a scalpel keeps an element's first cut
     EXPECT_GT(bridged.left, 0) << "the bridge";
     EXPECT_GT(bridged.ignored, 0) << "and the count that names it";
+}
+
+// A T: the second scalpel lowered into the first's open wound (1.1 s later, at x = 31 mm) and drawn
+// away from it along y = 21 mm. The elements it starts in never see it cross them from side to side;
+// each is cut again along the stem from where the blade began (systems/cut/stem_3d.h), the part of
+// it across the wound left whole. Without that the three elements the stem starts in stayed whole
+// (a bridge of tissue between the stem and the wound), and where the stem crossed the edge through
+// the junction a hair ahead of the wound, the part across the wound kept a sliver on both of its
+// sides: the flaps held 8 pairs of node copies in common there.
+TEST(Recut3d, AStemDrawnFromTheWoundSplitsTheElementsItStartsInWithAClosedSurface) {
+    const Cruciate t = run_cruciate(true, /*scalpels=*/true, 2.3, 2, /*second_from=*/0.031);
+    EXPECT_EQ(t.left, 0) << "no element between the stem and the wound left whole";
+    EXPECT_GT(t.along, 30);
+    EXPECT_EQ(t.ignored, 0);
+    EXPECT_EQ(t.joined, 0) << "the flaps either side of the stem part at the wound";
+    EXPECT_TRUE(t.closed) << "every directed edge of the skin once, with its reverse; no triangle without area";
 }
 
 TEST(Recut3d, ScalpelsCuttingAgainAreBitIdenticalOnOneAndTwoThreads) {
