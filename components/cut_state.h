@@ -39,6 +39,11 @@ struct BladeCut {
     /// first quad after cutting nothing): that edge, tip and heel [m], current positions. Where a
     /// T's stem starts (systems/cut/stem_3d.h); dropped with the partly crossed elements.
     std::map<int, std::array<Vec3, 2>> began_in;
+    /// 3D, elements already cut that the blade is partly through: its edge where the last quad that
+    /// ended inside one ended (tip, heel [m], current positions) and that quad's travel (its tip's).
+    /// Where a stem drawn to a wound ends: once the blade leaves the element, it is cut behind that
+    /// edge (systems/cut/stem_3d.h).
+    std::map<int, std::array<Vec3, 3>> ended_in;
 };
 
 struct CutState {

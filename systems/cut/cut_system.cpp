@@ -432,16 +432,20 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
     split_or_list(w, bc, crossed, tool, q);
     if (static_cast<int>(cs.split_by_tool.size()) <= tool) cs.split_by_tool.resize(tool + 1, 0);
     cs.split_by_tool[tool] += cs.elements_split - queued_before;
-    // Elements the search no longer reaches are dropped: the blade has left them.
-    for (auto it = bc.crossing.begin(); it != bc.crossing.end();) {
-        if (std::binary_search(candidates.begin(), candidates.end(), it->first)) {
-            ++it;
-            continue;
-        }
-        remove_from_list(bc, it->first, it->second.list);
-        it = bc.crossing.erase(it);
+    // Elements the search no longer reaches are dropped: the blade has left them (in 3D, one already
+    // cut that it ended inside is cut behind where it ended: a stem drawn to a wound, stem_3d.h).
+    note_stem_ends(w, bc, q);
+    std::vector<int> leaving;
+    for (const auto& [e, c] : bc.crossing)
+        if (!std::binary_search(candidates.begin(), candidates.end(), e)) leaving.push_back(e);
+    std::sort(leaving.begin(), leaving.end());
+    cs.elements_split += end_stems_3d(w, bc, leaving, tool);
+    for (int e : leaving) {
+        remove_from_list(bc, e, bc.crossing.at(e).list);
+        bc.crossing.erase(e);
     }
-    std::erase_if(bc.began_in, [&](const auto& b) { return !std::binary_search(candidates.begin(), candidates.end(), b.first); });
+    const auto unreached = [&](const auto& b) { return !std::binary_search(candidates.begin(), candidates.end(), b.first); };
+    std::erase_if(bc.began_in, unreached), std::erase_if(bc.ended_in, unreached);
     bc.front = crossed;
     const double ms = (wall_seconds() - t0) * 1e3;
     cs.update_ms += ms;

@@ -86,6 +86,33 @@ void note_stem_starts(const World& w, BladeCut& bc, const CutQuad& q, const std:
             bc.began_in.emplace(e, std::array<Vec3, 2>{q.corner[0], q.corner[1]});
 }
 
+void note_stem_ends(const World& w, BladeCut& bc, const CutQuad& q) {
+    if (w.elements.dim != 3 || !recut_allowed(w)) return;
+    // A quad along the blade's own edge (the blade lifted out) sweeps no plane: the one before stays.
+    const Vec3 length = q.corner[2] - q.corner[3], travel = q.corner[3] - q.corner[0];
+    if (!(length.cross(travel).norm() > kStemStartFraction * length.norm() * travel.norm())) return;
+    for (const auto& [e, c] : bc.crossing)
+        if (w.cuts.cut_of_element[e] >= 0 && !c.split && segment_meets_tet(q.corner[3] - length, q.corner[2] + length, current_corners(w, e)))
+            bc.ended_in[e] = {q.corner[3], q.corner[2], travel};
+}
+
+int end_stems_3d(World& w, BladeCut& bc, const std::vector<int>& leaving, int tool) {
+    int made = 0;
+    for (int e : leaving) {
+        const auto end = bc.ended_in.find(e);
+        const auto c = bc.crossing.find(e);
+        if (end == bc.ended_in.end() || c == bc.crossing.end()) continue;
+        const auto& [tip, heel, travel] = end->second;
+        CutEvent ev;
+        const bool ok = stem_event_3d(w, e, {tip, heel}, tip - travel, c->second, ev);
+            if (!ok) continue;
+        ev.tool = tool;
+        w.pending_cuts.push_back(ev);
+        ++made;
+    }
+    return made;
+}
+
 bool stem_event_3d(const World& w, int e, const std::array<Vec3, 2>& start, const Vec3& tip,
                    const ElementCrossings& c, CutEvent& ev) {
     const Vec3 along = start[1] - start[0], travel = tip - start[0];

@@ -7,7 +7,9 @@
 // blade has crossed every edge of the element that its plane crosses ahead of that edge, the
 // element is cut again along that plane, bounded to the part ahead (CutEvent::bounded): of its
 // fragments, those whose section by the plane lies ahead of the start are divided, those behind it
-// (across the wound) are not. 2D's form is stem_event (systems/cut/recut.h).
+// (across the wound) are not. A stem drawn to a wound and ended there is cut the same way behind the
+// blade's last edge inside the element, once the blade has left it. 2D's form is stem_event
+// (systems/cut/recut.h).
 #include <array>
 #include <vector>
 
@@ -38,6 +40,18 @@ void note_stem_starts(const World& world, BladeCut& bc, const CutQuad& q, const 
 /// where e's cut does, it crosses there. False while the blade has not, or if the plane is degenerate.
 bool stem_event_3d(const World& world, int e, const std::array<Vec3, 2>& start, const Vec3& tip,
                    const ElementCrossings& c, CutEvent& ev);
+
+/// Notes in bc.ended_in quad q's last edge for each element already cut that the blade is partly
+/// through (bc.crossing; 3D, where elements are cut again) and that the edge's line, a blade length
+/// beyond either end, passes through.
+void note_stem_ends(const World& world, BladeCut& bc, const CutQuad& q);
+
+/// Queues (world.pending_cuts) the events cutting each element already cut that the blade of `tool`
+/// leaves partly crossed (`leaving`, in bc.crossing), behind the edge where it ended inside it
+/// (bc.ended_in): stem_event_3d the other way, its start that edge and its part the one behind it.
+/// A stem drawn to a wound and ended at it (or a little short of it, within kStemStartFraction)
+/// reaches it. Returns how many.
+int end_stems_3d(World& world, BladeCut& bc, const std::vector<int>& leaving, int tool);
 
 /// Whether a bounded 3D event (stem_event_3d) divides a fragment whose section by its plane has
 /// the rest points `section`: every one lies ahead of the stem's start (within kStemStartFraction

@@ -210,11 +210,13 @@ TEST(Recut3d, TheVolumeOutputWritesEachFragmentAsTetrahedraOfItsVolume) {
 
 /// How far along x the rest plane y = `y` reaches inside element e: its largest crossing of e's
 /// edges [m].
-double section_reach(const World& w, int e, double y) {
-    double reach = -1.0;
+double section_reach(const World& w, int e, double y, bool least = false) {
+    double reach = least ? 1.0 : -1.0;
     for (const auto& edge : kTetEdges) {
         const Vec3 &a = w.nodes.rest[w.elements.nodes[e][edge[0]]], &b = w.nodes.rest[w.elements.nodes[e][edge[1]]];
-        if ((a.y() < y) != (b.y() < y)) reach = std::max(reach, a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
+        if ((a.y() < y) == (b.y() < y)) continue;
+        const double x = a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x());
+        reach = least ? std::min(reach, x) : std::max(reach, x);
     }
     return reach;
 }
@@ -226,6 +228,7 @@ double section_reach(const World& w, int e, double y) {
 /// could not cut again (CutPlan::recut_ignored); whether the skin is closed.
 struct Cruciate {
     int left = 0, along = 0, ignored = 0;
+    int left_at_wound = 0;  ///< of `left`, those in the first cut's column of cells (x 29.5-32.5 mm)
     bool closed = true;
     int joined = 0;  ///< pairs of fragments in two quadrants of the X holding one copy of a node
     uint64_t state = 0;  ///< testing::state_hash of the world, its visual surface too
@@ -274,7 +277,8 @@ nlohmann::json scalpel(const char* name, const Vec3& from, const Vec3& to, doubl
 
 /// The cruciate scene to `until` [s]; with `scalpels`, its two cuts made by two scalpels along
 /// the same lines instead (the first drawn 0.2-1.0 s, the second 1.3-2.1 s).
-Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int threads = 2, double second_from = 0.016) {
+Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int threads = 2, double second_from = 0.016,
+                      double second_to = 0.046) {
     std::ifstream in(std::string(XCUT_SOURCE_DIR) + "/scenes/cruciate.json");
     nlohmann::json j;
     in >> j;
@@ -282,7 +286,7 @@ Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int
     if (scalpels) {
         j.erase("cuts");
         j["tools"] = {scalpel("first", Vec3(0.031, 0.006, 0.0), Vec3(0.031, 0.034, 0.0), 0.2, 1.0),
-                      scalpel("second", Vec3(second_from, 0.021, 0.0), Vec3(0.046, 0.021, 0.0), 1.3, 2.1)};
+                      scalpel("second", Vec3(second_from, 0.021, 0.0), Vec3(second_to, 0.021, 0.0), 1.3, 2.1)};
     }
     set_thread_count(threads);
     auto sim = make_simulation(load_scene_text(j.dump(), "cruciate", "."), /*with_output=*/false);
@@ -309,6 +313,7 @@ Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int
         }
         if (below == 0 || above == 0 || x_max > 0.0455) continue;  // not crossed within the cut
         if (second_from < 0.0165 ? x_min < 0.0165 : section_reach(w, e, y) <= second_from + 1e-4) continue;
+        if (second_to < 0.046 && section_reach(w, e, y, true) >= x - 1e-4) continue;  // wholly past the wound it stops past
         const int c = w.cuts.cut_of_element[e];
         bool split_along = false;
         if (c >= 0) {
@@ -316,6 +321,7 @@ Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int
                 split_along = split_along || (std::abs(l.normal.y()) > kAlongY && std::abs(l.origin.y() - y) < 2e-4);
         }
         (split_along ? out.along : out.left) += 1;
+        out.left_at_wound += !split_along && x_min > 0.0295 && x_max < 0.0325;
     }
     out.ignored = w.cut_plan.recut_ignored;
     for (int n : w.cut_state.recut_ignored) out.ignored += n;
@@ -368,6 +374,23 @@ TEST(Recut3d, AStemDrawnFromTheWoundSplitsTheElementsItStartsInWithAClosedSurfac
     EXPECT_EQ(t.ignored, 0);
     EXPECT_EQ(t.joined, 0) << "the flaps either side of the stem part at the wound";
     EXPECT_TRUE(t.closed) << "every directed edge of the skin once, with its reverse; no triangle without area";
+}
+
+// The other T: the second scalpel drawn from x = 16 mm to the first's open wound (x = 31 mm) and
+// ended there, or 0.2 mm short of it, and lifted out. The elements of the wound's column it ends in
+// are only partly crossed; each is cut behind the blade's last edge inside it once the blade has
+// left (end_stems_3d), the part across the wound left whole. Without that 3 of them stayed whole
+// (a bridge between the stem's end and the wound).
+TEST(Recut3d, AStemDrawnToTheWoundAndEndedThereSplitsTheElementsItEndsIn) {
+    for (const double to : {0.031, 0.0308}) {
+        SCOPED_TRACE(to);
+        const Cruciate t = run_cruciate(true, /*scalpels=*/true, 2.3, 2, 0.016, to);
+        EXPECT_EQ(t.left_at_wound, 0) << "no element of the wound's column left whole behind the stem's end";
+        EXPECT_GT(t.along, 30);
+        EXPECT_TRUE(t.closed) << "every directed edge of the skin once, with its reverse; no triangle without area";
+        std::printf("  measured (end %.1f mm): %d elements crossed left whole elsewhere, %d node copies shared across the stem\n",
+                    to * 1e3, t.left - t.left_at_wound, t.joined);
+    }
 }
 
 TEST(Recut3d, ScalpelsCuttingAgainAreBitIdenticalOnOneAndTwoThreads) {
