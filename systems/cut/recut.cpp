@@ -344,15 +344,6 @@ bool divide_fragments(World& w, int c, const std::vector<int>& frags, const std:
     return true;
 }
 
-/// The longest edge of the element with rest corners X[0..n) [m].
-template <size_t N>
-double longest_edge(const std::array<Vec3, N>& X) {
-    double size = 0.0;
-    for (size_t a = 0; a < N; ++a)
-        for (size_t b = a + 1; b < N; ++b) size = std::max(size, (X[b] - X[a]).norm());
-    return size;
-}
-
 /// record_recut in 3D: a plane through the tetrahedron divides each fragment it leaves parts of on
 /// both sides (a cut that ends inside an element is not made there: the cutters ask only for
 /// elements crossed in full).

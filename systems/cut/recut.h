@@ -7,6 +7,7 @@
 // Molino, Bao & Fedkiw 2004, the virtual node algorithm). A new fragment starts
 // from the vertices of the one it was cut from; the node copies (systems/cut/node_copies.h) then
 // give each its own where material connectivity parts them.
+#include <algorithm>
 #include <vector>
 
 #include "engine/world.h"
@@ -50,6 +51,15 @@ std::array<Vec3, 3> corners(const World& world, int e);
 
 /// The rest corners of tetrahedron e.
 std::array<Vec3, 4> tet_corners(const World& world, int e);
+
+/// The longest edge of the element with corners X[0..N) [m].
+template <size_t N>
+double longest_edge(const std::array<Vec3, N>& X) {
+    double size = 0.0;
+    for (size_t a = 0; a < N; ++a)
+        for (size_t b = a + 1; b < N; ++b) size = std::max(size, (X[b] - X[a]).norm());
+    return size;
+}
 
 // recut_allowed (whether this world cuts an element again, by scalpels and scripted cuts alike;
 // an event then takes the sides and parts of its own line where the element's nodes have theirs

@@ -66,12 +66,6 @@ std::array<Vec3, 4> material_ahead(const World& w, int e, const Vec3& p) {
     return current_corners(w, e);
 }
 
-double longest(const std::array<Vec3, 4>& x) {
-    double size = 0.0;
-    for (const auto& edge : kTetEdges) size = std::max(size, (x[edge[1]] - x[edge[0]]).norm());
-    return size;
-}
-
 }  // namespace
 
 void note_stem_starts(const World& w, BladeCut& bc, const CutQuad& q, const std::vector<int>& candidates) {
@@ -104,8 +98,7 @@ int end_stems_3d(World& w, BladeCut& bc, const std::vector<int>& leaving, int to
         if (end == bc.ended_in.end() || c == bc.crossing.end()) continue;
         const auto& [tip, heel, travel] = end->second;
         CutEvent ev;
-        const bool ok = stem_event_3d(w, e, {tip, heel}, tip - travel, c->second, ev);
-            if (!ok) continue;
+        if (!stem_event_3d(w, e, {tip, heel}, tip - travel, c->second, ev)) continue;
         ev.tool = tool;
         w.pending_cuts.push_back(ev);
         ++made;
@@ -122,7 +115,7 @@ bool stem_event_3d(const World& w, int e, const std::array<Vec3, 2>& start, cons
     // The edges its plane crosses ahead of the start (as the blade's crossings are measured, on the
     // real nodes now): the blade must have crossed each.
     const std::array<Vec3, 4> x = current_corners(w, e);
-    const double tol_now = kStemStartFraction * longest(x);
+    const double tol_now = kStemStartFraction * longest_edge(x);
     uint8_t ahead_edges = 0;
     for (int k = 0; k < 6; ++k) {
         const int i = kTetEdges[k][0], j = kTetEdges[k][1];
