@@ -57,7 +57,7 @@ std::vector<ZonePart> parts_of(const World& w, int e, const TipFrame& f) {
     int orient = 1;  // the side of a -> b (+1: left) where H = +1, from a node the cut did not pass through
     for (int k = 0; k < 3; ++k) {
         const int node = w.elements.nodes[e][k], H = w.enriched.sign[node];
-        const double level = cross2(b - a, X[k] - a);
+        const double level = cross2(Vec2(b - a), Vec2(X[k] - a));
         if (H != 0 && std::abs(level) > 1e-9 * (b - a).squaredNorm()) {
             orient = (level > 0.0) == (H > 0) ? 1 : -1;
             break;

@@ -17,10 +17,10 @@
 #include "systems/xfem_queries.h"
 
 namespace xcut {
-namespace {
 
-/// The world's mesh elements at their current positions, as the BVH takes them.
 MeshView mesh_view(const World& w) { return {&w.elements, &w.nodes.position, w.mesh_elements, w.mesh_nodes}; }
+
+namespace {
 
 /// Side of x relative to the crossing surface: +1 or -1 (0 counts as +1, the fixed tie-break).
 int side_of(const Vec3& x, const Vec3& point, const Vec3& normal) {
@@ -450,151 +450,6 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
     const double ms = (wall_seconds() - t0) * 1e3;
     cs.update_ms += ms;
     cs.quad_ms.push_back(ms);
-}
-
-namespace {
-
-/// Appends the blade tip's segment a -> b (world, 2D) to tool i's path, and notes the time the path
-/// first closes a loop: it crosses an earlier segment of itself (not the one before, which it
-/// continues), or another blade's path at a second point (two arcs crossing at both tips).
-void note_loop(World& w, int i, const Vec3& a, const Vec3& b) {
-    CutState& cs = w.cut_state;
-    if (static_cast<int>(cs.path.size()) <= i) {
-        cs.path.resize(i + 1), cs.path_time.resize(i + 1, w.time);
-        cs.loop_time.resize(i + 1, -1.0), cs.loop_with.resize(i + 1, -1);
-    }
-    std::vector<Vec3>& path = cs.path[i];
-    if (path.empty()) cs.path_time[i] = w.time;
-    if (path.empty() || path.back() != a) path.push_back(a);
-    const auto closes = [&](int j) { cs.loop_time[i] = w.time, cs.loop_with[i] = j; };
-    for (size_t k = 0; cs.loop_time[i] < 0.0 && k + 2 < path.size(); ++k)
-        if (segment_segment_2d(path[k], path[k + 1], a, b)) closes(i);
-    for (int j = 0; j < static_cast<int>(cs.path.size()) && cs.loop_time[i] < 0.0; ++j) {
-        if (j == i) continue;
-        std::vector<Vec3>& meet = cs.paths_meet[{std::min(i, j), std::max(i, j)}];
-        const std::vector<Vec3>& other = cs.path[j];
-        for (size_t k = 0; k + 1 < other.size(); ++k) {
-            const std::optional<double> s = segment_segment_2d(other[k], other[k + 1], a, b);
-            if (!s) continue;
-            const Vec3 x = other[k] + *s * (other[k + 1] - other[k]);
-            // One crossing met at a path's vertex is found on both its segments: once.
-            if (std::none_of(meet.begin(), meet.end(), [&](const Vec3& m) { return (m - x).norm() < 0.25 * cs.mean_edge; }))
-                meet.push_back(x);
-        }
-        if (meet.size() >= 2) closes(j);
-    }
-    path.push_back(b);
-}
-
-/// The blade at one point of its path: its edge, and its face from the edge to its back (zero: none) [m].
-struct BladeAt {
-    Vec3 tip, heel, back;
-};
-
-/// The quad the edge swept from the anchor to `b`, and with a face, the face at `b` (it cuts what it
-/// passes through: a stab pushed along the edge sweeps no surface with its edge).
-void cut_to(World& w, ElementBvh& bvh, int i, const BladeAt& b) {
-    CutState& cs = w.cut_state;
-    if (w.elements.dim == 2) note_loop(w, i, cs.anchor_tip[i], b.tip);
-    const CutQuad face{{b.tip, b.heel, b.heel + b.back, b.tip + b.back}};
-    process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], b.heel, b.tip}}, i,
-                     b.back == Vec3::Zero() ? nullptr : &face);
-    cs.anchor_tip[i] = b.tip, cs.anchor_heel[i] = b.heel;
-}
-
-/// A blade stopped at `end` inside cut elements it entered across their cuts (2D): each crossed on
-/// one edge is cut again from that crossing to `end` (stem_event, its segment the other way), so a
-/// stem that crosses a wound and stops past it inside the element (an arc's overshoot at the tip of
-/// a fusiform excision) divides the fragment it crossed. Its crossing stays: if the blade goes on
-/// and leaves the element, the cut along the whole chord divides what the stem did not (its line is
-/// the stem's: record_recut), so a pause inside the element loses nothing.
-void end_stems(World& w, int tool, const Vec3& end) {
-    CutState& cs = w.cut_state;
-    if (static_cast<int>(cs.blade.size()) <= tool || !recut_allowed(w)) return;
-    const BladeCut& bc = cs.blade[tool];
-    std::vector<int> entered;  // in element order (the map's is not fixed)
-    for (const auto& [e, c] : bc.crossing)
-        if (w.cuts.cut_of_element[e] >= 0 && !c.split && __builtin_popcount(c.mask) == 1) entered.push_back(e);
-    std::sort(entered.begin(), entered.end());
-    for (int e : entered) {
-        const ElementCrossings& c = bc.crossing.at(e);
-        const int k = __builtin_ctz(c.mask);
-        CutEvent ev;
-        if (stem_event(w, e, k, c.t[k], end, ev)) ev.tool = tool, w.pending_cuts.push_back(ev);
-    }
-}
-
-/// Cuts along one blade's path over the step: a quad from the anchor to each point of the path the
-/// blade has moved `threshold` away from it; then, if the blade has stopped (it ends the step where
-/// it ended the last), the stretch left shorter than the threshold, so an incision ends where the
-/// blade ends.
-void sweep_blade(World& w, ElementBvh& bvh, int i, const std::vector<BladeAt>& path, double threshold) {
-    CutState& cs = w.cut_state;
-    const auto moved = [&](const BladeAt& b) {
-        return std::max((b.tip - cs.anchor_tip[i]).norm(), (b.heel - cs.anchor_heel[i]).norm());
-    };
-    for (size_t k = path.size() > 1 ? 1 : 0; k < path.size(); ++k)
-        if (moved(path[k]) >= threshold) cut_to(w, bvh, i, path[k]);
-    const BladeAt& end = path.back();
-    const bool stopped = end.tip == cs.last_tip[i] && end.heel == cs.last_heel[i];
-    cs.last_tip[i] = end.tip, cs.last_heel[i] = end.heel;
-    const double left = moved(end);
-    if (stopped && left > 1e-6 * threshold && left < threshold) {  // the step the blade stopped in
-        cut_to(w, bvh, i, end);
-        end_stems(w, i, end.tip);
-    }
-}
-
-}  // namespace
-
-void run_cut_system(World& w, ElementBvh& bvh) {
-    CutState& cs = w.cut_state;
-    cs.quads.clear();
-    cs.quads_built = cs.elements_tested = cs.crossings_found = cs.elements_split = 0;
-    cs.update_ms = 0.0;
-    if (cs.mean_edge == 0.0) cs.mean_edge = mean_edge_length(w.elements, w.nodes.rest, w.mesh_elements);
-    const double threshold = cs.threshold > 0.0 ? cs.threshold : cs.mean_edge;
-    const ToolBodies& tb = w.tools;
-    cs.anchored.resize(tb.count(), 0);
-    cs.anchor_tip.resize(tb.count());
-    cs.anchor_heel.resize(tb.count());
-    cs.last_tip.resize(tb.count());
-    cs.last_heel.resize(tb.count());
-    cs.blade.resize(tb.count());
-    for (int i = 0; i < tb.count(); ++i) {
-        if (!tb.has_blade[i]) continue;
-        // The blade's path over the step (ToolBodies::sweep), or only where it is now.
-        std::vector<BladeAt> path;
-        if (i < static_cast<int>(tb.sweep.size()) && !tb.sweep[i].empty()) {
-            for (const Keyframe& k : tb.sweep[i]) {
-                BladeAt b;
-                blade_at(tb, i, k, b.tip, b.heel);
-                b.back = blade_back_at(tb, i, k.orientation);
-                path.push_back(b);
-            }
-        } else {
-            BladeAt b;
-            blade_in_world(w.tools, i, b.tip, b.heel);
-            b.back = blade_back_at(tb, i, tb.orientation[i]);
-            path.push_back(b);
-        }
-        if (!cs.anchored[i]) {
-            cs.anchored[i] = 1, cs.anchor_tip[i] = path.front().tip, cs.anchor_heel[i] = path.front().heel;
-            cs.last_tip[i] = path.front().tip, cs.last_heel[i] = path.front().heel;
-        }
-        sweep_blade(w, bvh, i, path, threshold);
-    }
-}
-
-void prepare_cut_search(World& w, ElementBvh& bvh) {
-    if (w.cut_state.mean_edge == 0.0) w.cut_state.mean_edge = mean_edge_length(w.elements, w.nodes.rest, w.mesh_elements);
-    bvh.build(mesh_view(w), w.cut_state.mean_edge);
-}
-
-SystemDesc cut_system(std::shared_ptr<ElementBvh> bvh) {
-    SystemDesc s{"CutSystem", kNodes | kElements | kTools | kCutEvents, kCutEvents | kCutState,
-                 [bvh](World& w) { run_cut_system(w, *bvh); }};
-    return s.also_reads(kXfem);  // an element already cut is not split again
 }
 
 }  // namespace xcut

@@ -33,6 +33,8 @@ namespace xcut {
 /// tip1) against that tool's own lists and front, and with `face` the blade's face where the quad
 /// ends (tip1, heel1, heel1 + back, tip1 + back): an edge crossed by either counts. Queues splits.
 void process_cut_quad(World& world, ElementBvh& bvh, const CutQuad& quad, int tool = 0, const CutQuad* face = nullptr);
+/// The mesh elements and nodes the cut searches (the element BVH's view of the world).
+MeshView mesh_view(const World& world);
 /// One step of the cutter for every bladed tool.
 void run_cut_system(World& world, ElementBvh& bvh);
 /// Builds the first-contact BVH (boxes grown by one mean edge) before the first step, so the

@@ -12,6 +12,7 @@
 #include "systems/pipeline.h"
 #include "systems/force_system.h"
 #include "systems/surface/surface_cut.h"
+#include "tools/studies/bridges.h"
 
 namespace xcut {
 namespace {
@@ -19,6 +20,7 @@ namespace {
 struct CaseResult {
     std::string problem, name;
     int steps = 0, max_cg = 0, nan = 0, lost = 0, open_edges = 0, pinched_edges = 0, zero_area = 0, cuts = 0;
+    BridgeTally bridges{};  ///< elements the blades crossed through, those left bridged (tools/studies/bridges.h)
     double energy_ratio = 0.0;  ///< max (kinetic + elastic) / work put in
     double energy_bound = kStressEnergyBound;  ///< the ratio this case's scheme is held to
 };
@@ -88,7 +90,9 @@ double energy_now(World& w) {
 template <class Work>
 void run_steps(Simulation& sim, int steps, Work work, CaseResult& r) {
     World& w = sim.world;
+    BridgeCheck bridges;
     for (int n = 0; n < steps; ++n) {
+        bridges.before_step(w);
         step_simulation(sim);
         ++r.steps;
         const StepMetrics& m = w.metrics.current;
@@ -105,6 +109,7 @@ void run_steps(Simulation& sim, int steps, Work work, CaseResult& r) {
         if (put_in > 1e-15) r.energy_ratio = std::max(r.energy_ratio, (m.kinetic_energy + energy_now(w)) / put_in);
     }
     r.cuts = w.cuts.count();
+    r.bridges = bridges.tally(w);
     r.lost = lost_vertices(w, w.visual) + lost_vertices(w, w.collision);
     for (const SurfaceMesh* surface : {&w.visual, &w.collision}) {
         const EdgeDefects d = w.elements.dim == 3 ? edge_defects(*surface) : sheet_defects(*surface);
@@ -343,6 +348,8 @@ void tally(StressSummary& s, const CaseResult& r) {
     s.open_edges += r.open_edges;
     s.pinched_edges += r.pinched_edges;
     s.zero_area += r.zero_area;
+    s.crossed += r.bridges.crossed, s.bridged += r.bridges.bridged, s.left_out += r.bridges.left_out;
+    s.runs_bridged += r.bridges.bridged > 0;
     s.runs_with_open += r.open_edges > 0;
     s.runs_with_pinched += r.pinched_edges > 0;
     s.max_cg = std::max(s.max_cg, r.max_cg);
@@ -353,14 +360,14 @@ void tally(StressSummary& s, const CaseResult& r) {
 
 std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     std::string rows = "problem,case,steps,cuts,max_cg,nan,energy_ratio,energy_bound,lost_vertices,open_edges,"
-                       "pinched_edges,zero_area_triangles\n";
+                       "pinched_edges,zero_area_triangles,crossed_through,bridged,left_out\n";
     std::map<std::string, StressSummary> by_problem;
     auto record = [&](const CaseResult& r) {
         tally(by_problem[r.problem], r);
         // Problem and case names hold commas: quoted.
-        rows += fmt::format("\"{}\",\"{}\",{},{},{},{},{:.6g},{:g},{},{},{},{}\n", r.problem, r.name, r.steps, r.cuts,
-                            r.max_cg, r.nan, r.energy_ratio, r.energy_bound, r.lost, r.open_edges, r.pinched_edges,
-                            r.zero_area);
+        rows += fmt::format("\"{}\",\"{}\",{},{},{},{},{:.6g},{:g},{},{},{},{},{},{},{}\n", r.problem, r.name, r.steps,
+                            r.cuts, r.max_cg, r.nan, r.energy_ratio, r.energy_bound, r.lost, r.open_edges, r.pinched_edges,
+                            r.zero_area, r.bridges.crossed, r.bridges.bridged, r.bridges.left_out);
     };
     std::mt19937_64 rng(o.seed);
     if (o.only < 0) {
@@ -395,21 +402,25 @@ std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     fmt::output_file(csv_path).print("{}", rows);
     fmt::print("every case: {}\n", csv_path);
     StressSummary all;
-    fmt::print("{:<26} {:>6} {:>5} {:>7} {:>8} {:>11} {:>7} {:>5} {:>16} {:>15} {:>9}\n", "problem", "cases", "NaN",
-               "max CG", "CG>bound", "max E/work", "E>bound", "lost", "open edges (runs)", "pinched (runs)", "zero area");
+    fmt::print("{:<26} {:>6} {:>5} {:>7} {:>8} {:>11} {:>7} {:>5} {:>16} {:>15} {:>9} {:>21}\n", "problem", "cases", "NaN",
+               "max CG", "CG>bound", "max E/work", "E>bound", "lost", "open edges (runs)", "pinched (runs)", "zero area",
+               "bridged/crossed (runs)");
     for (const auto& [name, s] : by_problem) {
-        fmt::print("{:<26} {:>6} {:>5} {:>7} {:>8} {:>11.6f} {:>7} {:>5} {:>16} {:>15} {:>9}\n", name, s.cases, s.nan,
-                   s.max_cg, s.cg_over, s.max_energy_ratio, s.energy_over, s.lost_vertices,
+        fmt::print("{:<26} {:>6} {:>5} {:>7} {:>8} {:>11.6f} {:>7} {:>5} {:>16} {:>15} {:>9} {:>21}\n", name, s.cases,
+                   s.nan, s.max_cg, s.cg_over, s.max_energy_ratio, s.energy_over, s.lost_vertices,
                    fmt::format("{} ({})", s.open_edges, s.runs_with_open),
-                   fmt::format("{} ({})", s.pinched_edges, s.runs_with_pinched), s.zero_area);
+                   fmt::format("{} ({})", s.pinched_edges, s.runs_with_pinched), s.zero_area,
+                   fmt::format("{}/{} ({})", s.bridged, s.crossed, s.runs_bridged));
         all.cases += s.cases, all.nan += s.nan, all.cg_over += s.cg_over, all.energy_over += s.energy_over;
         all.lost_vertices += s.lost_vertices, all.open_edges += s.open_edges, all.pinched_edges += s.pinched_edges;
         all.zero_area += s.zero_area;
+        all.crossed += s.crossed, all.bridged += s.bridged, all.runs_bridged += s.runs_bridged, all.left_out += s.left_out;
         all.runs_with_open += s.runs_with_open, all.runs_with_pinched += s.runs_with_pinched;
         all.max_cg = std::max(all.max_cg, s.max_cg), all.max_energy_ratio = std::max(all.max_energy_ratio, s.max_energy_ratio);
     }
     fmt::print("CG bound {} iterations per solve (tolerance 1e-8); energy may not exceed the work put in by more than 1 % "
-               "(the once-linearized rows of problem 9: the watchdog's factor)\n",
+               "(the once-linearized rows of problem 9: the watchdog's factor); bridged: elements a blade crossed "
+               "through left joined across its sweep, measured, not yet held\n",
                kStressCgBound);
     by_problem["all"] = all;
     return by_problem;
