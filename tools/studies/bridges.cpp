@@ -7,6 +7,7 @@
 #include "engine/trajectory.h"
 #include "systems/cut/recut.h"
 #include "systems/kernels/blade_pose.h"
+#include "systems/kernels/mesh_measures.h"
 
 namespace xcut {
 namespace {
@@ -113,13 +114,16 @@ std::vector<RestMap> rest_maps(const World& w, int e) {
             parts.push_back({w.virtual_elements.element[v], r});
         }
     }
+    std::vector<Corners> at;  // each part's corners now
+    for (const auto& part : parts) at.push_back(positions(w, part.first));
     double open = 0.0;  // the most two copies of one corner lie apart
-    for (const auto& [f, rf] : parts)
-        for (const auto& [g, rg] : parts)
-            for (int a = 0; a < 4; ++a) open = std::max(open, (positions(w, f)[a] - positions(w, g)[a]).norm());
+    for (const Corners& f : at)
+        for (const Corners& g : at)
+            for (int a = 0; a < 4; ++a) open = std::max(open, (f[a] - g[a]).norm());
     std::vector<RestMap> maps;
-    for (auto& [fe, region] : parts) {
-        const Corners x = positions(w, fe);
+    for (size_t k = 0; k < parts.size(); ++k) {
+        Region& region = parts[k].second;
+        const Corners& x = at[k];
         region.open = open;
         RestMap m{x[0], X[0], Mat3::Identity(), std::move(region)};
         if (!rest_map(x, X, m.A)) return {};
@@ -169,16 +173,6 @@ std::vector<int> elements_near(const World& w, const std::vector<Vec3>& points, 
 
 constexpr double kNear = 1e-3;  ///< elements whose box comes this close to a blade's sweep's are traced [m]
 
-/// Mean length of the mesh's element edges, rest [m].
-double mean_edge(const World& w) {
-    double sum = 0.0;
-    for (int e = 0; e < w.mesh_elements; ++e) {
-        const Corners X = tet_corners(w, e);
-        for (const auto& ed : kTetEdges) sum += (X[ed[1]] - X[ed[0]]).norm();
-    }
-    return sum / (6.0 * std::max(1, w.mesh_elements));
-}
-
 /// Each mesh element's centroid travel since `last` (its mesh nodes' positions then) [m].
 std::vector<Vec3> centroid_travel(const World& w, const std::vector<Vec3>& last) {
     std::vector<Vec3> d(w.mesh_elements, Vec3::Zero());
@@ -195,7 +189,7 @@ std::vector<Vec3> centroid_travel(const World& w, const std::vector<Vec3>& last)
 void BridgeCheck::before_step(const World& w) {
     if (w.elements.dim != 3 || w.quadratic.count() > 0) return;
     if (started_) drift_.push_back(centroid_travel(w, last_));
-    else mean_edge_ = mean_edge(w);
+    else mean_edge_ = mean_edge_length(w.elements, w.nodes.rest, w.mesh_elements);
     last_.assign(w.nodes.position.begin(), w.nodes.position.begin() + w.mesh_nodes);
     const int step = static_cast<int>(drift_.size());
     const ToolBodies& tb = w.tools;
