@@ -25,6 +25,14 @@ struct ElementCrossings {
     bool split = false;               ///< progressive front: already split as a tip element
 };
 
+/// A point of the tissue: a mesh element not cut when it was found, and the point's barycentric
+/// coordinates in it (a triangle's three and 0); element -1: none (the point lies outside the
+/// tissue, or the cutter is snapping).
+struct MaterialPoint {
+    int element = -1;
+    Eigen::Vector4d bary = Eigen::Vector4d::Zero();
+};
+
 struct CutQuad {
     std::array<Vec3, 4> corner;       ///< tip0, heel0, heel1, tip1 [m]
 };
@@ -60,6 +68,10 @@ struct CutState {
     double mean_edge = 0.0;           ///< mean mesh edge length, rest [m]
     std::vector<uint8_t> anchored;    ///< per tool: the blade has an anchor (quad start)
     std::vector<Vec3> anchor_tip, anchor_heel;  ///< per tool: blade edge in world at the last quad [m]
+    /// Per tool: the tissue at the blade edge's ends (tip, heel) at the last quad. The next quad
+    /// starts where that tissue is now (systems/cut/material_anchor.h), so the blade's path through
+    /// the tissue has no gap and no overlap where the tissue moves under it between steps.
+    std::vector<std::array<MaterialPoint, 2>> anchor_material;
     std::vector<Vec3> last_tip, last_heel;      ///< per tool: blade edge at the previous step [m]
     std::vector<CutQuad> quads;       ///< quads made this step (all tools)
     std::vector<BladeCut> blade;      ///< per tool

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "systems/cut/cut_system.h"
+#include "systems/cut/material_anchor.h"
 #include "systems/cut/recut.h"
 #include "systems/cut/stem_3d.h"
 #include "systems/kernels/blade_pose.h"
@@ -14,18 +15,20 @@
 namespace xcut {
 namespace {
 
-/// Appends the blade tip's segment a -> b (world, 2D) to tool i's path, and notes the time the path
+/// Appends the blade tip's segment to b (world, 2D; from the path's last point, or `start` for its
+/// first) to tool i's path, and notes the time the path
 /// first closes a loop: it crosses an earlier segment of itself (not the one before, which it
 /// continues), or another blade's path at a second point (two arcs crossing at both tips).
-void note_loop(World& w, int i, const Vec3& a, const Vec3& b) {
+void note_loop(World& w, int i, const Vec3& start, const Vec3& b) {
     CutState& cs = w.cut_state;
     if (static_cast<int>(cs.path.size()) <= i) {
         cs.path.resize(i + 1), cs.path_time.resize(i + 1, w.time);
         cs.loop_time.resize(i + 1, -1.0), cs.loop_with.resize(i + 1, -1);
     }
     std::vector<Vec3>& path = cs.path[i];
-    if (path.empty()) cs.path_time[i] = w.time;
-    if (path.empty() || path.back() != a) path.push_back(a);
+    if (path.empty()) cs.path_time[i] = w.time, path.push_back(start);
+    // The path in space: from where the blade was (not the anchor, which moves with the tissue).
+    const Vec3 a = path.back();
     const auto closes = [&](int j) { cs.loop_time[i] = w.time, cs.loop_with[i] = j; };
     for (size_t k = 0; cs.loop_time[i] < 0.0 && k + 2 < path.size(); ++k)
         if (segment_segment_2d(path[k], path[k + 1], a, b)) closes(i);
@@ -60,6 +63,7 @@ void cut_to(World& w, ElementBvh& bvh, int i, const BladeAt& b) {
     process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], b.heel, b.tip}}, i,
                      b.back == Vec3::Zero() ? nullptr : &face);
     cs.anchor_tip[i] = b.tip, cs.anchor_heel[i] = b.heel;
+    cs.anchor_material[i] = {tissue_at(w, bvh, b.tip), tissue_at(w, bvh, b.heel)};
 }
 
 /// A blade stopped at `end` inside cut elements it entered across their cuts (2D): each crossed on
@@ -121,6 +125,7 @@ void run_cut_system(World& w, ElementBvh& bvh) {
     cs.last_tip.resize(tb.count());
     cs.last_heel.resize(tb.count());
     cs.blade.resize(tb.count());
+    cs.anchor_material.resize(tb.count());
     for (int i = 0; i < tb.count(); ++i) {
         if (!tb.has_blade[i]) continue;
         // The blade's path over the step (ToolBodies::sweep), or only where it is now.
@@ -142,6 +147,7 @@ void run_cut_system(World& w, ElementBvh& bvh) {
             cs.anchored[i] = 1, cs.anchor_tip[i] = path.front().tip, cs.anchor_heel[i] = path.front().heel;
             cs.last_tip[i] = path.front().tip, cs.last_heel[i] = path.front().heel;
         }
+        carry_anchor(w, i);
         sweep_blade(w, bvh, i, path, threshold);
     }
 }

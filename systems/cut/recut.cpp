@@ -119,22 +119,51 @@ bool signed_by_other_incision(const World& w, int e, const Vec3& normal, double 
     return false;
 }
 
+namespace {
+
+/// The rest point of current point p of a triangle with current corners x and rest corners X.
+Vec3 rest_point(const std::array<Vec3, 3>& x, const std::array<Vec3, 3>& X, const Vec3& p) {
+    const Vec3 l = triangle_barycentric(x, p);
+    return l.x() * X[0] + l.y() * X[1] + l.z() * X[2];
+}
+
+/// Where a blade's end inside cut element e (rest point `end`, its stem from the rest crossing
+/// `cross`) meets one of e's lines: the end itself, or, where a line that does not part it from
+/// `cross` lies within kJoinFraction of e's longest edge, the nearest point of that line inside e
+/// (its barycentric coordinates in X).
+Vec3 end_on_wound(const World& w, int e, const std::array<Vec3, 3>& X, const Vec3& end, const Vec3& cross) {
+    const double reach = kJoinFraction * longest_edge(X);
+    Vec3 best = triangle_barycentric(X, end);
+    double nearest = reach;
+    for (const CutLine& line : lines_of(w, w.cuts.cut_of_element[e])) {
+        const double d = line.normal.dot(end - line.origin), dc = line.normal.dot(cross - line.origin);
+        if ((d >= 0.0) != (dc >= 0.0) || std::abs(d) >= nearest) continue;
+        const Vec3 on = triangle_barycentric(X, end - d * line.normal);
+        if (on.minCoeff() >= 0.0) best = on, nearest = std::abs(d);
+    }
+    return best;
+}
+
+}  // namespace
+
 bool stem_event(const World& w, int e, int k, double t, const Vec3& start, CutEvent& ev) {
     const auto& n = w.elements.nodes[e];
     const std::array<Vec3, 3> x{w.nodes.position[n[0]], w.nodes.position[n[1]], w.nodes.position[n[2]]};
-    const Vec3 l = triangle_barycentric(x, start);
-    if (w.elements.dim != 2 || l.minCoeff() < 0.0) return false;
+    if (w.elements.dim != 2 || triangle_barycentric(x, start).minCoeff() < 0.0) return false;
     const int i = kTriEdges[k][0], j = kTriEdges[k][1];
+    const std::array<Vec3, 3> X = corners(w, e);
+    // A blade that ends a hair short of the element's wound meets it (the tissue moved under it).
+    const Vec3 l = end_on_wound(w, e, X, rest_point(x, X, start), X[i] + t * (X[j] - X[i]));
     const Vec3 exit = x[i] + t * (x[j] - x[i]);
-    const Vec3 normal(start.y() - exit.y(), exit.x() - start.x(), 0.0);
+    const Vec3 from = l.x() * x[0] + l.y() * x[1] + l.z() * x[2];
+    const Vec3 normal(from.y() - exit.y(), exit.x() - from.x(), 0.0);
     if (!(normal.norm() > 0.0)) return false;
     ev = CutEvent{};
     ev.element = e;
     ev.again = true;
-    for (int a = 0; a < 3; ++a) ev.level[a] = (x[a] - start).dot(normal);
+    for (int a = 0; a < 3; ++a) ev.level[a] = (x[a] - from).dot(normal);
     if ((ev.level[i] >= 0.0) == (ev.level[j] >= 0.0)) return false;  // through a node of the edge
     ev.edge_t[k] = t, ev.edge_has_t[k] = 1;
-    const std::array<Vec3, 3> X = corners(w, e);
     ev.bounded = true;
     ev.extent = {Vec3(l.x() * X[0] + l.y() * X[1] + l.z() * X[2]), Vec3(X[i] + t * (X[j] - X[i]))};
     return true;

@@ -97,7 +97,10 @@ double incision_cos(const World& world, const CutEvent& ev);
 /// A scalpel that starts inside cut element e (2D; its swept segment from `start`, current
 /// positions) and crosses one of its edges, `crossed` (local edge) at parameter t: the event cutting
 /// e again along that segment, bounded by it (the stem of a T begun at the wound divides the
-/// fragment between the wound and that edge). False if `start` is not inside e.
+/// fragment between the wound and that edge). A start a hair short of one of e's lines (on the
+/// crossed edge's side, within kJoinFraction of e's longest edge) is moved onto it: a blade that
+/// stops just short of its own wound, where the tissue moved under it, meets it. False if `start`
+/// is not inside e.
 bool stem_event(const World& world, int e, int crossed, double t, const Vec3& start, CutEvent& ev);
 
 /// Fraction of an edge [-] within which a later crossing of it (another incision's, or the same

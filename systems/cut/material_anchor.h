@@ -1,0 +1,32 @@
+#pragma once
+// The blade's anchor as a point of the tissue (CutState::anchor_material). A collision quad runs
+// from the blade's edge at the last quad to its edge now (paper §3.3, Fig. 14), and each quad is
+// tested against the tissue where it is at its own step. Kept as a point in space, the anchor lets
+// the tissue slide past it between quads: what moved across it in the meantime is never swept (a
+// gap: an edge that slid past the quad's start is crossed by neither quad), or is swept twice. So
+// the anchor is the tissue the blade's edge was in: the next quad starts where that tissue is now,
+// and the quads' path through the tissue is continuous, as the blade's is. An end of the edge
+// outside the tissue (the heel of a 2D blade, out of the plane) moves as the other end does, or,
+// with neither end in tissue, stays where it was.
+//
+// 2D only. A scalpel drawn round 36 ellipses in the face skin (tests/systems/test_recut_loops.cpp)
+// left 5 lenses joined to the skin with the anchor in space, 2 with it in the tissue. In 3D the same
+// rule (a tet's barycentric coordinates; a heel above the skin moved as the tip) changed no bridge
+// the stress suite counts (`xcut stress --count 100`: 255 elements crossed through left joined,
+// 258 with it) and left more open surface edges where scalpels cut again (`--blades 4 --recut
+// --count 1000`: 1,322 in 78 runs, 1,531 in 91 with it), so 3D keeps the paper's anchor in space.
+#include "engine/world.h"
+#include "systems/kernels/element_bvh.h"
+
+namespace xcut {
+
+/// The tissue at world point p (2D): a mesh triangle not yet cut (nor queued) whose current shape
+/// holds p, in its plane, with p's barycentric coordinates; element -1 if none, or in 3D. The
+/// lowest such element, so the choice is deterministic.
+MaterialPoint tissue_at(const World& w, ElementBvh& bvh, const Vec3& p);
+
+/// Moves tool i's anchor (tip, heel) to where the tissue it was in is now, while that element is
+/// still whole: an end in tissue moves with it, an end outside by the other end's displacement.
+void carry_anchor(World& w, int i);
+
+}  // namespace xcut
