@@ -25,12 +25,11 @@ struct ElementCrossings {
     bool split = false;               ///< progressive front: already split as a tip element
 };
 
-/// A point of the tissue: a mesh element not cut when it was found, and the point's barycentric
-/// coordinates in it (a triangle's three and 0); element -1: none (the point lies outside the
-/// tissue, or the cutter is snapping).
+/// A point of the tissue (2D): a mesh triangle not cut when it was found, and the point's
+/// barycentric coordinates in it; element -1: none (the point lies outside the tissue, or in 3D).
 struct MaterialPoint {
     int element = -1;
-    Eigen::Vector4d bary = Eigen::Vector4d::Zero();
+    Vec3 bary = Vec3::Zero();
 };
 
 struct CutQuad {

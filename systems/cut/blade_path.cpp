@@ -63,7 +63,7 @@ void cut_to(World& w, ElementBvh& bvh, int i, const BladeAt& b) {
     process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], b.heel, b.tip}}, i,
                      b.back == Vec3::Zero() ? nullptr : &face);
     cs.anchor_tip[i] = b.tip, cs.anchor_heel[i] = b.heel;
-    cs.anchor_material[i] = {tissue_at(w, bvh, b.tip), tissue_at(w, bvh, b.heel)};
+    cs.anchor_material[i] = tissue_at(w, bvh, b.tip, b.heel);
 }
 
 /// A blade stopped at `end` inside cut elements it entered across their cuts (2D): each crossed on

@@ -28,26 +28,28 @@ Vec3 where_now(const World& w, const MaterialPoint& m) {
 
 }  // namespace
 
-MaterialPoint tissue_at(const World& w, ElementBvh& bvh, const Vec3& p) {
-    MaterialPoint found;
+std::array<MaterialPoint, 2> tissue_at(const World& w, ElementBvh& bvh, const Vec3& tip, const Vec3& heel) {
+    std::array<MaterialPoint, 2> found{};
     if (w.elements.dim != 2) return found;  // 3D: the paper's anchor in space (material_anchor.h)
     const CutState& cs = w.cut_state;
     bvh.ensure(mesh_view(w), cs.mean_edge);
     std::vector<int> candidates;
-    bvh.query_ball(p, 0.0, candidates);
-    std::sort(candidates.begin(), candidates.end());
-    for (const int e : candidates) {
-        if (e >= w.mesh_elements || !whole(w, e)) continue;
-        const auto& n = w.elements.nodes[e];
-        const auto& x = w.nodes.position;
-        Eigen::Vector4d l = Eigen::Vector4d::Zero();
-        const std::array<Vec3, 3> X{x[n[0]], x[n[1]], x[n[2]]};
-        const Vec3 b = triangle_barycentric(X, p);
-        if (std::abs((b.x() * X[0] + b.y() * X[1] + b.z() * X[2] - p).z()) > kOnFace * cs.mean_edge) continue;  // out of the plane
-        l.head<3>() = b;
-        if (l.minCoeff() >= -kOnFace) {
-            found.element = e, found.bary = l;
-            return found;
+    for (int k = 0; k < 2; ++k) {
+        const Vec3& p = k == 0 ? tip : heel;
+        candidates.clear();
+        bvh.query_ball(p, 0.0, candidates);
+        std::sort(candidates.begin(), candidates.end());
+        for (const int e : candidates) {
+            if (e >= w.mesh_elements || !whole(w, e)) continue;
+            const auto& n = w.elements.nodes[e];
+            const auto& x = w.nodes.position;
+            const std::array<Vec3, 3> X{x[n[0]], x[n[1]], x[n[2]]};
+            const Vec3 b = triangle_barycentric(X, p);
+            if (std::abs((b.x() * X[0] + b.y() * X[1] + b.z() * X[2] - p).z()) > kOnFace * cs.mean_edge) continue;  // out of the plane
+            if (b.minCoeff() >= -kOnFace) {
+                found[k] = {e, b};
+                break;
+            }
         }
     }
     return found;

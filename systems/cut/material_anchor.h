@@ -20,10 +20,10 @@
 
 namespace xcut {
 
-/// The tissue at world point p (2D): a mesh triangle not yet cut (nor queued) whose current shape
-/// holds p, in its plane, with p's barycentric coordinates; element -1 if none, or in 3D. The
-/// lowest such element, so the choice is deterministic.
-MaterialPoint tissue_at(const World& w, ElementBvh& bvh, const Vec3& p);
+/// The tissue at each end of a blade's edge (2D): for each, the lowest mesh triangle not yet cut
+/// (nor queued) whose current shape holds it, in its plane, with its barycentric coordinates
+/// (lowest: the choice is deterministic); element -1 if none, and in 3D.
+std::array<MaterialPoint, 2> tissue_at(const World& w, ElementBvh& bvh, const Vec3& tip, const Vec3& heel);
 
 /// Moves tool i's anchor (tip, heel) to where the tissue it was in is now, while that element is
 /// still whole: an end in tissue moves with it, an end outside by the other end's displacement.

@@ -121,19 +121,14 @@ bool signed_by_other_incision(const World& w, int e, const Vec3& normal, double 
 
 namespace {
 
-/// The rest point of current point p of a triangle with current corners x and rest corners X.
-Vec3 rest_point(const std::array<Vec3, 3>& x, const std::array<Vec3, 3>& X, const Vec3& p) {
-    const Vec3 l = triangle_barycentric(x, p);
-    return l.x() * X[0] + l.y() * X[1] + l.z() * X[2];
-}
-
-/// Where a blade's end inside cut element e (rest point `end`, its stem from the rest crossing
-/// `cross`) meets one of e's lines: the end itself, or, where a line that does not part it from
-/// `cross` lies within kJoinFraction of e's longest edge, the nearest point of that line inside e
-/// (its barycentric coordinates in X).
-Vec3 end_on_wound(const World& w, int e, const std::array<Vec3, 3>& X, const Vec3& end, const Vec3& cross) {
+/// Where a blade's end inside cut element e (barycentric `at`, its stem from the rest crossing
+/// `cross`) meets one of e's lines, as barycentric coordinates in e: the end itself, or, where a
+/// line that does not part it from `cross` lies within kJoinFraction of e's longest edge, the
+/// nearest point of that line inside e.
+Vec3 end_on_wound(const World& w, int e, const std::array<Vec3, 3>& X, const Vec3& at, const Vec3& cross) {
     const double reach = kJoinFraction * longest_edge(X);
-    Vec3 best = triangle_barycentric(X, end);
+    const Vec3 end = at.x() * X[0] + at.y() * X[1] + at.z() * X[2];
+    Vec3 best = at;
     double nearest = reach;
     for (const CutLine& line : lines_of(w, w.cuts.cut_of_element[e])) {
         const double d = line.normal.dot(end - line.origin), dc = line.normal.dot(cross - line.origin);
@@ -149,11 +144,12 @@ Vec3 end_on_wound(const World& w, int e, const std::array<Vec3, 3>& X, const Vec
 bool stem_event(const World& w, int e, int k, double t, const Vec3& start, CutEvent& ev) {
     const auto& n = w.elements.nodes[e];
     const std::array<Vec3, 3> x{w.nodes.position[n[0]], w.nodes.position[n[1]], w.nodes.position[n[2]]};
-    if (w.elements.dim != 2 || triangle_barycentric(x, start).minCoeff() < 0.0) return false;
+    const Vec3 at = triangle_barycentric(x, start);
+    if (w.elements.dim != 2 || at.minCoeff() < 0.0) return false;
     const int i = kTriEdges[k][0], j = kTriEdges[k][1];
     const std::array<Vec3, 3> X = corners(w, e);
     // A blade that ends a hair short of the element's wound meets it (the tissue moved under it).
-    const Vec3 l = end_on_wound(w, e, X, rest_point(x, X, start), X[i] + t * (X[j] - X[i]));
+    const Vec3 l = end_on_wound(w, e, X, at, X[i] + t * (X[j] - X[i]));
     const Vec3 exit = x[i] + t * (x[j] - x[i]);
     const Vec3 from = l.x() * x[0] + l.y() * x[1] + l.z() * x[2];
     const Vec3 normal(from.y() - exit.y(), exit.x() - from.x(), 0.0);
