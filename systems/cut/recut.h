@@ -105,9 +105,13 @@ bool stem_event(const World& world, int e, int crossed, double t, const Vec3& st
 
 /// Fraction of an edge [-] within which a later crossing of it (another incision's, or the same
 /// blade's later pass) is the point an earlier crack put there: a scalpel closing a loop meets its
-/// own wound where the tissue has moved since (0.05-0.3 mm on 2 mm skin), and two points apart on
-/// one edge leave the wedge between them joining both sides (a bridge: docs/xfem.md, Limits).
-inline constexpr double kJoinFraction = 0.1;
+/// own wound where the tissue has moved since (0.05-0.4 mm on 2 mm skin), and two points apart on
+/// one edge leave the wedge between them joining both sides (a bridge: docs/xfem.md, Limits). The
+/// same as kAlongFraction: a crossing the element beside takes as its own wound retraced (and does
+/// not cut again) is joined to that wound here; at 0.1 the closing pass of a loop 0.35 mm inside
+/// its first crossed one edge 0.17 of it from the first's point, the element beside was not cut
+/// again and this one's crack ended on that edge apart from the first's (2 of 36 ellipses joined).
+inline constexpr double kJoinFraction = kAlongFraction;
 
 /// An event of another incision or a later pass (2D): each edge it crosses within kJoinFraction of
 /// an earlier crack's point there (crack_edge_param) takes that point, so its crack meets the

@@ -139,15 +139,15 @@ TEST(Recut, OneScalpelDrawnRoundAnEllipseFreesItsLensFromOtherStarts) {
 
 // The scalpel drawn round 36 ellipses (24 x 10, 24 x 14 and 20 x 16 mm, from 12 starts each 30
 // degrees apart, 0.4 rad past the start). Its closing pass runs beside its first where the tissue
-// moved under it (0.05-0.4 mm on 2 mm cells). Two rules make it meet the first pass: the blade's
-// anchor moves with the tissue between quads (systems/cut/material_anchor.h), and a blade that
-// stops a hair short of its wound inside an element meets it (stem_event). Before them, 7 of the 36
-// lenses stayed joined to the skin (5) or came out with a strip (2); now 2 stay joined (24 x 10
-// and 24 x 14 from 280 degrees: the passes run 0.35 mm apart through different rows of cells, and
-// never meet), and 3 come out with a strip between the passes, smaller than an element.
+// moved under it (0.05-0.4 mm on 2 mm cells). Three rules make it meet the first pass: the blade's
+// anchor moves with the tissue between quads (systems/cut/material_anchor.h), a blade that stops a
+// hair short of its wound inside an element meets it (stem_event), and a crossing within
+// kJoinFraction of an earlier crack's point on an edge takes that point. Before them, 7 of the 36
+// lenses stayed joined to the skin (5) or came out with a strip (2); now every lens is freed, a few
+// with a strip between the passes smaller than an element (printed).
 TEST(Recut, EllipsesDrawnFromThirtySixStartsFreeTheirLenses) {
     const double pi = 3.14159265358979;
-    int freed = 0, cases = 0;
+    int freed = 0, cases = 0, with_strips = 0;
     for (const auto& [a, b] : {std::pair{0.012, 0.005}, {0.012, 0.007}, {0.010, 0.008}})
         for (int k = 0; k < 12; ++k) {
             if (testing::kInstrumented && k % 6 != 0) continue;
@@ -155,13 +155,13 @@ TEST(Recut, EllipsesDrawnFromThirtySixStartsFreeTheirLenses) {
             const Freed f = freed_by_loop(sim->world);
             const double ellipse = pi * a * b, band = 2.0 * pi * 0.5 * (a + b) * 0.002;
             const bool ok = f.strips_small && std::abs(f.lens - ellipse) < band;
-            freed += ok, ++cases;
+            freed += ok, ++cases, with_strips += f.strips > 0;
             if (!ok)
                 std::printf("  %.0f x %.0f mm from %d degrees: lens %.0f mm^2 (ellipse %.0f), %d strips\n", a * 2e3, b * 2e3,
                             30 * k + 6, f.lens * 1e6, ellipse * 1e6, f.strips);
         }
-    std::printf("  measured: %d of %d lenses freed\n", freed, cases);
-    EXPECT_GE(freed, testing::kInstrumented ? cases - 1 : 34) << "of " << cases;
+    std::printf("  measured: %d of %d lenses freed, %d of them with strips\n", freed, cases, with_strips);
+    EXPECT_EQ(freed, cases);
 }
 
 /// The end of the run's note on a loop closed without freeing a piece ("" if none).
@@ -171,13 +171,13 @@ std::string loop_note(const World& w) {
     return "";
 }
 
-// A loop that frees nothing is said: the scalpel's ellipse from 276 degrees (one of the two of
-// EllipsesDrawnFromThirtySixStartsFreeTheirLenses whose passes never meet) leaves one piece, and
+// A loop that frees nothing is said: a 12 x 6 mm ellipse from 156 degrees (three cells across,
+// its passes a fraction of a cell apart never meet: docs/xfem.md, Limits) leaves one piece, and
 // the end of the run names the tool and when its path closed; so, by snapping (which cuts an
 // element once), for the excision's two arcs, which cross at both tips. The lens the XFEM cutter
 // frees from the left apex is not said.
 TEST(Recut, ALoopThatFreesNoPieceIsSaid) {
-    auto joined = ellipse_drawn(0.012, 0.005, 2.0 * 3.14159265358979 * 9 / 12 + 0.1, 0.4);
+    auto joined = ellipse_drawn(0.006, 0.003, 2.0 * 3.14159265358979 * 5 / 12 + 0.1, 0.4);
     count_pieces(joined->world);
     EXPECT_EQ(joined->world.pieces.count, 1);
     const std::string note = loop_note(joined->world);
