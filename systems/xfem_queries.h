@@ -78,6 +78,15 @@ inline int mesh_node(const World& world, int node) {
     return node >= world.mesh_nodes ? world.enriched.node_of_phantom[node - world.mesh_nodes] : node;
 }
 
+/// The mesh element force element fe is or stands for: a virtual element's parent, a snapping
+/// piece's element (-1: none).
+inline int mesh_element_of(const World& w, int fe) {
+    if (fe < w.mesh_elements) return fe;
+    const size_t k = static_cast<size_t>(fe - w.mesh_elements);
+    if (w.snap.enabled) return k < w.snap.piece_parent.size() ? w.snap.piece_parent[k] : -1;
+    return k < w.virtual_elements.parent.size() ? w.virtual_elements.parent[k] : -1;
+}
+
 /// A nodal field (positions, velocities) at barycentric `b` of force element `element`, linear over
 /// its corners (eq. 4, 6): how a surface vertex or a probe point bound to it moves.
 inline Vec3 bound_value(const World& w, int element, const Eigen::Vector4d& b, const std::vector<Vec3>& field) {

@@ -21,6 +21,9 @@ Command add_stress_command(CLI::App& app) {
         ->check(CLI::Range(1, 4));
     cmd->add_flag("--tip", o->tip, "Problem 8 in 2D with crack tips at the blades (a skin patch, random trajectories "
                                    "and tip radii; --front and --blades do not apply)");
+    cmd->add_flag("--loops", o->loops, "Problem 8 as closed loops in 2D: a scalpel round a random ellipse in a skin "
+                                       "patch, a cross-cut through its lens in two of three; the pieces freed are "
+                                       "checked against the regions the paths enclose (--front and --blades do not apply)");
     cmd->add_option("--element", o->element, "Problem 8's tissue: linear or quadratic tetrahedra (docs/elements.md)")
         ->check(CLI::IsMember({"linear", "quadratic"}));
     cmd->add_option("--newton", o->newton, "Problem 8's steps iterated by Newton to 1e-9, at most this many times "
@@ -40,6 +43,10 @@ Command add_stress_command(CLI::App& app) {
                 if (o->tip && o->element != "linear")
                     throw CLI::ValidationError("--tip", "crack tips are 2D: the linear triangle, without --element");
                 if (!o->csv_given && o->tip) o->csv = "results/bench_stress_tip.csv";
+                if (o->loops && (o->tip || o->front != "semi" || o->blades > 1 || o->element != "linear" || o->recut))
+                    throw CLI::ValidationError("--loops", "closed loops are drawn in 2D by the semi front's scalpels: "
+                                                          "without --tip, --front, --blades, --element and --recut");
+                if (!o->csv_given && o->loops) o->csv = "results/bench_stress_loops.csv";
                 if (!o->csv_given && o->element != "linear")
                     o->csv = std::filesystem::path(o->csv).replace_extension().string() + "_" + o->element + ".csv";
                 if (!o->csv_given && o->newton > 1)

@@ -7,6 +7,7 @@
 
 #include "systems/cut/enrichment_system.h"
 #include "systems/kernels/disjoint_sets.h"
+#include "systems/xfem_queries.h"
 
 namespace xcut {
 
@@ -39,9 +40,8 @@ std::vector<double> mean_element_volume(const World& w) {
 int counted_before(const World& w, const std::vector<int>& old_of_element, int e) {
     const auto old = [&](int i) { return i < static_cast<int>(old_of_element.size()) ? old_of_element[i] : -1; };
     if (old(e) >= 0 || e < w.mesh_elements) return old(e);
-    const size_t k = static_cast<size_t>(e - w.mesh_elements);
-    if (w.snap.enabled) return k < w.snap.piece_parent.size() ? old(w.snap.piece_parent[k]) : -1;
-    return k < w.virtual_elements.parent.size() ? old(w.virtual_elements.parent[k]) : -1;
+    const int parent = mesh_element_of(w, e);
+    return parent < 0 ? -1 : old(parent);
 }
 
 }  // namespace

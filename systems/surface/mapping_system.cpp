@@ -171,6 +171,7 @@ int map_cuts(World& w, SurfaceMesh& s) {
         }
         const CutPlaneInfo cp = cut_plane_info(w, c);
         for (int v : s.bound_to[e]) {
+            if (s.element[v] != e) continue;  // bound elsewhere since (a point of a neighbour's cut)
             const int side = side_of_cut(w, cp, e, s.bary[v]);
             s.element[v] = w.virtual_elements.element[w.cuts.virtual_element[c][side > 0 ? 0 : 1]];
             s.side[v] = static_cast<int8_t>(side);

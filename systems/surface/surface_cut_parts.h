@@ -26,6 +26,9 @@ bool is_cut(const World& w, int e);
 Vec3 rest_of(const World& w, int e, const Eigen::Vector4d& b);
 Eigen::Vector4d local_bary(const World& w, const SurfaceMesh& s, int e, int v);
 Vec3 vertex_rest(const World& w, const SurfaceMesh& s, int v);
+/// Lists vertex v, just bound, among the vertices of its element's mesh element
+/// (SurfaceMesh::bound_to), once: when that element is cut or cut again, v moves with it.
+void note_bound(const World& w, SurfaceMesh& s, int v);
 double surface_edge_param(int a, int b, double t);
 double edge_crossing(const World& w, int a, int b);
 /// Whether an edge may hold the crossings of several incisions: elements are cut again in 3D.

@@ -97,6 +97,7 @@ int shared_point(World& w, SurfaceMesh& s, int fe, int8_t side, const Eigen::Vec
     s.bary.push_back(b);
     s.side.push_back(side);
     s.point_at.emplace(place, v);
+    note_bound(w, s, v);
     return v;
 }
 
@@ -303,6 +304,7 @@ void bind_to_fragments(World& w, SurfaceMesh& s, int c) {
     const int e = w.cuts.element[c];
     const std::span<const int> frags = fragments_of(w, c);
     for (int u : s.bound_to[e]) {
+        if (mesh_element_of(w, s.element[u]) != e) continue;  // bound elsewhere since
         const Vec3 x = rest_of(w, e, local_bary(w, s, e, u));
         for (int v : frags)
             if (in_fragment(w.cuts.lines[c].data(), static_cast<int>(w.cuts.lines[c].size()), w.virtual_elements.mask[v], x)) {

@@ -66,6 +66,7 @@ void bind(World& w, SurfaceMesh& s, int v, int e, int side, const Eigen::Vector4
         s.element[v] = w.virtual_elements.element[w.cuts.virtual_element[c][side > 0 ? 0 : 1]];
         s.bary[v] = b;
     }
+    note_bound(w, s, v);
 }
 
 }  // namespace
@@ -111,6 +112,13 @@ Eigen::Vector4d local_bary(const World& w, const SurfaceMesh& s, int e, int v) {
 }
 
 Vec3 vertex_rest(const World& w, const SurfaceMesh& s, int v) { return rest_of(w, s.element[v], s.bary[v]); }
+
+void note_bound(const World& w, SurfaceMesh& s, int v) {
+    const int e = mesh_element_of(w, s.element[v]);
+    if (e < 0) return;
+    std::vector<int>& list = s.bound_to[e];
+    if (std::find(list.begin(), list.end(), v) == list.end()) list.push_back(v);
+}
 
 /// A crossing of mesh edge a -> b at parameter t, as the surface places it. A crossing on a skin
 /// subdivision point (t = m / 2^k, k <= 8: the fallback midpoint of an edge crossed only through

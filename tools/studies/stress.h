@@ -15,9 +15,10 @@
 // once-linearized rows of problem 9: by more than the watchdog's solver.energy_factor, as that
 // scheme is not dissipative at large rotations); every surface vertex bound to a live element with
 // barycentric coordinates in [-1e-9, 1 + 1e-9]; every surface edge shared by exactly two
-// triangles, consistently oriented; no surface triangle without area. Measured and printed, not yet
+// triangles, consistently oriented; no surface triangle without area; with closed loops (2D), the
+// pieces of an element or more are the regions the blades' paths enclose. Measured and printed, not yet
 // held (docs/BENCHMARKS.md): bridges, elements a blade crossed through that its cut left joined
-// (tools/studies/bridges.h).
+// (tools/studies/bridges.h), and the strips closed loops free (pieces smaller than an element).
 #include <map>
 #include <random>
 #include <string>
@@ -58,6 +59,9 @@ struct StressOptions {
     std::string front = "semi";  ///< problem 8's cutter.front
     int blades = 1;           ///< problem 8's scalpels per trajectory: 1, or 2 to this many (random_blades_scene)
     bool tip = false;         ///< problem 8 on the 2D patch with crack tips (random_tip_scene)
+    /// problem 8 as closed loops: a scalpel round a random ellipse in a 2D skin patch, a cross-cut
+    /// through its lens in two of three (tools/studies/stress_loops.h); the pieces checked
+    bool loops = false;
     /// problem 8's tissue: "linear" or "quadratic" tetrahedra (docs/elements.md; 3D, not with `tip`)
     std::string element = "linear";
     /// > 1: problem 8's steps iterated by Newton to 1e-9, at most this many times (1: the paper's
@@ -79,10 +83,13 @@ struct StressSummary {
     /// Elements blades crossed through, those of them left bridged (not yet in violations()), the
     /// cases with a bridge, and the elements the check left out (tools/studies/bridges.h).
     int crossed = 0, bridged = 0, runs_bridged = 0, left_out = 0;
+    /// Loop trajectories whose pieces of an element or more do not match the regions their paths
+    /// enclose (stress_loops.h), and the pieces smaller than an element they freed (strips; measured)
+    int pieces_mismatch = 0, strips = 0;
     int max_cg = 0;
     double max_energy_ratio = 0.0;  ///< max over steps of (kinetic + elastic) / work put in
     int violations() const {
-        return nan + cg_over + energy_over + lost_vertices + open_edges + pinched_edges + zero_area;
+        return nan + cg_over + energy_over + lost_vertices + open_edges + pinched_edges + zero_area + pieces_mismatch;
     }
 };
 

@@ -1,0 +1,158 @@
+#include "tools/studies/stress_loops.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "engine/world.h"
+#include "systems/cut/pieces_system.h"
+
+namespace xcut {
+namespace {
+
+constexpr double kPatch = 0.04;   ///< the patch's side [m]
+constexpr double kCell = 0.002;   ///< its cells [m]
+constexpr double kMargin = 0.005; ///< the ellipse's bounding box from the held borders [m]
+constexpr double kPast = 0.003;   ///< the cross-cut's reach past the rim [m]
+
+/// An ellipse in the patch's plane: centre, angle of its major axis, semi-axes [m].
+struct Ellipse {
+    Vec3 centre;
+    double angle, a, b;
+    /// The world point of (x, y) in the unit-circle frame (x a along the major axis, y b across).
+    Vec3 at(double x, double y) const {
+        const double c = std::cos(angle), s = std::sin(angle), u = a * x, v = b * y;
+        return centre + Vec3(c * u - s * v, s * u + c * v, 0.0);
+    }
+};
+
+/// A scalpel point (2D: its edge along z through the sheet) moving through `keys`.
+void add_scalpel(Scene& s, const std::string& name, std::vector<Keyframe> keys) {
+    ToolBodies& tb = s.tools;
+    tb.name.push_back(name);
+    tb.has_blade.push_back(1);
+    tb.blade_tip.push_back(Vec3::Zero());
+    tb.blade_heel.push_back(Vec3(0, 0, 0.001));
+    tb.blade_back.push_back(Vec3::Zero());
+    tb.position.push_back(keys.front().position);
+    tb.orientation.push_back(keys.front().orientation);
+    tb.trajectory.push_back(std::move(keys));
+}
+
+Keyframe key(double time, const Vec3& position) {
+    Keyframe k;
+    k.time = time, k.position = position;
+    return k;
+}
+
+/// The regions the chord at signed distance d along unit normal n (unit-circle frame) divides the
+/// ellipse into: each segment's area (closed form: a b (acos d - d sqrt(1 - d^2)) beyond the line)
+/// and its boundary, the arc (summed over 720 pieces) and the chord.
+void chord_regions(const Ellipse& el, const Vec3& n, double d, double chord, LoopRegions& r) {
+    const double beyond = el.a * el.b * (std::acos(d) - d * std::sqrt(1.0 - d * d));
+    r.area = {beyond, M_PI * el.a * el.b - beyond};
+    r.perimeter = {chord, chord};
+    const int parts = 720;
+    for (int k = 0; k < parts; ++k) {
+        const double t0 = 2.0 * M_PI * k / parts, t1 = 2.0 * M_PI * (k + 1) / parts, tm = 0.5 * (t0 + t1);
+        const double length = (el.at(std::cos(t1), std::sin(t1)) - el.at(std::cos(t0), std::sin(t0))).norm();
+        r.perimeter[n.x() * std::cos(tm) + n.y() * std::sin(tm) > d ? 0 : 1] += length;
+    }
+}
+
+/// The ellipse's perimeter [m] (Ramanujan's second approximation, relative error below 1e-9 here).
+double ellipse_perimeter(double a, double b) {
+    const double h = (a - b) * (a - b) / ((a + b) * (a + b));
+    return M_PI * (a + b) * (1.0 + 3.0 * h / (10.0 + std::sqrt(4.0 - 3.0 * h)));
+}
+
+}  // namespace
+
+Scene random_loop_scene(std::mt19937_64& rng, LoopRegions* regions) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    Scene s;
+    s.name = "stress loops";
+    s.mesh.generator = "plate";
+    s.mesh.grid.size = Vec3(kPatch, kPatch, 0.0);
+    s.mesh.grid.cells = Eigen::Vector3i(20, 20, 1);
+    s.material.thickness = 0.002;
+    s.solver.cg_tolerance = 1e-8;
+    s.solver.cg_max_iterations = 800;  // past the stress bound, so that a miss is seen
+    s.solver.dt = kLoopStep;
+    s.solver.damping_mass = 1.0;
+    s.solver.damping_stiffness = 0.01;
+    s.output.directory.clear();
+    s.visual_subdivisions = 1;
+    const double far = 1.0, edge = 1e-9, pull = 0.0005;
+    s.constraints.boxes.push_back({Vec3(-far, -far, -far), Vec3(edge, far, far), 7, Vec3(-pull, 0, 0)});
+    s.constraints.boxes.push_back({Vec3(kPatch - edge, -far, -far), Vec3(far, far, far), 7, Vec3(pull, 0, 0)});
+    s.constraints.boxes.push_back({Vec3(-far, -far, -far), Vec3(far, edge, far), 7, Vec3(0, -pull, 0)});
+    s.constraints.boxes.push_back({Vec3(-far, kPatch - edge, -far), Vec3(far, far, far), 7, Vec3(0, pull, 0)});
+
+    Ellipse el{Vec3::Zero(), M_PI * u(rng), 0.006 + 0.007 * u(rng), 0.0};
+    el.b = 0.004 + (std::min(0.009, el.a) - 0.004) * u(rng);
+    const double c = std::cos(el.angle), sn = std::sin(el.angle);
+    const double ex = std::hypot(el.a * c, el.b * sn), ey = std::hypot(el.a * sn, el.b * c);
+    el.centre = Vec3(ex + kMargin + (kPatch - 2.0 * (ex + kMargin)) * u(rng),
+                     ey + kMargin + (kPatch - 2.0 * (ey + kMargin)) * u(rng), 0.0);
+    const double start = 2.0 * M_PI * u(rng), way = u(rng) < 0.5 ? 1.0 : -1.0;
+    const int cross = static_cast<int>(3.0 * u(rng));  // 0: none, 1: after the loop, 2: before it
+    const double psi = M_PI * u(rng), d = u(rng) - 0.5;
+
+    const double loop_from = cross == 2 ? 0.8 : 0.2;
+    std::vector<Keyframe> loop{key(0.0, el.at(std::cos(start), std::sin(start)))};
+    for (int k = 0; k <= 60; ++k) {
+        const double th = start + way * (2.0 * M_PI + 0.4) * k / 60;
+        loop.push_back(key(loop_from + 2.0 * k / 60, el.at(std::cos(th), std::sin(th))));
+    }
+    add_scalpel(s, "loop", std::move(loop));
+
+    LoopRegions r{{M_PI * el.a * el.b}, {ellipse_perimeter(el.a, el.b)}};
+    if (cross > 0) {
+        const Vec3 m(std::cos(psi), std::sin(psi), 0.0), n(-std::sin(psi), std::cos(psi), 0.0);
+        const double half = std::sqrt(1.0 - d * d);
+        const Vec3 p = el.at(d * n.x() - half * m.x(), d * n.y() - half * m.y());
+        const Vec3 q = el.at(d * n.x() + half * m.x(), d * n.y() + half * m.y());
+        const Vec3 along = (q - p).normalized();
+        const double from = cross == 1 ? 2.4 : 0.0;
+        std::vector<Keyframe> keys{key(0.0, p - kPast * along)};
+        if (from > 0.0) keys.push_back(key(from, p - kPast * along));
+        keys.push_back(key(from + 0.6, q + kPast * along));
+        add_scalpel(s, "cross", std::move(keys));
+        chord_regions(el, n, d, (q - p).norm(), r);
+    }
+    if (regions) *regions = r;
+    return s;
+}
+
+LoopTally loop_pieces(World& w, const LoopRegions& regions) {
+    count_pieces(w);
+    const double thickness = w.materials.list.front().thickness;
+    double element = 0.0;  // the mean element's area [m^2]
+    for (int e = 0; e < w.mesh_elements; ++e) element += w.elements.rest_volume[e] / thickness / w.mesh_elements;
+    std::vector<double> big;
+    LoopTally t;
+    for (size_t k = 0; k < w.pieces.volume.size(); ++k) {
+        if (w.pieces.sliver[k]) continue;
+        const double area = w.pieces.volume[k] / thickness;
+        if (area >= element) big.push_back(area);
+        else ++t.strips;
+    }
+    std::sort(big.rbegin(), big.rend());
+    t.pieces = static_cast<int>(big.size());
+    t.expected = 1 + static_cast<int>(regions.area.size());
+    if (t.pieces != t.expected) return t.mismatch = 1, t;
+    // The patch's area less the regions', its error the regions' (along the cuts round them).
+    std::vector<std::pair<double, double>> want{{kPatch * kPatch, 0.0}};
+    for (size_t k = 0; k < regions.area.size(); ++k) {
+        want.front().first -= regions.area[k];
+        want.front().second += regions.perimeter[k];
+        want.push_back({regions.area[k], regions.perimeter[k]});
+    }
+    std::sort(want.begin() + 1, want.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+    for (size_t k = 0; k < want.size(); ++k)
+        if (std::abs(big[k] - want[k].first) > kLoopAreaTolerance * want[k].second) t.mismatch = 1;
+    return t;
+}
+
+}  // namespace xcut

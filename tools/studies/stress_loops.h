@@ -1,0 +1,56 @@
+#pragma once
+// `xcut stress --loops` (docs/verification.md problem 8, closed loops): a scalpel drawn round a
+// random ellipse in a 2D skin patch, with a straight cross-cut through its lens before or after the
+// loop in two runs of three; the pieces the cuts free are checked against the regions the paths
+// enclose, computed in closed form (the ellipse's area, and the two segments a chord divides it
+// into), not by the cutter.
+#include <random>
+#include <vector>
+
+#include "engine/io/scene.h"
+
+namespace xcut {
+
+struct World;
+
+/// Simulated time of a loop trajectory [s] and its step [s]: the loop from 0.2 to 2.2 s, the
+/// cross-cut from 2.4 to 3.0 s (or from 0 to 0.6 s, before the loop starts at 0.8 s).
+constexpr double kLoopDuration = 3.2;
+constexpr double kLoopStep = 0.01;
+
+/// The regions a loop trajectory's paths enclose, besides the patch around them: their rest areas
+/// [m^2] (the drawn ellipse's, or its two segments') and the length of their boundaries [m].
+struct LoopRegions {
+    std::vector<double> area, perimeter;
+};
+
+/// The next loop trajectory of `rng`: a 40 x 40 mm skin patch (2 mm cells, 2 mm thick, E 1e4 Pa),
+/// its four borders drawn 0.5 mm outward (skin under tension, as scenes/excision_2d.json) and no
+/// gravity; a scalpel round an ellipse of semi-axes 6-13 x 4-9 mm at a random angle, centre and
+/// start, either way round, 0.4 rad past its start; a second scalpel's straight cut through the
+/// lens (a chord at most half the way to its rim from the centre, in the ellipse's unit-circle
+/// frame), 3 mm past the rim at both ends, after the loop or before it. `regions` gets what they
+/// enclose.
+Scene random_loop_scene(std::mt19937_64& rng, LoopRegions* regions = nullptr);
+
+/// What the cuts freed, against the regions: the pieces of at least one element's area (the patch
+/// and each region's), and the strips, pieces smaller than an element (between two passes of a
+/// blade a fraction of a cell apart: docs/xfem.md).
+struct LoopTally {
+    int expected = 0;  ///< pieces the paths make: the patch and the regions
+    int pieces = 0;    ///< pieces of at least one element's area
+    int strips = 0;    ///< pieces smaller than that
+    /// 1 if the pieces do not match the regions: another count, or a region whose piece's area is
+    /// off by more than kLoopAreaTolerance times its perimeter
+    int mismatch = 0;
+};
+
+/// A freed piece's area may differ from its region's by this much per metre of the region's
+/// boundary [m]: the tissue's motion under the blade (the skin's tension stretches it 1.7 %) and
+/// the cut's straight line through each element.
+constexpr double kLoopAreaTolerance = 0.0005;
+
+/// The pieces of `w` (counted again) against `regions`.
+LoopTally loop_pieces(World& w, const LoopRegions& regions);
+
+}  // namespace xcut
