@@ -17,6 +17,7 @@
 #include "tools/studies/stress.h"
 #include "tests/node_copies_check.h"
 #include "tests/surface_checks.h"
+#include "tests/test_helpers.h"
 
 namespace xcut {
 namespace {
@@ -61,7 +62,8 @@ void hundred_trajectories(unsigned seed, const std::string& front, int blades = 
     std::getline(csv, header);
     EXPECT_EQ(header,
               "problem,case,steps,cuts,max_cg,nan,energy_ratio,energy_bound,lost_vertices,open_edges,pinched_edges,"
-              "zero_area_triangles,crossed_through,bridged,left_out,pieces,expected_pieces,strips,pieces_mismatch");
+              "zero_area_triangles,crossed_through,bridged,left_out,pieces,expected_pieces,strips,pieces_mismatch,"
+              "piece_offset_mm");
     int rows = 0;
     for (std::string line; std::getline(csv, line);) ++rows;
     EXPECT_EQ(rows, all.cases);

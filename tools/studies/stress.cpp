@@ -379,15 +379,15 @@ void tally(StressSummary& s, const CaseResult& r) {
 std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     std::string rows = "problem,case,steps,cuts,max_cg,nan,energy_ratio,energy_bound,lost_vertices,open_edges,"
                        "pinched_edges,zero_area_triangles,crossed_through,bridged,left_out,pieces,expected_pieces,strips,"
-                       "pieces_mismatch\n";
+                       "pieces_mismatch,piece_offset_mm\n";
     std::map<std::string, StressSummary> by_problem;
     auto record = [&](const CaseResult& r) {
         tally(by_problem[r.problem], r);
         // Problem and case names hold commas: quoted.
-        rows += fmt::format("\"{}\",\"{}\",{},{},{},{},{:.6g},{:g},{},{},{},{},{},{},{},{},{},{},{}\n", r.problem, r.name,
+        rows += fmt::format("\"{}\",\"{}\",{},{},{},{},{:.6g},{:g},{},{},{},{},{},{},{},{},{},{},{},{:.4g}\n", r.problem, r.name,
                             r.steps, r.cuts, r.max_cg, r.nan, r.energy_ratio, r.energy_bound, r.lost, r.open_edges,
                             r.pinched_edges, r.zero_area, r.bridges.crossed, r.bridges.bridged, r.bridges.left_out,
-                            r.loops.pieces, r.loops.expected, r.loops.strips, r.loops.mismatch);
+                            r.loops.pieces, r.loops.expected, r.loops.strips, r.loops.mismatch, r.loops.offset * 1e3);
     };
     std::mt19937_64 rng(o.seed);
     if (o.only < 0) {

@@ -10,7 +10,7 @@
 namespace xcut {
 namespace {
 
-constexpr double kPatch = 0.04;   ///< the patch's side [m]
+constexpr double kPatch = kLoopPatch;
 constexpr double kCell = 0.002;   ///< its cells [m]
 constexpr double kMargin = 0.005; ///< the ellipse's bounding box from the held borders [m]
 constexpr double kPast = 0.003;   ///< the cross-cut's reach past the rim [m]
@@ -83,7 +83,7 @@ Scene random_loop_scene(std::mt19937_64& rng, LoopRegions* regions) {
     s.solver.damping_stiffness = 0.01;
     s.output.directory.clear();
     s.visual_subdivisions = 1;
-    const double far = 1.0, edge = 1e-9, pull = 0.0005;
+    const double far = 1.0, edge = 1e-9, pull = kLoopPull;
     s.constraints.boxes.push_back({Vec3(-far, -far, -far), Vec3(edge, far, far), 7, Vec3(-pull, 0, 0)});
     s.constraints.boxes.push_back({Vec3(kPatch - edge, -far, -far), Vec3(far, far, far), 7, Vec3(pull, 0, 0)});
     s.constraints.boxes.push_back({Vec3(-far, -far, -far), Vec3(far, edge, far), 7, Vec3(0, -pull, 0)});
@@ -121,6 +121,9 @@ Scene random_loop_scene(std::mt19937_64& rng, LoopRegions* regions) {
         add_scalpel(s, "cross", std::move(keys));
         chord_regions(el, n, d, (q - p).norm(), r);
     }
+    // At rest: the paths are drawn on the patch stretched by its borders.
+    for (double& a : r.area) a /= kLoopStretch * kLoopStretch;
+    for (double& p : r.perimeter) p /= kLoopStretch;
     if (regions) *regions = r;
     return s;
 }
@@ -150,8 +153,8 @@ LoopTally loop_pieces(World& w, const LoopRegions& regions) {
         want.push_back({regions.area[k], regions.perimeter[k]});
     }
     std::sort(want.begin() + 1, want.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
-    for (size_t k = 0; k < want.size(); ++k)
-        if (std::abs(big[k] - want[k].first) > kLoopAreaTolerance * want[k].second) t.mismatch = 1;
+    for (size_t k = 0; k < want.size(); ++k) t.offset = std::max(t.offset, std::abs(big[k] - want[k].first) / want[k].second);
+    t.mismatch = t.offset > kLoopAreaTolerance;
     return t;
 }
 

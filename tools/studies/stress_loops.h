@@ -17,9 +17,14 @@ struct World;
 /// cross-cut from 2.4 to 3.0 s (or from 0 to 0.6 s, before the loop starts at 0.8 s).
 constexpr double kLoopDuration = 3.2;
 constexpr double kLoopStep = 0.01;
+constexpr double kLoopPatch = 0.04;   ///< the skin patch's side [m]
+constexpr double kLoopPull = 0.0005;  ///< each of its borders drawn outward by [m]
+/// The patch's stretch each way [-], uniform away from the cuts: a drawn length is this times its rest one.
+constexpr double kLoopStretch = 1.0 + 2.0 * kLoopPull / kLoopPatch;
 
 /// The regions a loop trajectory's paths enclose, besides the patch around them: their rest areas
-/// [m^2] (the drawn ellipse's, or its two segments') and the length of their boundaries [m].
+/// [m^2] (the drawn ellipse's, or its two segments', less the patch's stretch: the paths are drawn
+/// on the skin stretched 2.5 % each way by its borders) and the length of their boundaries [m].
 struct LoopRegions {
     std::vector<double> area, perimeter;
 };
@@ -43,11 +48,13 @@ struct LoopTally {
     /// 1 if the pieces do not match the regions: another count, or a region whose piece's area is
     /// off by more than kLoopAreaTolerance times its perimeter
     int mismatch = 0;
+    /// With the right count, the largest |piece's area - region's| over a region's boundary [m]
+    double offset = 0.0;
 };
 
 /// A freed piece's area may differ from its region's by this much per metre of the region's
-/// boundary [m]: the tissue's motion under the blade (the skin's tension stretches it 1.7 %) and
-/// the cut's straight line through each element.
+/// boundary [m]: the tissue's motion under the blade (the wound opens behind it, the skin
+/// retracts) and the cut's straight line through each element.
 constexpr double kLoopAreaTolerance = 0.0005;
 
 /// The pieces of `w` (counted again) against `regions`.
