@@ -206,6 +206,29 @@ bool blade_entered_across(const World& w, int tool, int f, int a, int b) {
     return k >= 0 && (it->second.mask >> k & 1);
 }
 
+/// Where `tool`'s blade went into mesh triangle f through its edge (a, b), as a parameter from a,
+/// while it is still inside f; -1 if it is not (blade_entered_across).
+double blade_entry(const World& w, int tool, int f, int a, int b) {
+    if (!blade_entered_across(w, tool, f, a, b)) return -1.0;
+    bool from_a = true;
+    const int k = local_edge_of(w, f, a, b, from_a);
+    return param_from(w.cut_state.blade[tool].crossing.at(f).t[k], from_a);
+}
+
+/// The point of edge (a, b) of cut triangle e (a parameter from a) where one of e's lines crosses
+/// it nearest `t`, if within kJoinFraction of it; else t.
+double line_point_near(const World& w, int e, int a, int b, double t) {
+    const Vec3 &Xa = w.nodes.rest[a], &Xb = w.nodes.rest[b];
+    double best = t, gap = kJoinFraction;
+    for (const CutLine& l : lines_of(w, w.cuts.cut_of_element[e])) {
+        const double la = l.normal.dot(Xa - l.origin), lb = l.normal.dot(Xb - l.origin);
+        if ((la >= 0.0) == (lb >= 0.0)) continue;
+        const double s = la / (la - lb);
+        if (std::abs(s - t) <= gap) gap = std::abs(s - t), best = s;
+    }
+    return best;
+}
+
 }  // namespace
 
 namespace {
@@ -297,12 +320,23 @@ void join_earlier_points(const World& w, CutEvent& ev) {
         const double li = ev.level[i], lj = ev.level[j];
         if ((li >= 0.0) == (lj >= 0.0)) continue;
         const double t = ev.edge_has_t[k] ? ev.edge_t[k] : li / (li - lj);
+        const int f = across_edge(w, e, n[i], n[j]);
+        // The blade comes back out of the element across through the edge it went in by, away
+        // from where it went in (a path that dips into an element already cut, and leaves it where
+        // another wound meets the edge): the crack runs along the edge between, from the point
+        // where the blade went in (or e's line there). Joined to the other wound instead, the
+        // crack would leave the edge's part between the two points, and the material of the
+        // element across along it, joining both sides of the blade's path (a loop's lens kept).
+        const double entry = cut[e] >= 0 && f >= 0 && ev.tool >= 0 ? blade_entry(w, ev.tool, f, n[i], n[j]) : -1.0;
+        if (entry >= 0.0 && std::abs(entry - t) > kJoinFraction) {
+            ev.edge_t[k] = line_point_near(w, e, n[i], n[j], entry), ev.edge_has_t[k] = 1;
+            continue;
+        }
         const double earlier = crack_edge_param(w, n[i], n[j]);
         if (earlier <= 0.0 || earlier >= 1.0 || earlier == t) continue;
         // The element's own crack ends on this edge, where the same blade went into the uncut
         // element across, and the blade comes back out through it: the crack runs along the edge
         // between (a path that grazes a mesh line dips into the element beyond by a hair).
-        const int f = across_edge(w, e, n[i], n[j]);
         const bool back = cut[e] >= 0 && f >= 0 && cut[f] < 0 && ev.tool >= 0 && w.cuts.tool[cut[e]] == ev.tool &&
                           blade_entered_across(w, ev.tool, f, n[i], n[j]);
         if (!back && std::abs(earlier - t) > kJoinFraction) continue;
@@ -340,11 +374,13 @@ constexpr double kSliverRoundOff = 1e-12;
 /// element (new weight), a new one takes the rest. False (nothing changed) if it divides none.
 bool divide_fragments(World& w, int c, const std::vector<int>& frags, const std::vector<Parts>& parts,
                       const CutLine& line, int same, double measure, const std::array<double, 6>* edge_t = nullptr) {
-    // 3D (edge_t given): every fragment the plane crosses is divided, a sliver too (its weight held
-    // at kMinSideFraction, as an element cut once near a node): left whole, its sliver across the
-    // plane would join the material there at the faces it shares with the neighbours the plane
-    // divided (a bridge at an X's crossing, where both cuts cross an edge a few micrometres apart).
-    const double least = (edge_t ? kSliverRoundOff : kMinFragmentFraction) * measure;
+    // Every fragment the line (plane) crosses is divided, a sliver too (its weight held at
+    // kMinSideFraction, as an element cut once near a node): left whole, its sliver across the line
+    // would join the material there at the edges (faces) it shares with the neighbours the line
+    // divided. In 3D a bridge at an X's crossing, where both cuts cross an edge a few micrometres
+    // apart; in 2D a loop's pass 2.5 um beside a node, whose corner in the element it crossed there
+    // (already cut by the loop's other pass) held 6e-7 of it and kept the lens joined.
+    const double least = kSliverRoundOff * measure;
     const auto divided = [&](const Parts& p) { return p.one >= least && p.zero >= least; };
     if (std::none_of(parts.begin(), parts.end(), divided)) return false;
     const int e = w.cuts.element[c];

@@ -15,10 +15,6 @@
 
 namespace xcut {
 
-/// Smallest area a fragment has, as a fraction of its element's [-]. A line that leaves less than
-/// this of a fragment on one side (through a node, or along an earlier line) does not cut it.
-inline constexpr double kMinFragmentFraction = 1e-6;
-
 /// Cosine of the angle [-] within which (and 1e-3 of the element's size apart) a further cut's line
 /// is one of the element's lines: cos 1 degree.
 inline constexpr double kSameLineCos = 0.9998476951563913;
