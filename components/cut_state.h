@@ -72,6 +72,9 @@ struct CutState {
     /// the tissue has no gap and no overlap where the tissue moves under it between steps.
     std::vector<std::array<MaterialPoint, 2>> anchor_material;
     std::vector<Vec3> last_tip, last_heel;      ///< per tool: blade edge at the previous step [m]
+    /// per tool: the blade's path has been ended where it stopped (its last stretch cut, its stems
+    /// made: end_stems); cleared when it moves again
+    std::vector<uint8_t> ended;
     std::vector<CutQuad> quads;       ///< quads made this step (all tools)
     std::vector<BladeCut> blade;      ///< per tool
     /// Per mesh element: a split was queued for it; it is not tested again. The decision is the

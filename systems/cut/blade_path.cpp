@@ -102,10 +102,14 @@ void sweep_blade(World& w, ElementBvh& bvh, int i, const std::vector<BladeAt>& p
     const BladeAt& end = path.back();
     const bool stopped = end.tip == cs.last_tip[i] && end.heel == cs.last_heel[i];
     cs.last_tip[i] = end.tip, cs.last_heel[i] = end.heel;
+    if (!stopped) cs.ended[i] = 0;
     const double left = moved(end);
-    if (stopped && left > 1e-6 * threshold && left < threshold) {  // the step the blade stopped in
-        cut_to(w, bvh, i, end);
+    // The step the blade stopped in: its stems are made though no stretch is left (its last quad
+    // ended where it stopped), else a loop's end inside the element past a cross-cut met nothing.
+    if (stopped && !cs.ended[i] && left < threshold) {
+        if (left > 1e-6 * threshold) cut_to(w, bvh, i, end);
         end_stems(w, i, end.tip);
+        cs.ended[i] = 1;
     }
 }
 
@@ -124,6 +128,7 @@ void run_cut_system(World& w, ElementBvh& bvh) {
     cs.anchor_heel.resize(tb.count());
     cs.last_tip.resize(tb.count());
     cs.last_heel.resize(tb.count());
+    cs.ended.resize(tb.count(), 0);
     cs.blade.resize(tb.count());
     cs.anchor_material.resize(tb.count());
     for (int i = 0; i < tb.count(); ++i) {

@@ -96,9 +96,11 @@ TEST(StressLoops, TheFirstLoopsFreeThePiecesTheirPathsEnclose) {
 // per element), each freed now: 177, whose pass 2.5 um beside a node left the corner of the element
 // it crossed there (cut by the loop's other pass) whole, 6e-7 of it, below the sliver bound a
 // further cut of a triangle then had; 30, whose loop dipped into an element the cross-cut had cut
-// and left it through the edge it went in by, 0.46 of it away, at the cross-cut's point there.
+// and left it through the edge it went in by, 0.46 of it away, at the cross-cut's point there;
+// 125, whose loop stopped inside an element, 0.3 mm short of the cross-cut through it, at the end
+// of a quad: no stretch was left to cut, and its stem was not made.
 TEST(StressLoops, LoopsPassingBesideANodeOrDippingIntoACutElementFreeTheirPieces) {
-    for (const int index : {177, 30}) {
+    for (const int index : {177, 30, 125}) {
         StressOptions o;
         o.only = index;
         const StressSummary s = run_loops(o);
