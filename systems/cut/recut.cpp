@@ -123,18 +123,30 @@ namespace {
 
 /// Where a blade's end inside cut element e (barycentric `at`, its stem from the rest crossing
 /// `cross`) meets one of e's lines, as barycentric coordinates in e: the end itself, or, where a
-/// line that does not part it from `cross` lies within kJoinFraction of e's longest edge, the
-/// nearest point of that line inside e.
+/// line that does not part it from `cross` passes within kJoinFraction of e's longest edge of it
+/// inside e, the nearest point of that line's chord through e (the foot of the perpendicular, or
+/// the chord's end on an edge where the foot lies outside e: a blade that stops beside the point
+/// where the wound leaves the element).
 Vec3 end_on_wound(const World& w, int e, const std::array<Vec3, 3>& X, const Vec3& at, const Vec3& cross) {
-    const double reach = kJoinFraction * longest_edge(X);
+    const double size = longest_edge(X);
     const Vec3 end = at.x() * X[0] + at.y() * X[1] + at.z() * X[2];
     Vec3 best = at;
-    double nearest = reach;
+    double nearest = kJoinFraction * size;
     for (const CutLine& line : lines_of(w, w.cuts.cut_of_element[e])) {
         const double d = line.normal.dot(end - line.origin), dc = line.normal.dot(cross - line.origin);
         if ((d >= 0.0) != (dc >= 0.0) || std::abs(d) >= nearest) continue;
-        const Vec3 on = triangle_barycentric(X, end - d * line.normal);
-        if (on.minCoeff() >= 0.0) best = on, nearest = std::abs(d);
+        if (const Vec3 on = triangle_barycentric(X, end - d * line.normal); on.minCoeff() >= 0.0) {
+            best = on, nearest = std::abs(d);
+            continue;
+        }
+        // The line's chord through e, as a long segment's parameters, and its point nearest the end.
+        const Vec3 along(-line.normal.y(), line.normal.x(), 0.0);
+        const Vec3 a = line.origin - 2.0 * size * along, b = line.origin + 2.0 * size * along;
+        const std::array<double, 2> chord = segment_in_polygon(a, b, {X.begin(), X.end()});
+        if (!(chord[1] > chord[0])) continue;
+        const double s = std::clamp((end - a).dot(along) / (4.0 * size), chord[0], chord[1]);
+        const Vec3 p = a + s * (b - a);
+        if ((p - end).norm() < nearest) best = triangle_barycentric(X, p).cwiseMax(0.0), nearest = (p - end).norm();
     }
     return best;
 }

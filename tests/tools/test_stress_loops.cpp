@@ -98,9 +98,11 @@ TEST(StressLoops, TheFirstLoopsFreeThePiecesTheirPathsEnclose) {
 // further cut of a triangle then had; 30, whose loop dipped into an element the cross-cut had cut
 // and left it through the edge it went in by, 0.46 of it away, at the cross-cut's point there;
 // 125, whose loop stopped inside an element, 0.3 mm short of the cross-cut through it, at the end
-// of a quad: no stretch was left to cut, and its stem was not made.
+// of a quad: no stretch was left to cut, and its stem was not made; 173, a loop alone that stopped
+// 0.1 mm beside where its first pass left the element it stopped in, its stem ending short of that
+// wound (the nearest point of the wound's line lay outside the element).
 TEST(StressLoops, LoopsPassingBesideANodeOrDippingIntoACutElementFreeTheirPieces) {
-    for (const int index : {177, 30, 125}) {
+    for (const int index : {177, 30, 125, 173}) {
         StressOptions o;
         o.only = index;
         const StressSummary s = run_loops(o);
