@@ -113,7 +113,12 @@ inline constexpr double kJoinFraction = kAlongFraction;
 /// an earlier crack's point there (crack_edge_param) takes that point, so its crack meets the
 /// earlier one. So does, wherever on the edge, a blade's cut again of an element its own crack ends
 /// on an edge of, where the blade went through that edge into the uncut element beyond and comes
-/// back out through it (a path that grazes a mesh line). A bounded cut (a stem) keeps its points.
+/// back out through it (a path that grazes a mesh line). A blade that comes back out of the element
+/// beyond (cut or not) through the edge it went in by, more than kJoinFraction from where it went
+/// in, takes the point where it went in, or e's line within kJoinFraction of it: a path that dips
+/// into an element and leaves it where another wound meets the edge would otherwise leave the
+/// edge's part between the two points joining both sides of it. A bounded cut (a stem) keeps its
+/// points.
 /// In 3D (a scalpel's event): each edge it crosses takes the point its own incision (a cut within
 /// 30 degrees of it) already put there in a neighbour, and a cut through four edges is then made
 /// planar (its one point no neighbour fixed moves onto the plane of the other three): a blade's
