@@ -51,6 +51,13 @@ struct BladeCut {
     /// Where a stem drawn to a wound ends: once the blade leaves the element, it is cut behind that
     /// edge (systems/cut/stem_3d.h).
     std::map<int, std::array<Vec3, 3>> ended_in;
+    /// 2D: the mesh triangle the blade's path began inside (uncut then; -1: none, or the path began
+    /// outside the tissue) and, once the blade has left it crossed once, that crossing out of it
+    /// (mask 0 before). A path that comes back into it and stops there takes that crossing as its
+    /// own (close_at_start, systems/cut/cut_system.h): a loop closing inside the element it began in
+    /// splits it from where it came back in to where it first went out, and its piece is freed.
+    int start_element = -1;
+    ElementCrossings start_exit;
 };
 
 struct CutState {

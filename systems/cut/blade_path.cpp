@@ -58,7 +58,13 @@ struct BladeAt {
 /// passes through: a stab pushed along the edge sweeps no surface with its edge).
 void cut_to(World& w, ElementBvh& bvh, int i, const BladeAt& b) {
     CutState& cs = w.cut_state;
-    if (w.elements.dim == 2) note_loop(w, i, cs.anchor_tip[i], b.tip);
+    if (w.elements.dim == 2) {
+        if (static_cast<int>(cs.path.size()) <= i || cs.path[i].empty()) {  // the path begins: in which element
+            if (static_cast<int>(cs.blade.size()) <= i) cs.blade.resize(i + 1);
+            cs.blade[i].start_element = tissue_at(w, bvh, cs.anchor_tip[i], cs.anchor_heel[i])[0].element;
+        }
+        note_loop(w, i, cs.anchor_tip[i], b.tip);
+    }
     const CutQuad face{{b.tip, b.heel, b.heel + b.back, b.tip + b.back}};
     process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], b.heel, b.tip}}, i,
                      b.back == Vec3::Zero() ? nullptr : &face);
@@ -108,6 +114,7 @@ void sweep_blade(World& w, ElementBvh& bvh, int i, const std::vector<BladeAt>& p
     // ended where it stopped), else a loop's end inside the element past a cross-cut met nothing.
     if (stopped && !cs.ended[i] && left < threshold) {
         if (left > 1e-6 * threshold) cut_to(w, bvh, i, end);
+        if (w.elements.dim == 2) close_at_start(w, i);
         end_stems(w, i, end.tip);
         cs.ended[i] = 1;
     }

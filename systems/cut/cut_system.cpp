@@ -369,7 +369,39 @@ void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed, int 
     }
 }
 
+/// Drops the partly crossed elements the search (`candidates`, sorted) no longer reaches: the blade
+/// has left them (in 3D, one already cut that it ended inside is cut behind where it ended first:
+/// end_stems_3d). The element the path began in keeps its crossing out (BladeCut::start_exit).
+void drop_left(World& w, BladeCut& bc, const std::vector<int>& candidates, int tool) {
+    std::vector<int> leaving;
+    for (const auto& [e, c] : bc.crossing)
+        if (!std::binary_search(candidates.begin(), candidates.end(), e)) leaving.push_back(e);
+    std::sort(leaving.begin(), leaving.end());
+    w.cut_state.elements_split += end_stems_3d(w, bc, leaving, tool);
+    for (int e : leaving) {
+        const ElementCrossings& c = bc.crossing.at(e);
+        if (e == bc.start_element && __builtin_popcount(c.mask) == 1 && !c.split) bc.start_exit = c;
+        remove_from_list(bc, e, c.list);
+        bc.crossing.erase(e);
+    }
+}
+
 }  // namespace
+
+void close_at_start(World& w, int tool) {
+    CutState& cs = w.cut_state;
+    if (tool >= static_cast<int>(cs.blade.size())) return;
+    BladeCut& bc = cs.blade[tool];
+    const int e = bc.start_element;
+    const auto it = e < 0 ? bc.crossing.end() : bc.crossing.find(e);
+    if (it == bc.crossing.end() || w.cuts.cut_of_element[e] >= 0 || (!cs.queued.empty() && cs.queued[e])) return;
+    ElementCrossings& c = it->second;
+    const uint8_t out = bc.start_exit.mask;
+    if (c.split || __builtin_popcount(c.mask) != 1 || __builtin_popcount(out) != 1 || c.mask == out) return;
+    const int k = __builtin_ctz(out);
+    c.mask |= out, c.t[k] = bc.start_exit.t[k], c.normal[k] = bc.start_exit.normal[k];
+    split_or_list(w, bc, {e}, tool, CutQuad{});
+}
 
 void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, const CutQuad* face) {
     CutState& cs = w.cut_state;
@@ -432,18 +464,8 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
     split_or_list(w, bc, crossed, tool, q);
     if (static_cast<int>(cs.split_by_tool.size()) <= tool) cs.split_by_tool.resize(tool + 1, 0);
     cs.split_by_tool[tool] += cs.elements_split - queued_before;
-    // Elements the search no longer reaches are dropped: the blade has left them (in 3D, one already
-    // cut that it ended inside is cut behind where it ended: a stem drawn to a wound, stem_3d.h).
     note_stem_ends(w, bc, q);
-    std::vector<int> leaving;
-    for (const auto& [e, c] : bc.crossing)
-        if (!std::binary_search(candidates.begin(), candidates.end(), e)) leaving.push_back(e);
-    std::sort(leaving.begin(), leaving.end());
-    cs.elements_split += end_stems_3d(w, bc, leaving, tool);
-    for (int e : leaving) {
-        remove_from_list(bc, e, bc.crossing.at(e).list);
-        bc.crossing.erase(e);
-    }
+    drop_left(w, bc, candidates, tool);
     const auto unreached = [&](const auto& b) { return !std::binary_search(candidates.begin(), candidates.end(), b.first); };
     std::erase_if(bc.began_in, unreached), std::erase_if(bc.ended_in, unreached);
     bc.front = crossed;

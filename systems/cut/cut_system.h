@@ -33,6 +33,12 @@ namespace xcut {
 /// tip1) against that tool's own lists and front, and with `face` the blade's face where the quad
 /// ends (tip1, heel1, heel1 + back, tip1 + back): an edge crossed by either counts. Queues splits.
 void process_cut_quad(World& world, ElementBvh& bvh, const CutQuad& quad, int tool = 0, const CutQuad* face = nullptr);
+
+/// 2D, a blade that stops: if it stops inside the element its path began in (BladeCut::
+/// start_element, still whole), having come back into it across another edge than it first left it
+/// by, that element is split from where it came back in to where it first went out
+/// (BladeCut::start_exit): a loop that closes inside the element it began in frees its piece.
+void close_at_start(World& world, int tool);
 /// The mesh elements and nodes the cut searches (the element BVH's view of the world).
 MeshView mesh_view(const World& world);
 /// One step of the cutter for every bladed tool.

@@ -241,6 +241,46 @@ double line_point_near(const World& w, int e, int a, int b, double t) {
     return best;
 }
 
+/// Whether rest point x is a corner of a fragment of cut triangle f (cut c): where one of f's
+/// lines bounds material, not where the line runs on through a fragment it does not divide.
+bool fragment_corner(const World& w, int f, int c, const Vec3& x, double tolerance) {
+    const std::vector<CutLine>& lines = w.cuts.lines[c];
+    const std::array<Vec3, 3> X = corners(w, f);
+    for (int v : fragments_of(w, c))
+        for (const Vec3& q : fragment_polygon(X, lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v]))
+            if ((q - x).norm() <= tolerance) return true;
+    return false;
+}
+
+/// Of the points where cracks already cross mesh edge (a, b) of a triangle mesh (a first cut's
+/// points, and where a further line bounds a fragment at the edge), the parameter from a nearest
+/// t; -1 if none. An edge two incisions cross holds a point of each.
+double crack_point_near(const World& w, int a, int b, double t) {
+    const Vec3 &Xa = w.nodes.rest[a], &Xb = w.nodes.rest[b];
+    const double length2 = (Xb - Xa).squaredNorm();
+    double best = -1.0;
+    const auto take = [&](double s) {
+        if (s > 0.0 && s < 1.0 && (best < 0.0 || std::abs(s - t) < std::abs(best - t))) best = s;
+    };
+    for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
+        const int f = w.incidence.entry[p] >> 2;
+        const int c = f < w.mesh_elements ? w.cuts.cut_of_element[f] : -1;
+        bool from_a = true;
+        const int edge = c < 0 ? -1 : local_edge_of(w, f, a, b, from_a);
+        if (edge < 0) continue;
+        for (int k = 0; k < 4 && w.cuts.point_edge[c][k] >= 0; ++k)
+            if (w.cuts.point_edge[c][k] == edge) take((w.cuts.points[c][k] - Xa).dot(Xb - Xa) / length2);
+        const std::vector<CutLine>& lines = w.cuts.lines[c];
+        for (size_t l = 1; l < lines.size(); ++l) {
+            const double la = lines[l].normal.dot(Xa - lines[l].origin), lb = lines[l].normal.dot(Xb - lines[l].origin);
+            if ((la >= 0.0) == (lb >= 0.0)) continue;
+            const double s = la / (la - lb);
+            if (fragment_corner(w, f, c, Xa + s * (Xb - Xa), 1e-9 * std::sqrt(length2))) take(s);
+        }
+    }
+    return best;
+}
+
 }  // namespace
 
 namespace {
@@ -344,13 +384,16 @@ void join_earlier_points(const World& w, CutEvent& ev) {
             ev.edge_t[k] = line_point_near(w, e, n[i], n[j], entry), ev.edge_has_t[k] = 1;
             continue;
         }
-        const double earlier = crack_edge_param(w, n[i], n[j]);
-        if (earlier <= 0.0 || earlier >= 1.0 || earlier == t) continue;
         // The element's own crack ends on this edge, where the same blade went into the uncut
         // element across, and the blade comes back out through it: the crack runs along the edge
         // between (a path that grazes a mesh line dips into the element beyond by a hair).
         const bool back = cut[e] >= 0 && f >= 0 && cut[f] < 0 && ev.tool >= 0 && w.cuts.tool[cut[e]] == ev.tool &&
                           blade_entered_across(w, ev.tool, f, n[i], n[j]);
+        // Else, for a blade, the earlier point nearest: an edge a cross-cut and a loop's first pass
+        // both cross holds two, and the closing pass meets the one it retraces (its crossings are
+        // measured on moving tissue; a scripted cut, drawn at rest, keeps the first point's rule).
+        const double earlier = back || ev.tool < 0 ? crack_edge_param(w, n[i], n[j]) : crack_point_near(w, n[i], n[j], t);
+        if (earlier <= 0.0 || earlier >= 1.0 || earlier == t) continue;
         if (!back && std::abs(earlier - t) > kJoinFraction) continue;
         ev.edge_t[k] = earlier, ev.edge_has_t[k] = 1;
     }

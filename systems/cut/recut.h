@@ -110,7 +110,8 @@ bool stem_event(const World& world, int e, int crossed, double t, const Vec3& st
 inline constexpr double kJoinFraction = kAlongFraction;
 
 /// An event of another incision or a later pass (2D): each edge it crosses within kJoinFraction of
-/// an earlier crack's point there (crack_edge_param) takes that point, so its crack meets the
+/// an earlier crack's point there takes that point (a blade's, the nearest of the edge's points,
+/// each incision's; a scripted cut's, the first, crack_edge_param), so its crack meets the
 /// earlier one. So does, wherever on the edge, a blade's cut again of an element its own crack ends
 /// on an edge of, where the blade went through that edge into the uncut element beyond and comes
 /// back out through it (a path that grazes a mesh line). A blade that comes back out of the element

@@ -100,9 +100,13 @@ TEST(StressLoops, TheFirstLoopsFreeThePiecesTheirPathsEnclose) {
 // 125, whose loop stopped inside an element, 0.3 mm short of the cross-cut through it, at the end
 // of a quad: no stretch was left to cut, and its stem was not made; 173, a loop alone that stopped
 // 0.1 mm beside where its first pass left the element it stopped in, its stem ending short of that
-// wound (the nearest point of the wound's line lay outside the element).
+// wound (the nearest point of the wound's line lay outside the element); 182, whose closing pass
+// left an element through the edge its first pass and the cross-cut had both crossed, and was
+// joined to the cross-cut's point there, the first one found, not to its first pass's 0.12 of the
+// edge from its own; 195, whose loop stopped inside the element it began in, never cut: its first
+// crossing out of it had been forgotten when the blade left it.
 TEST(StressLoops, LoopsPassingBesideANodeOrDippingIntoACutElementFreeTheirPieces) {
-    for (const int index : {177, 30, 125, 173}) {
+    for (const int index : {177, 30, 125, 173, 182, 195}) {
         StressOptions o;
         o.only = index;
         const StressSummary s = run_loops(o);
