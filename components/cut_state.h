@@ -25,11 +25,15 @@ struct ElementCrossings {
     bool split = false;               ///< progressive front: already split as a tip element
 };
 
-/// A point of the tissue (2D): a mesh triangle not cut when it was found, and the point's
-/// barycentric coordinates in it; element -1: none (the point lies outside the tissue, or in 3D).
+/// A point of the tissue (2D): a mesh triangle (whole, or cut: the fragment holding it) when it was
+/// found, and the point's barycentric coordinates in it; element -1: none (the point lies outside
+/// the tissue, or in 3D).
 struct MaterialPoint {
     int element = -1;
     Vec3 bary = Vec3::Zero();
+    /// The element was cut when the point was found: the virtual element (its fragment, or side)
+    /// whose material holds the point; bary are then its node copies' weights. -1: whole.
+    int fragment = -1;
 };
 
 struct CutQuad {

@@ -75,9 +75,9 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
             const CutState& c = w.cut_state;
             h.all(c.anchored, c.anchor_tip, c.anchor_heel, c.last_tip, c.last_heel, c.quads, c.queued, c.quads_built,
                   c.elements_tested, c.crossings_found, c.elements_split, c.delay_sim, c.split_by_tool, c.mean_edge);
-            for (const BladeCut& b : c.blade) h.all(b.front, b.lists[0], b.lists[1], b.lists[2], b.crossing.size());
+            for (const BladeCut& b : c.blade) h.all(b.front, b.lists[0], b.lists[1], b.lists[2], b.crossing.size(), b.start_element, b.start_exit.mask);
             for (const std::vector<Vec3>& p : c.path) h.all(p);
-            for (const std::array<MaterialPoint, 2>& m : c.anchor_material) h.all(m[0].element, m[0].bary, m[1].element, m[1].bary);
+            for (const std::array<MaterialPoint, 2>& m : c.anchor_material) h.all(m[0].element, m[0].bary, m[0].fragment, m[1].element, m[1].bary, m[1].fragment);
             h.all(c.path_time, c.loop_time, c.loop_with);
             for (const auto& [pair, meet] : c.paths_meet) h.all(meet);
             return;

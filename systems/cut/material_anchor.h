@@ -7,7 +7,10 @@
 // the anchor is the tissue the blade's edge was in: the next quad starts where that tissue is now,
 // and the quads' path through the tissue is continuous, as the blade's is. An end of the edge
 // outside the tissue (the heel of a 2D blade, out of the plane) moves as the other end does, or,
-// with neither end in tissue, stays where it was.
+// with neither end in tissue, stays where it was. An end in an element already cut is carried by
+// the fragment whose material it is (its node copies): a blade crossing a lens its loop has freed,
+// which drifts, or a cross-cut's wound that opens, missed an edge 0.1 mm from a node with the anchor
+// left in space there (loop stress trajectories 399 and 301, docs/BENCHMARKS.md).
 //
 // 2D only. A scalpel drawn round 36 ellipses in the face skin (tests/systems/test_recut_loops.cpp)
 // left 5 lenses joined to the skin with the anchor in space, 2 with it in the tissue. In 3D the same
@@ -20,13 +23,17 @@
 
 namespace xcut {
 
-/// The tissue at each end of a blade's edge (2D): for each, the lowest mesh triangle not yet cut
-/// (nor queued) whose current shape holds it, in its plane, with its barycentric coordinates
-/// (lowest: the choice is deterministic); element -1 if none, and in 3D.
+/// The tissue at each end of a blade's edge (2D): for each, the lowest mesh triangle whose
+/// material holds it, in its plane, with its barycentric coordinates (lowest: the choice is
+/// deterministic): a whole one (not cut, nor queued) by its current shape; one cut, where elements
+/// are cut again (recut_allowed), by the first of its fragments whose node copies' current triangle
+/// holds it with the fragment's own material there (MaterialPoint::fragment). Element -1 if none,
+/// and in 3D.
 std::array<MaterialPoint, 2> tissue_at(const World& w, ElementBvh& bvh, const Vec3& tip, const Vec3& heel);
 
 /// Moves tool i's anchor (tip, heel) to where the tissue it was in is now, while that element is
-/// still whole: an end in tissue moves with it, an end outside by the other end's displacement.
+/// still whole (or its fragment still holds it): an end in tissue moves with it, an end outside by
+/// the other end's displacement.
 void carry_anchor(World& w, int i);
 
 }  // namespace xcut
