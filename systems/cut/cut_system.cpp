@@ -394,7 +394,8 @@ void close_at_start(World& w, int tool) {
     BladeCut& bc = cs.blade[tool];
     const int e = bc.start_element;
     const auto it = e < 0 ? bc.crossing.end() : bc.crossing.find(e);
-    if (it == bc.crossing.end() || w.cuts.cut_of_element[e] >= 0 || (!cs.queued.empty() && cs.queued[e])) return;
+    const auto& cut = w.cuts.cut_of_element;  // empty in a world the enrichment never saw
+    if (it == bc.crossing.end() || (!cut.empty() && cut[e] >= 0) || (!cs.queued.empty() && cs.queued[e])) return;
     ElementCrossings& c = it->second;
     const uint8_t out = bc.start_exit.mask;
     if (c.split || __builtin_popcount(c.mask) != 1 || __builtin_popcount(out) != 1 || c.mask == out) return;

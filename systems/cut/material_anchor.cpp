@@ -72,7 +72,7 @@ MaterialPoint tissue_in(const World& w, int e, const Vec3& p) {
     if (whole(w, e)) return holds_now(w, e, p, b) ? MaterialPoint{e, b, -1} : MaterialPoint{};
     const auto& cut = w.cuts.cut_of_element;
     if (!recut_allowed(w) || cut.empty() || cut[e] < 0) return {};  // queued: split this step
-    for (const int v : fragments_of(w, w.cuts.cut_of_element[e]))
+    for (const int v : fragments_of(w, cut[e]))
         if (holds_now(w, w.virtual_elements.element[v], p, b) && fragment_has(w, e, v, b)) return {e, b, v};
     return {};
 }
