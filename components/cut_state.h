@@ -15,16 +15,6 @@ namespace xcut {
 
 inline std::array<Vec3, 6> filled(const Vec3& v) { return {v, v, v, v, v, v}; }
 
-struct ElementCrossings {
-    uint8_t mask = 0;                 ///< bit k: local edge k crossed (distinct edges only)
-    std::array<double, 6> t{};        ///< crossing parameter along each crossed edge [-]
-    std::array<Vec3, 6> normal = filled(Vec3::Zero());  ///< normal of the quad triangle that crossed the edge
-    double first_time = 0.0;          ///< simulated time of the first crossing [s]
-    double first_wall = 0.0;          ///< wall time of the first crossing [s]
-    int list = 0;                     ///< 1, 2 or 3: which of L1, L2, L3 holds it
-    bool split = false;               ///< progressive front: already split as a tip element
-};
-
 /// A point of the tissue (2D): a mesh triangle (whole, or cut: the fragment holding it) when it was
 /// found, and the point's barycentric coordinates in it; element -1: none (the point lies outside
 /// the tissue, or in 3D).
@@ -34,6 +24,21 @@ struct MaterialPoint {
     /// The element was cut when the point was found: the virtual element (its fragment, or side)
     /// whose material holds the point; bary are then its node copies' weights. -1: whole.
     int fragment = -1;
+};
+
+struct ElementCrossings {
+    uint8_t mask = 0;                 ///< bit k: local edge k crossed (distinct edges only)
+    std::array<double, 6> t{};        ///< crossing parameter along each crossed edge [-]
+    std::array<Vec3, 6> normal = filled(Vec3::Zero());  ///< normal of the quad triangle that crossed the edge
+    double first_time = 0.0;          ///< simulated time of the first crossing [s]
+    double first_wall = 0.0;          ///< wall time of the first crossing [s]
+    int list = 0;                     ///< 1, 2 or 3: which of L1, L2, L3 holds it
+    bool split = false;               ///< progressive front: already split as a tip element
+    /// 2D, an element already cut that the blade left through the edge it came in by, having turned
+    /// beside one of its lines (a dip: systems/cut/cut_system.cpp, dipped): where it turned, as a
+    /// point of the tissue. Crossed nowhere else by the time the blade leaves it, it is cut from
+    /// where the blade came in to there. Element -1: no dip.
+    MaterialPoint turn;
 };
 
 struct CutQuad {

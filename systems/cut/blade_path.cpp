@@ -90,7 +90,8 @@ void end_stems(World& w, int tool, const Vec3& end) {
         const ElementCrossings& c = bc.crossing.at(e);
         const int k = __builtin_ctz(c.mask);
         CutEvent ev;
-        if (stem_event(w, e, k, c.t[k], end, ev)) ev.tool = tool, w.pending_cuts.push_back(ev);
+        const Vec3 from = c.turn.element >= 0 ? material_position(w, c.turn) : end;  // a dip: where it turned
+        if (stem_event(w, e, k, c.t[k], from, ev)) ev.tool = tool, w.pending_cuts.push_back(ev);
     }
 }
 

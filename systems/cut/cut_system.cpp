@@ -7,6 +7,7 @@
 #include "engine/parallel.h"
 #include "engine/quadratic_setup.h"
 #include "systems/cut/edge_geometry.h"
+#include "systems/cut/material_anchor.h"
 #include "systems/cut/quad_reach.h"
 #include "systems/cut/recut.h"
 #include "systems/cut/stem_3d.h"
@@ -226,6 +227,26 @@ std::array<Vec3, 2> quad_normals(int dim, const CutQuad& q) {
             (q.corner[2] - q.corner[0]).cross(q.corner[3] - q.corner[0])};
 }
 
+/// A blade in cut element e (2D) through edge k alone that crosses that edge again at t away from
+/// where it came in (more than kAlongFraction of the edge), having turned at `turn` (the quad's
+/// start, current position) beside one of e's lines (within kJoinFraction of its longest edge): it
+/// dipped into the element and back out, as a loop closing beside its first pass does in the sliver
+/// between that pass and a mesh line (loop stress trajectories 275, 845). Where it turned is kept
+/// (ElementCrossings::turn): crossed nowhere else by the time the blade leaves the element, it is
+/// cut from where the blade came in to there (drop_left, end_stems), not left joined across the dip.
+void note_dip(const World& w, int e, ElementCrossings& c, int k, double t, const Vec3& turn) {
+    const auto& cut = w.cuts.cut_of_element;
+    if (w.elements.dim != 2 || !recut_allowed(w) || cut.empty() || cut[e] < 0 || c.split || c.mask != (1u << k) ||
+        !(std::abs(t - c.t[k]) > kAlongFraction))
+        return;
+    const MaterialPoint m = material_in(w, e, turn);
+    if (m.element < 0) return;
+    const std::array<Vec3, 3> X = corners(w, e);
+    const Vec3 at = m.bary.x() * X[0] + m.bary.y() * X[1] + m.bary.z() * X[2];
+    for (const CutLine& l : lines_of(w, cut[e]))
+        if (std::abs(l.normal.dot(at - l.origin)) < kJoinFraction * longest_edge(X)) c.turn = m;
+}
+
 /// Tests the candidate's edges against the quads (the edge's sweep, and the blade's face when it
 /// has one); returns how many new distinct edges it crossed. `beside`: a cut element the blade
 /// passes along its cut, whose crossings count only if one of them is away from its cut (recut.h).
@@ -253,7 +274,10 @@ int test_element(World& w, BladeCut& bc, int e, const std::vector<const CutQuad*
             it = bc.crossing.emplace(e, fresh).first;
         }
         ElementCrossings& c = it->second;
-        if (c.mask >> k & 1) continue;  // this edge already counted: a trembling blade
+        if (c.mask >> k & 1) {  // this edge already counted: a trembling blade, or a dip
+            note_dip(w, e, c, k, *t[k], quads[0]->corner[0]);
+            continue;
+        }
         c.mask |= uint8_t(1u << k);
         c.t[k] = *t[k];
         c.normal[k] = *normal[k];
@@ -381,6 +405,10 @@ void drop_left(World& w, BladeCut& bc, const std::vector<int>& candidates, int t
     for (int e : leaving) {
         const ElementCrossings& c = bc.crossing.at(e);
         if (e == bc.start_element && __builtin_popcount(c.mask) == 1 && !c.split) bc.start_exit = c;
+        CutEvent ev;
+        if (c.turn.element >= 0 && __builtin_popcount(c.mask) == 1 &&
+            stem_event(w, e, __builtin_ctz(c.mask), c.t[__builtin_ctz(c.mask)], material_position(w, c.turn), ev))
+            ev.tool = tool, w.pending_cuts.push_back(ev), ++w.cut_state.elements_split;
         remove_from_list(bc, e, c.list);
         bc.crossing.erase(e);
     }

@@ -56,18 +56,16 @@ bool still_held(const World& w, const MaterialPoint& m) {
     return !cut.empty() && cut[m.element] >= 0 && fragment_has(w, m.element, m.fragment, m.bary);
 }
 
-/// Where material point m is now [m].
-Vec3 where_now(const World& w, const MaterialPoint& m) {
+}  // namespace
+
+Vec3 material_position(const World& w, const MaterialPoint& m) {
     Vec3 x = Vec3::Zero();
     const int e = carrier(w, m);
     for (int a = 0; a < 3; ++a) x += m.bary[a] * w.nodes.position[w.elements.nodes[e][a]];
     return x;
 }
 
-/// The tissue at p in mesh triangle e: the whole triangle's, or where e is cut (and cut again in
-/// this world: recut_allowed), the first of its fragments whose node copies' current triangle
-/// holds p and whose material there is its own; element -1 if none.
-MaterialPoint tissue_in(const World& w, int e, const Vec3& p) {
+MaterialPoint material_in(const World& w, int e, const Vec3& p) {
     Vec3 b;
     if (whole(w, e)) return holds_now(w, e, p, b) ? MaterialPoint{e, b, -1} : MaterialPoint{};
     const auto& cut = w.cuts.cut_of_element;
@@ -76,8 +74,6 @@ MaterialPoint tissue_in(const World& w, int e, const Vec3& p) {
         if (holds_now(w, w.virtual_elements.element[v], p, b) && fragment_has(w, e, v, b)) return {e, b, v};
     return {};
 }
-
-}  // namespace
 
 std::array<MaterialPoint, 2> tissue_at(const World& w, ElementBvh& bvh, const Vec3& tip, const Vec3& heel) {
     std::array<MaterialPoint, 2> found{};
@@ -92,7 +88,7 @@ std::array<MaterialPoint, 2> tissue_at(const World& w, ElementBvh& bvh, const Ve
         std::sort(candidates.begin(), candidates.end());
         for (const int e : candidates) {
             if (e >= w.mesh_elements) continue;
-            found[k] = tissue_in(w, e, p);
+            found[k] = material_in(w, e, p);
             if (found[k].element >= 0) break;
         }
     }
@@ -107,7 +103,7 @@ void carry_anchor(World& w, int i) {
     std::array<Vec3, 2> moved{Vec3::Zero(), Vec3::Zero()};
     std::array<bool, 2> in{false, false};
     for (int k = 0; k < 2; ++k)
-        if (still_held(w, m[k])) in[k] = true, moved[k] = where_now(w, m[k]) - *end[k];
+        if (still_held(w, m[k])) in[k] = true, moved[k] = material_position(w, m[k]) - *end[k];
     for (int k = 0; k < 2; ++k) {
         if (in[k]) *end[k] += moved[k];
         else if (in[1 - k]) *end[k] += moved[1 - k];

@@ -31,6 +31,16 @@ namespace xcut {
 /// and in 3D.
 std::array<MaterialPoint, 2> tissue_at(const World& w, ElementBvh& bvh, const Vec3& tip, const Vec3& heel);
 
+/// The tissue at p (current, 2D) in mesh triangle e: the whole triangle's, by its current shape, or,
+/// where e is cut and cut again in this world (recut_allowed), the first of its fragments whose node
+/// copies' current triangle holds p with the fragment's own material there. Element -1 if none (also
+/// for an element queued to split this step).
+MaterialPoint material_in(const World& w, int e, const Vec3& p);
+
+/// Where material point m (2D) is now [m]: its element's, or its fragment's node copies', current
+/// positions at its barycentric coordinates.
+Vec3 material_position(const World& w, const MaterialPoint& m);
+
 /// Moves tool i's anchor (tip, heel) to where the tissue it was in is now, while that element is
 /// still whole (or its fragment still holds it): an end in tissue moves with it, an end outside by
 /// the other end's displacement.

@@ -40,16 +40,24 @@ TEST(Bench, CutSuiteTinyRun) {
     o.csv = (fs::temp_directory_path() / ("xcut_bench_cut_" + std::to_string(::getpid()) + ".csv")).string();
     ASSERT_EQ(cut_bench_command(o), 0);
     const auto lines = csv_lines(o.csv);
-    ASSERT_EQ(lines.size(), 3u);  // header, neighbourhood search, BVH search
-    EXPECT_EQ(lines[0], "search,tets,quads,splits,quad_p50_ms,quad_p99_ms,update_p50_ms,update_p99_ms,delay_p50_s,delay_p99_s");
+    ASSERT_EQ(lines.size(), 4u);  // header, neighbourhood search, BVH search, cut again
+    EXPECT_EQ(lines[0],
+              "search,tets,quads,splits,cut_again,quad_p50_ms,quad_p99_ms,update_p50_ms,update_p99_ms,delay_p50_s,delay_p99_s");
     EXPECT_EQ(lines[1].rfind("neighbourhood,", 0), 0u);
     EXPECT_EQ(lines[2].rfind("bvh,", 0), 0u);
+    EXPECT_EQ(lines[3].rfind("recut,", 0), 0u);
     for (size_t i = 1; i < lines.size(); ++i) expect_finite_positive_row(lines[i].substr(lines[i].find(',') + 1));
     const auto rows = run_cut_bench(o);
     EXPECT_GT(rows[0].splits, 0) << "the blade cuts the block";
     EXPECT_GT(rows[0].quads, 1);
     o.bvh_every_quad = true;
     EXPECT_EQ(run_cut_bench(o)[0].splits, rows[0].splits) << "both searches find the same elements";
+    EXPECT_EQ(rows[0].cut_again, 0) << "one scalpel cuts each element once";
+    o.bvh_every_quad = false;
+    o.recut = true;
+    const CutBenchRow again = run_cut_bench(o)[0];
+    EXPECT_GT(again.cut_again, 0) << "the second and third scalpels cut the elements about the crossing again";
+    EXPECT_GT(again.splits, 2 * rows[0].splits) << "three scalpels split more than twice what one does";
     fs::remove(o.csv);
 }
 

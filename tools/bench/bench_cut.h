@@ -13,13 +13,16 @@ struct CutBenchOptions {
     double dt = 0.01;         ///< step [s]
     std::string csv = "results/bench_cut.csv";
     bool bvh_every_quad = false;  ///< candidate search: Embree BVH for every quad instead of the neighbourhood
+    /// Several cuts per element: cutter.recut on, and two more scalpels cross the first's wound.
+    bool recut = false;
 };
 
 struct CutBenchRow {
-    std::string search;   ///< "neighbourhood" or "bvh"
+    std::string search;   ///< "neighbourhood", "bvh", or "recut" (neighbourhood, three scalpels, cutter.recut on)
     int tets = 0;
     int quads = 0;
     int splits = 0;
+    int cut_again = 0;    ///< mesh elements whose cut holds more than one line at the end
     double quad_p50_ms = 0, quad_p99_ms = 0;      ///< CutSystem per quad
     double update_p50_ms = 0, update_p99_ms = 0;  ///< CutSystem + EnrichmentSystem per step with a quad
     double delay_p50_s = 0, delay_p99_s = 0;      ///< crossing delay, simulated time
