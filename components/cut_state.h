@@ -67,6 +67,12 @@ struct BladeCut {
     /// splits it from where it came back in to where it first went out, and its piece is freed.
     int start_element = -1;
     ElementCrossings start_exit;
+    /// Elements already cut that the blade passes along their cut (test_element's `beside`), and
+    /// the crossings it made there near that cut, not counted yet: once it crosses one of them away
+    /// from the cut, they count with that crossing (a blade that met a wound at a slant and went on
+    /// beside it: it went in near the cut's point on the edge); dropped with the partly crossed
+    /// elements.
+    std::map<int, ElementCrossings> near;
 };
 
 struct CutState {

@@ -249,7 +249,8 @@ void note_dip(const World& w, int e, ElementCrossings& c, int k, double t, const
 
 /// Tests the candidate's edges against the quads (the edge's sweep, and the blade's face when it
 /// has one); returns how many new distinct edges it crossed. `beside`: a cut element the blade
-/// passes along its cut, whose crossings count only if one of them is away from its cut (recut.h).
+/// passes along its cut, whose crossings count only if one of them is away from its cut (recut.h);
+/// those near it are kept until one is (BladeCut::near).
 int test_element(World& w, BladeCut& bc, int e, const std::vector<const CutQuad*>& quads,
                  const std::vector<std::array<Vec3, 2>>& normals, bool beside) {
     const int edges = edge_count(w.elements.dim);
@@ -262,7 +263,18 @@ int test_element(World& w, BladeCut& bc, int e, const std::vector<const CutQuad*
         for (; which < quads.size() && !t[k]; ++which) t[k] = edge_crossing(w, e, k, *quads[which], tri);
         if (t[k]) normal[k] = &normals[which - 1][tri], away = away || !crosses_near_its_cut(w, e, k, *t[k]);
     }
-    if (!away) return 0;
+    const auto kept = bc.near.find(e);
+    if (!away) {  // near the cut alone: kept, the first crossing of each edge, until one is away
+        if (std::none_of(t.begin(), t.end(), [](const auto& x) { return x.has_value(); })) return 0;
+        ElementCrossings& n = kept != bc.near.end() ? kept->second : bc.near[e];
+        for (int k = 0; k < edges; ++k)
+            if (t[k] && !(n.mask >> k & 1)) n.mask |= uint8_t(1u << k), n.t[k] = *t[k], n.normal[k] = *normal[k];
+        return 0;
+    }
+    ElementCrossings near;  // away from the cut: the blade's crossings near it before count too
+    if (kept != bc.near.end()) near = kept->second, bc.near.erase(kept);
+    for (int k = 0; k < edges; ++k)
+        if (!t[k] && (near.mask >> k & 1)) t[k] = near.t[k], normal[k] = &near.normal[k];
     int found = 0;
     for (int k = 0; k < edges; ++k) {
         if (!t[k]) continue;
@@ -401,6 +413,7 @@ void drop_left(World& w, BladeCut& bc, const std::vector<int>& candidates, int t
     for (const auto& [e, c] : bc.crossing)
         if (!std::binary_search(candidates.begin(), candidates.end(), e)) leaving.push_back(e);
     std::sort(leaving.begin(), leaving.end());
+    std::erase_if(bc.near, [&](const auto& n) { return !std::binary_search(candidates.begin(), candidates.end(), n.first); });
     w.cut_state.elements_split += end_stems_3d(w, bc, leaving, tool);
     for (int e : leaving) {
         const ElementCrossings& c = bc.crossing.at(e);

@@ -111,9 +111,13 @@ TEST(StressLoops, TheFirstLoopsFreeThePiecesTheirPathsEnclose) {
 // (a loop alone) and 845, whose closing pass, running beside its first pass, dipped into the sliver
 // of an element between that pass and a mesh line and left it through the edge it went in by, more
 // than a fifth of the edge away: the second crossing of that edge was taken for a trembling blade,
-// and the element stayed joined across the dip (it is cut to where the blade turned now: note_dip).
+// and the element stayed joined across the dip (it is cut to where the blade turned now: note_dip);
+// 448, whose loop met the cross-cut's wound at 20 degrees and went on beside it, crossing the next
+// element's edge 0.15 of it from the wound's point there: that crossing was taken for a blade
+// retracing the wound and dropped, and its crossing out, away from the wound, was the element's only
+// one (it counts with that one now: BladeCut::near).
 TEST(StressLoops, LoopsPassingBesideANodeOrDippingIntoACutElementFreeTheirPieces) {
-    for (const int index : {177, 30, 125, 173, 182, 195, 399, 301, 275, 845}) {
+    for (const int index : {177, 30, 125, 173, 182, 195, 399, 301, 275, 845, 448}) {
         StressOptions o;
         o.only = index;
         const StressSummary s = run_loops(o);
