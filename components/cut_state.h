@@ -35,7 +35,7 @@ struct ElementCrossings {
     int list = 0;                     ///< 1, 2 or 3: which of L1, L2, L3 holds it
     bool split = false;               ///< progressive front: already split as a tip element
     /// 2D, an element already cut that the blade left through the edge it came in by, having turned
-    /// beside one of its lines (a dip: systems/cut/cut_system.cpp, dipped): where it turned, as a
+    /// beside one of its lines (a dip: systems/cut/cut_system.cpp, note_dip): where it turned, as a
     /// point of the tissue. Crossed nowhere else by the time the blade leaves it, it is cut from
     /// where the blade came in to there. Element -1: no dip.
     MaterialPoint turn;

@@ -88,10 +88,7 @@ void end_stems(World& w, int tool, const Vec3& end) {
     std::sort(entered.begin(), entered.end());
     for (int e : entered) {
         const ElementCrossings& c = bc.crossing.at(e);
-        const int k = __builtin_ctz(c.mask);
-        CutEvent ev;
-        const Vec3 from = c.turn.element >= 0 ? material_position(w, c.turn) : end;  // a dip: where it turned
-        if (stem_event(w, e, k, c.t[k], from, ev)) ev.tool = tool, w.pending_cuts.push_back(ev);
+        queue_stem(w, e, c, c.turn.element >= 0 ? material_position(w, c.turn) : end, tool);  // a dip: where it turned
     }
 }
 

@@ -263,7 +263,7 @@ int test_element(World& w, BladeCut& bc, int e, const std::vector<const CutQuad*
         for (; which < quads.size() && !t[k]; ++which) t[k] = edge_crossing(w, e, k, *quads[which], tri);
         if (t[k]) normal[k] = &normals[which - 1][tri], away = away || !crosses_near_its_cut(w, e, k, *t[k]);
     }
-    const auto kept = bc.near.find(e);
+    const auto kept = bc.near.empty() ? bc.near.end() : bc.near.find(e);  // most quads keep none
     if (!away) {  // near the cut alone: kept, the first crossing of each edge, until one is away
         if (std::none_of(t.begin(), t.end(), [](const auto& x) { return x.has_value(); })) return 0;
         ElementCrossings& n = kept != bc.near.end() ? kept->second : bc.near[e];
@@ -418,10 +418,8 @@ void drop_left(World& w, BladeCut& bc, const std::vector<int>& candidates, int t
     for (int e : leaving) {
         const ElementCrossings& c = bc.crossing.at(e);
         if (e == bc.start_element && __builtin_popcount(c.mask) == 1 && !c.split) bc.start_exit = c;
-        CutEvent ev;
-        if (c.turn.element >= 0 && __builtin_popcount(c.mask) == 1 &&
-            stem_event(w, e, __builtin_ctz(c.mask), c.t[__builtin_ctz(c.mask)], material_position(w, c.turn), ev))
-            ev.tool = tool, w.pending_cuts.push_back(ev), ++w.cut_state.elements_split;
+        if (c.turn.element >= 0 && __builtin_popcount(c.mask) == 1 && queue_stem(w, e, c, material_position(w, c.turn), tool))
+            ++w.cut_state.elements_split;
         remove_from_list(bc, e, c.list);
         bc.crossing.erase(e);
     }

@@ -177,6 +177,15 @@ bool stem_event(const World& w, int e, int k, double t, const Vec3& start, CutEv
     return true;
 }
 
+bool queue_stem(World& w, int e, const ElementCrossings& c, const Vec3& start, int tool) {
+    const int k = __builtin_ctz(c.mask);
+    CutEvent ev;
+    if (!stem_event(w, e, k, c.t[k], start, ev)) return false;
+    ev.tool = tool;
+    w.pending_cuts.push_back(ev);
+    return true;
+}
+
 bool event_line(const CutEvent& ev, const std::array<Vec3, 3>& X, CutLine& line) {
     std::array<double, 3> level{};
     std::vector<Vec3> points;

@@ -99,6 +99,11 @@ double incision_cos(const World& world, const CutEvent& ev);
 /// is not inside e.
 bool stem_event(const World& world, int e, int crossed, double t, const Vec3& start, CutEvent& ev);
 
+/// Queues the stem event (stem_event) of blade `tool` in cut element e, crossed once (`c`: its one
+/// crossed edge), from `start` (current position: where the blade stopped, or turned in a dip).
+/// False if there is none.
+bool queue_stem(World& world, int e, const ElementCrossings& c, const Vec3& start, int tool);
+
 /// Fraction of an edge [-] within which a later crossing of it (another incision's, or the same
 /// blade's later pass) is the point an earlier crack put there: a scalpel closing a loop meets its
 /// own wound where the tissue has moved since (0.05-0.4 mm on 2 mm skin), and two points apart on
