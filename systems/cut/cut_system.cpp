@@ -8,6 +8,7 @@
 #include "engine/quadratic_setup.h"
 #include "systems/cut/edge_geometry.h"
 #include "systems/cut/material_anchor.h"
+#include "systems/cut/node_sides.h"
 #include "systems/cut/quad_reach.h"
 #include "systems/cut/recut.h"
 #include "systems/cut/stem_3d.h"
@@ -198,8 +199,10 @@ void remove_from_list(BladeCut& bc, int e, int list) {
 
 /// Where local edge k of element e crosses the quad (its parameter along the edge), and which of
 /// the quad's triangles it crosses (`tri`). A quadratic element's edge is the curve through its
-/// mid-edge node; its parameter is the rest edge's, as a straight edge's is.
-std::optional<double> edge_crossing(const World& w, int e, int k, const CutQuad& q, int& tri) {
+/// mid-edge node; its parameter is the rest edge's, as a straight edge's is. `sides`: the nodes'
+/// orientations against the triangles of quad number `which` of the call (the same bits as without).
+std::optional<double> edge_crossing(const World& w, int e, int k, const CutQuad& q, int& tri,
+                                    NodeSides* sides = nullptr, int which = 0) {
     const int dim = w.elements.dim;
     const int* ed = edge_nodes(dim, k);
     const Vec3& a = w.nodes.position[w.elements.nodes[e][ed[0]]];
@@ -211,6 +214,15 @@ std::optional<double> edge_crossing(const World& w, int e, int k, const CutQuad&
         std::optional<double> s = quadratic_edge_triangle(a, pm, b, q.corner[0], q.corner[1], q.corner[2]);
         if (!s) s = quadratic_edge_triangle(a, pm, b, q.corner[0], q.corner[2], q.corner[3]), tri = 1;
         return s;
+    }
+    if (sides) {
+        const int i = w.elements.nodes[e][ed[0]], j = w.elements.nodes[e][ed[1]];
+        std::optional<double> t =
+            segment_triangle(sides->at(i, which, 0), sides->at(j, which, 0), a, b, q.corner[0], q.corner[1], q.corner[2]);
+        if (!t)
+            t = segment_triangle(sides->at(i, which, 1), sides->at(j, which, 1), a, b, q.corner[0], q.corner[2], q.corner[3]),
+            tri = 1;
+        return t;
     }
     std::optional<double> t = segment_triangle(a, b, q.corner[0], q.corner[1], q.corner[2]);
     if (!t) t = segment_triangle(a, b, q.corner[0], q.corner[2], q.corner[3]), tri = 1;
@@ -252,7 +264,7 @@ void note_dip(const World& w, int e, ElementCrossings& c, int k, double t, const
 /// passes along its cut, whose crossings count only if one of them is away from its cut (recut.h);
 /// those near it are kept until one is (BladeCut::near).
 int test_element(World& w, BladeCut& bc, int e, const std::vector<const CutQuad*>& quads,
-                 const std::vector<std::array<Vec3, 2>>& normals, bool beside) {
+                 const std::vector<std::array<Vec3, 2>>& normals, bool beside, NodeSides& sides) {
     const int edges = edge_count(w.elements.dim);
     std::array<std::optional<double>, 6> t{};
     std::array<const Vec3*, 6> normal{};
@@ -260,7 +272,7 @@ int test_element(World& w, BladeCut& bc, int e, const std::vector<const CutQuad*
     for (int k = 0; k < edges; ++k) {
         int tri = 0;
         size_t which = 0;
-        for (; which < quads.size() && !t[k]; ++which) t[k] = edge_crossing(w, e, k, *quads[which], tri);
+        for (; which < quads.size() && !t[k]; ++which) t[k] = edge_crossing(w, e, k, *quads[which], tri, &sides, static_cast<int>(which));
         if (t[k]) normal[k] = &normals[which - 1][tri], away = away || !crosses_near_its_cut(w, e, k, *t[k]);
     }
     const auto kept = bc.near.empty() ? bc.near.end() : bc.near.find(e);  // most quads keep none
@@ -271,10 +283,9 @@ int test_element(World& w, BladeCut& bc, int e, const std::vector<const CutQuad*
             if (t[k] && !(n.mask >> k & 1)) n.mask |= uint8_t(1u << k), n.t[k] = *t[k], n.normal[k] = *normal[k];
         return 0;
     }
-    ElementCrossings near;  // away from the cut: the blade's crossings near it before count too
-    if (kept != bc.near.end()) near = kept->second, bc.near.erase(kept);
-    for (int k = 0; k < edges; ++k)
-        if (!t[k] && (near.mask >> k & 1)) t[k] = near.t[k], normal[k] = &near.normal[k];
+    if (kept != bc.near.end())  // away from the cut: the blade's crossings near it before count too
+        for (int k = 0; k < edges; ++k)
+            if (!t[k] && (kept->second.mask >> k & 1)) t[k] = kept->second.t[k], normal[k] = &kept->second.normal[k];
     int found = 0;
     for (int k = 0; k < edges; ++k) {
         if (!t[k]) continue;
@@ -295,6 +306,7 @@ int test_element(World& w, BladeCut& bc, int e, const std::vector<const CutQuad*
         c.normal[k] = *normal[k];
         ++found;
     }
+    if (kept != bc.near.end()) bc.near.erase(kept);  // counted now
     return found;
 }
 
@@ -477,6 +489,8 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
     note_stem_starts(w, bc, q, candidates);
     const auto& cut = w.cuts.cut_of_element;
     std::vector<int> crossed;
+    thread_local NodeSides sides;
+    sides.begin(w, quads);
     for (int e : candidates) {
         bool beside = false;
         if ((!cut.empty() && cut[e] >= 0) || (!cs.queued.empty() && cs.queued[e])) {
@@ -494,7 +508,7 @@ void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, con
             }
         }
         ++cs.elements_tested;
-        const int found = test_element(w, bc, e, quads, normals, beside);
+        const int found = test_element(w, bc, e, quads, normals, beside, sides);
         if (beside && found == 0)
             for (size_t k = 0; k < quads.size(); ++k) note_recut(w, e, *quads[k], normals[k][0], tool);
         cs.crossings_found += found;

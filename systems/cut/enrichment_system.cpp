@@ -271,7 +271,7 @@ int apply_cut_batch(World& w) {
     affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
 
     for (int c = first_new; c < w.cuts.count(); ++c) create_virtual_elements(w, c), update.push_back(c);
-    for (int j : affected) assign_node_copies(w, j, update);
+    assign_node_copies(w, affected, update);
     std::sort(update.begin(), update.end());
     update.erase(std::unique(update.begin(), update.end()), update.end());
     for (int c : update) note_opening(w, c);

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <fmt/format.h>
+#include <span>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "systems/cut/quadratic_enrichment.h"
 #include "systems/cut/recut.h"
@@ -62,12 +64,13 @@ bool has_lines(const World& w, const Fragment& f) {
 }
 
 /// The lines (planes) that bound fragment f of a cut element, and its mask over them (a side of an
-/// element cut once: its first cut's line, bit 0 its side).
-std::vector<CutLine> bounds_of(const World& w, const Fragment& f, uint32_t& mask) {
+/// element cut once: its first cut's line, kept in `first`, bit 0 its side).
+std::span<const CutLine> bounds_of(const World& w, const Fragment& f, uint32_t& mask, CutLine& first) {
     const int c = w.cuts.cut_of_element[f.element];
     if (w.cuts.lines[c].empty()) {
         mask = (f.side > 0 ? 1u : 0u) | bound_by(0);
-        return {first_cut_line(w, c)};
+        first = first_cut_line(w, c);
+        return {&first, 1};
     }
     mask = w.virtual_elements.mask[f.ve];
     return w.cuts.lines[c];
@@ -77,7 +80,8 @@ std::vector<CutLine> bounds_of(const World& w, const Fragment& f, uint32_t& mask
 std::array<double, 2> part_of_edge(const World& w, const Fragment& f, int p, int q) {
     if (f.side == 0) return {0.0, 1.0};
     uint32_t mask = 0;
-    const std::vector<CutLine> lines = bounds_of(w, f, mask);
+    CutLine first;
+    const std::span<const CutLine> lines = bounds_of(w, f, mask, first);
     return segment_part(w.nodes.rest[p], w.nodes.rest[q], lines.data(), static_cast<int>(lines.size()), mask);
 }
 
@@ -102,7 +106,8 @@ double plane_edge_param(const World& w, const Fragment& f, int l, int p, int q) 
 std::array<double, 2> part_of_edge_3d(const World& w, const Fragment& f, int p, int q) {
     if (f.side == 0) return {0.0, 1.0};
     uint32_t mask = 0;
-    const std::vector<CutLine> planes = bounds_of(w, f, mask);
+    CutLine first;
+    const std::span<const CutLine> planes = bounds_of(w, f, mask, first);
     const Vec3 &a = w.nodes.rest[p], &b = w.nodes.rest[q];
     double s0 = 0.0, s1 = 1.0;
     const auto& n = w.elements.nodes[f.element];
@@ -131,7 +136,8 @@ std::array<double, 2> part_of_edge_3d(const World& w, const Fragment& f, int p, 
 std::vector<Vec3> clip_to_face_part(const World& w, const Fragment& f, const std::array<int, 3>& face, std::vector<Vec3> poly) {
     if (f.side == 0) return poly;
     uint32_t mask = 0;
-    const std::vector<CutLine> planes = bounds_of(w, f, mask);
+    CutLine first;
+    const std::span<const CutLine> planes = bounds_of(w, f, mask, first);
     const std::array<Vec3, 3> X{w.nodes.rest[face[0]], w.nodes.rest[face[1]], w.nodes.rest[face[2]]};
     const Vec3 normal = (X[1] - X[0]).cross(X[2] - X[0]);
     for (int l = 0; l < static_cast<int>(planes.size()) && poly.size() >= 3; ++l) {
@@ -154,26 +160,80 @@ std::vector<Vec3> clip_to_face_part(const World& w, const Fragment& f, const std
     return poly;
 }
 
-/// Whether fragments a and b hold overlapping parts of their elements' common face (its mesh nodes;
-/// 2D: an edge, face[0] = -1): parts of it that overlap by more than kFaceOverlap of its length
-/// (area) hold one material there. In 3D first the parts of the face's three edges (the edges'
-/// crossings are the cuts' own points, one value for both elements); parts that meet the edges at
-/// most at points may still overlap inside the face (three traces closing a triangle there), so
-/// then the area of both parts (clip_to_face_part).
-bool share_face(const World& w, const Fragment& a, const Fragment& b, const std::array<int, 3>& face) {
+/// The parts of mesh edges the fragments around one node hold, each computed once (part_of_edge,
+/// part_of_edge_3d): a fragment meets the fragments across each of its faces through the node, and
+/// each such face's edges are asked for by every pair across it. Keyed by the fragment's index and
+/// the edge's ordered ends (p -> q and q -> p are different parameters).
+class EdgeParts {
+public:
+    EdgeParts(const World& w, const std::vector<Fragment>& frags) : w_(w), frags_(frags), memo_(frags.size()) {}
+    std::array<double, 2> operator()(int f, int p, int q) {
+        for (const Entry& m : memo_[f])
+            if (m.p == p && m.q == q) return m.part;
+        const Fragment& fr = frags_[f];
+        const auto part = w_.elements.dim == 2 ? part_of_edge(w_, fr, p, q) : part_of_edge_3d(w_, fr, p, q);
+        memo_[f].push_back({p, q, part});
+        return part;
+    }
+
+private:
+    struct Entry {
+        int p, q;
+        std::array<double, 2> part;
+    };
+    const World& w_;
+    const std::vector<Fragment>& frags_;
+    std::vector<std::vector<Entry>> memo_;
+};
+
+/// Whether fragments a and b (indices into `frags`) hold overlapping parts of their elements'
+/// common face (its mesh nodes; 2D: an edge, face[0] = -1): parts of it that overlap by more than
+/// kFaceOverlap of its length (area) hold one material there. In 3D first the parts of the face's
+/// three edges (the edges' crossings are the cuts' own points, one value for both elements); parts
+/// that meet the edges at most at points may still overlap inside the face (three traces closing a
+/// triangle there), so then the area of both parts (clip_to_face_part).
+bool share_face(const World& w, const std::vector<Fragment>& frags, EdgeParts& parts, int a, int b,
+                const std::array<int, 3>& face) {
     if (w.elements.dim == 2) {
-        const auto pa = part_of_edge(w, a, face[1], face[2]), pb = part_of_edge(w, b, face[1], face[2]);
+        const auto pa = parts(a, face[1], face[2]), pb = parts(b, face[1], face[2]);
         return std::min(pa[1], pb[1]) - std::max(pa[0], pb[0]) > kFaceOverlap;
     }
     for (int e = 0; e < 3; ++e) {
         const int p = face[e], q = face[(e + 1) % 3];
-        const auto pa = part_of_edge_3d(w, a, p, q), pb = part_of_edge_3d(w, b, p, q);
+        const auto pa = parts(a, p, q), pb = parts(b, p, q);
         if (std::min(pa[1], pb[1]) - std::max(pa[0], pb[0]) > kFaceOverlap) return true;
     }
     const std::vector<Vec3> whole{w.nodes.rest[face[0]], w.nodes.rest[face[1]], w.nodes.rest[face[2]]};
-    const std::vector<Vec3> both = clip_to_face_part(w, b, face, clip_to_face_part(w, a, face, whole));
+    const std::vector<Vec3> both = clip_to_face_part(w, frags[b], face, clip_to_face_part(w, frags[a], face, whole));
     return both.size() >= 3 && polygon_area_3d(both) > kFaceOverlap * polygon_area_3d(whole);
 }
+
+/// share_face's answers over one batch of nodes (assign_node_copies): a face's pair of fragments is
+/// met again at each of the face's nodes, and nothing it reads (cuts, lines, sides, rest positions)
+/// changes while the nodes' copies are assigned. Keyed by the two fragments (a virtual element, or
+/// -1 - element for a whole one) in the order asked and the face's nodes.
+class SharedFaces {
+public:
+    bool share(const World& w, const std::vector<Fragment>& frags, EdgeParts& parts, int a, int b,
+               const std::array<int, 3>& face) {
+        const Key key{id(frags[a]), id(frags[b]), face[0], face[1], face[2]};
+        const auto it = known_.find(key);
+        if (it != known_.end()) return it->second;
+        return known_[key] = share_face(w, frags, parts, a, b, face);
+    }
+
+private:
+    using Key = std::array<int, 5>;
+    struct Hash {
+        size_t operator()(const Key& k) const {
+            size_t h = 0;
+            for (int v : k) h = h * 0x9E3779B97F4A7C15ull + static_cast<size_t>(static_cast<unsigned>(v));
+            return h;
+        }
+    };
+    static int id(const Fragment& f) { return f.ve >= 0 ? f.ve : -1 - f.element; }
+    std::unordered_map<Key, bool, Hash> known_;
+};
 
 /// Whether fragment f holds mesh node j's own material: a whole element, the side j is on, or the
 /// fragment of an element cut again that j lies in.
@@ -240,11 +300,13 @@ std::vector<Fragment> fragments_around(const World& w, int j) {
 
 /// The union of fragments over the faces through the node their elements share, and the progressive
 /// front's clause; returns each fragment's class (its smallest fragment index).
-std::vector<int> material_classes(const World& w, const std::vector<Fragment>& frags) {
+std::vector<int> material_classes(const World& w, const std::vector<Fragment>& frags, SharedFaces& shared) {
     const Elements& el = w.elements;
     const int npe = el.nodes_per_element();
     DisjointSets sets(static_cast<int>(frags.size()));
+    EdgeParts parts(w, frags);
     std::vector<FaceOf> faces;
+    faces.reserve(frags.size() * 3);
     for (size_t f = 0; f < frags.size(); ++f) {
         if (frags[f].count == 0) continue;  // an element's first fragment stands for it
         const auto& nodes = el.nodes[frags[f].element];
@@ -267,7 +329,8 @@ std::vector<int> material_classes(const World& w, const std::vector<Fragment>& f
             for (int b = fb; b < fb + frags[fb].count; ++b) {
                 const Fragment &A = frags[a], &B = frags[b];
                 if (has_lines(w, A) || has_lines(w, B)) {  // an element cut again: by the parts of the face they hold
-                    if (share_face(w, A, B, faces[k].nodes)) sets.join(a, b);
+                    // (pairs already one material are not looked at: a union is the same in any order)
+                    if (sets.find(a) != sets.find(b) && shared.share(w, frags, parts, a, b, faces[k].nodes)) sets.join(a, b);
                     continue;
                 }
                 if (A.side != 0 && B.side != 0 && A.side != B.side) continue;  // the cut's two sides
@@ -294,11 +357,10 @@ std::vector<int> material_classes(const World& w, const std::vector<Fragment>& f
     return cls;
 }
 
-}  // namespace
-
-void assign_node_copies(World& w, int j, std::vector<int>& changed) {
+/// assign_node_copies for one node.
+void assign_copies_of(World& w, int j, SharedFaces& shared, std::vector<int>& changed) {
     const std::vector<Fragment> frags = fragments_around(w, j);
-    const std::vector<int> cls = material_classes(w, frags);
+    const std::vector<int> cls = material_classes(w, frags, shared);
     int real = -1;  // the class of j's own material
     for (size_t f = 0; f < frags.size() && real < 0; ++f)
         if (holds_node(w, frags[f], j)) real = cls[f];
@@ -340,6 +402,13 @@ void assign_node_copies(World& w, int j, std::vector<int>& changed) {
         changed.push_back(w.cuts.cut_of_element[frags[f].element]);
     }
     w.enriched.front_fixed[j] = held;
+}
+
+}  // namespace
+
+void assign_node_copies(World& w, const std::vector<int>& nodes, std::vector<int>& changed) {
+    SharedFaces shared;
+    for (int j : nodes) assign_copies_of(w, j, shared, changed);
 }
 
 }  // namespace xcut

@@ -17,12 +17,12 @@
 
 namespace xcut {
 
-/// Gives each fragment around mesh node j its copy of j: writes the vertices at j of the virtual
-/// elements of the cut elements around j (which must exist), adds a phantom for a class that has
-/// none (starting from the state of the copy its material used: continuous), and sets
-/// EnrichedDofs::front_fixed[j]. Appends to `changed` the cut elements whose vertices changed, and
-/// every cut element around j when j gained a copy (duplicates possible).
+/// Gives each fragment around each mesh node j of `nodes` (in their order) its copy of j: writes
+/// the vertices at j of the virtual elements of the cut elements around j (which must exist), adds
+/// a phantom for a class that has none (starting from the state of the copy its material used:
+/// continuous), and sets EnrichedDofs::front_fixed[j]. Appends to `changed` the cut elements whose
+/// vertices changed, and every cut element around j when j gained a copy (duplicates possible).
 /// A class keeps the smallest phantom its fragments used that no earlier class kept.
-void assign_node_copies(World& world, int j, std::vector<int>& changed);
+void assign_node_copies(World& world, const std::vector<int>& nodes, std::vector<int>& changed);
 
 }  // namespace xcut

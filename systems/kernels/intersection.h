@@ -21,14 +21,20 @@ inline double orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& 
 /// segment, or nothing. Touching counts (points on the triangle's boundary, an end on the plane), so
 /// a crossing on the diagonal shared by a quad's two triangles is found by both; callers keep one
 /// per edge. A segment lying in the triangle's plane does not cross it.
-inline std::optional<double> segment_triangle(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b,
-                                              const Vec3& c) {
-    const double o0 = orient3d(a, b, c, p0), o1 = orient3d(a, b, c, p1);
+/// With the ends' orientations o0 = orient3d(a, b, c, p0) and o1 = orient3d(a, b, c, p1) given (a
+/// caller testing many edges against one triangle computes each node's once).
+inline std::optional<double> segment_triangle(double o0, double o1, const Vec3& p0, const Vec3& p1, const Vec3& a,
+                                              const Vec3& b, const Vec3& c) {
     if ((o0 > 0 && o1 > 0) || (o0 < 0 && o1 < 0) || o0 == o1) return std::nullopt;
     const double s0 = orient3d(p0, p1, a, b), s1 = orient3d(p0, p1, b, c), s2 = orient3d(p0, p1, c, a);
     const bool inside = (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
     if (!inside) return std::nullopt;
     return std::clamp(o0 / (o0 - o1), 0.0, 1.0);
+}
+
+inline std::optional<double> segment_triangle(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b,
+                                              const Vec3& c) {
+    return segment_triangle(orient3d(a, b, c, p0), orient3d(a, b, c, p1), p0, p1, a, b, c);
 }
 
 /// The root in [0, 1] of the quadratic g(s) through g(0) = g0, g(1/2) = gm, g(1) = g1 (a quadratic
