@@ -4,21 +4,31 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 
 namespace xcut {
 
-std::vector<Vec3> clip_to_side(const std::vector<Vec3>& poly, const CutLine& l, bool bit) {
+int clip_to_side(const Vec3* poly, int n, const CutLine& l, bool bit, Vec3* out, int room) {
     const double s = bit ? 1.0 : -1.0;
-    std::vector<Vec3> out;
-    out.reserve(poly.size() + 1);
-    for (size_t k = 0; k < poly.size(); ++k) {
+    int m = 0;
+    const auto put = [&](const Vec3& x) {
+        if (m == room) throw std::length_error("clip_to_side: the clipped polygon outgrew its room");
+        out[m++] = x;
+    };
+    for (int k = 0; k < n; ++k) {
         const Vec3& p = poly[k];
-        const Vec3& q = poly[(k + 1) % poly.size()];
+        const Vec3& q = poly[(k + 1) % n];
         const double dp = s * l.normal.dot(p - l.origin), dq = s * l.normal.dot(q - l.origin);
-        if (dp >= 0.0) out.push_back(p);
-        if ((dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0)) out.push_back(p + dp / (dp - dq) * (q - p));
+        if (dp >= 0.0) put(p);
+        if ((dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0)) put(p + dp / (dp - dq) * (q - p));
     }
+    return m;
+}
+
+std::vector<Vec3> clip_to_side(const std::vector<Vec3>& poly, const CutLine& l, bool bit) {
+    std::vector<Vec3> out(2 * poly.size());  // each vertex gives at most itself and one crossing
+    out.resize(clip_to_side(poly.data(), static_cast<int>(poly.size()), l, bit, out.data(), static_cast<int>(out.size())));
     return out;
 }
 
@@ -72,11 +82,13 @@ std::array<double, 2> segment_in_polygon(const Vec3& a, const Vec3& b, const std
 
 namespace xcut {
 
-double polygon_area_3d(const std::vector<Vec3>& poly) {
+double polygon_area_3d(const Vec3* poly, int count) {
     Vec3 n = Vec3::Zero();
-    for (size_t k = 0; k < poly.size(); ++k) n += poly[k].cross(poly[(k + 1) % poly.size()]);
+    for (int k = 0; k < count; ++k) n += poly[k].cross(poly[(k + 1) % count]);
     return 0.5 * n.norm();
 }
+
+double polygon_area_3d(const std::vector<Vec3>& poly) { return polygon_area_3d(poly.data(), static_cast<int>(poly.size())); }
 
 std::vector<Vec3> clip_by_planes(std::vector<Vec3> poly, const CutLine* planes, int n, uint32_t mask) {
     for (int k = 0; k < n && poly.size() >= 3; ++k)

@@ -33,6 +33,9 @@ inline bool in_fragment(const CutLine* lines, int n, uint32_t mask, const Vec3& 
 
 /// The convex polygon `poly` (xy) clipped to the side of l that `bit` names.
 std::vector<Vec3> clip_to_side(const std::vector<Vec3>& poly, const CutLine& l, bool bit);
+/// The same for poly[0..n) written to out (room for `room` vertices; std::length_error if the
+/// polygon would outgrow it; a convex one gains at most one vertex): returns its vertex count.
+int clip_to_side(const Vec3* poly, int n, const CutLine& l, bool bit, Vec3* out, int room);
 
 /// Barycentric coordinates of point x in triangle X (xy).
 inline Vec3 triangle_barycentric(const std::array<Vec3, 3>& X, const Vec3& x) {
@@ -77,6 +80,7 @@ struct FragmentFace {
 
 /// Area of a planar polygon in space [m^2] (Newell's normal, half its length).
 double polygon_area_3d(const std::vector<Vec3>& poly);
+double polygon_area_3d(const Vec3* poly, int count);
 
 /// The faces of the fragment of tetrahedron X on the sides of planes[0..n) that `mask` names
 /// (bit k: plane k's side, for each plane that bounds it); faces of no area are left out.

@@ -43,7 +43,8 @@ bool fragment_has(const World& w, int e, int v, const Vec3& b) {
     const auto frags = fragments_of(w, c);
     if (std::find(frags.begin(), frags.end(), v) == frags.end()) return false;
     const std::array<Vec3, 3> X = corners(w, e);
-    const std::vector<CutLine> lines = lines_of(w, c);
+    CutLine first;
+    const std::span<const CutLine> lines = lines_in(w, c, first);
     return in_fragment(lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v], b.x() * X[0] + b.y() * X[1] + b.z() * X[2]);
 }
 

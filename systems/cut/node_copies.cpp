@@ -63,25 +63,37 @@ bool has_lines(const World& w, const Fragment& f) {
     return f.side != 0 && !w.cuts.lines[w.cuts.cut_of_element[f.element]].empty();
 }
 
+/// The first cut's line of each cut element asked for over one batch of nodes (first_cut_line fits
+/// it to the cut's points each time; nothing it reads changes while node copies are assigned).
+class FirstLines {
+public:
+    const CutLine& of(const World& w, int c) {
+        const auto [it, fresh] = lines_.try_emplace(c);
+        if (fresh) it->second = first_cut_line(w, c);
+        return it->second;
+    }
+
+private:
+    std::unordered_map<int, CutLine> lines_;  // node-based: references stay valid
+};
+
 /// The lines (planes) that bound fragment f of a cut element, and its mask over them (a side of an
-/// element cut once: its first cut's line, kept in `first`, bit 0 its side).
-std::span<const CutLine> bounds_of(const World& w, const Fragment& f, uint32_t& mask, CutLine& first) {
+/// element cut once: its first cut's line, bit 0 its side).
+std::span<const CutLine> bounds_of(const World& w, const Fragment& f, uint32_t& mask, FirstLines& firsts) {
     const int c = w.cuts.cut_of_element[f.element];
     if (w.cuts.lines[c].empty()) {
         mask = (f.side > 0 ? 1u : 0u) | bound_by(0);
-        first = first_cut_line(w, c);
-        return {&first, 1};
+        return {&firsts.of(w, c), 1};
     }
     mask = w.virtual_elements.mask[f.ve];
     return w.cuts.lines[c];
 }
 
 /// The part [s0, s1] of the segment from mesh node p to mesh node q that fragment f holds (2D).
-std::array<double, 2> part_of_edge(const World& w, const Fragment& f, int p, int q) {
+std::array<double, 2> part_of_edge(const World& w, const Fragment& f, int p, int q, FirstLines& firsts) {
     if (f.side == 0) return {0.0, 1.0};
     uint32_t mask = 0;
-    CutLine first;
-    const std::span<const CutLine> lines = bounds_of(w, f, mask, first);
+    const std::span<const CutLine> lines = bounds_of(w, f, mask, firsts);
     return segment_part(w.nodes.rest[p], w.nodes.rest[q], lines.data(), static_cast<int>(lines.size()), mask);
 }
 
@@ -103,11 +115,10 @@ double plane_edge_param(const World& w, const Fragment& f, int l, int p, int q) 
 /// The part [s0, s1] of mesh edge p -> q that fragment f holds (3D): each plane that bounds it
 /// cuts the edge where the cut's own points put it (plane_edge_param; else where the plane does),
 /// and a plane that does not cross the edge keeps it or not by the side of its end farther from it.
-std::array<double, 2> part_of_edge_3d(const World& w, const Fragment& f, int p, int q) {
+std::array<double, 2> part_of_edge_3d(const World& w, const Fragment& f, int p, int q, FirstLines& firsts) {
     if (f.side == 0) return {0.0, 1.0};
     uint32_t mask = 0;
-    CutLine first;
-    const std::span<const CutLine> planes = bounds_of(w, f, mask, first);
+    const std::span<const CutLine> planes = bounds_of(w, f, mask, firsts);
     const Vec3 &a = w.nodes.rest[p], &b = w.nodes.rest[q];
     double s0 = 0.0, s1 = 1.0;
     const auto& n = w.elements.nodes[f.element];
@@ -128,34 +139,45 @@ std::array<double, 2> part_of_edge_3d(const World& w, const Fragment& f, int p, 
     return {s0, s1};
 }
 
+/// A convex polygon on a face, held in place (node copies clip hundreds a step): a triangle clipped
+/// by the planes of two fragments, each clip adding at most one vertex, with room to spare.
+struct FacePolygon {
+    std::array<Vec3, 4 * kMaxElementLines + 8> v;
+    int n = 0;
+};
+
 /// `poly` (on the face `face` of fragment f's element, 3D; rest) clipped to f's part of the face:
 /// by the trace of each plane bounding f, the line through its crossings of the face's edges
 /// where the cut's own points put them (plane_edge_param: the element across, cut by the same
 /// incision, has the same trace), toward f's side. A plane without two crossings there keeps the
 /// face or not by the side of the face's vertex farthest from it.
-std::vector<Vec3> clip_to_face_part(const World& w, const Fragment& f, const std::array<int, 3>& face, std::vector<Vec3> poly) {
+FacePolygon clip_to_face_part(const World& w, const Fragment& f, const std::array<int, 3>& face, FacePolygon poly,
+                              FirstLines& firsts) {
     if (f.side == 0) return poly;
     uint32_t mask = 0;
-    CutLine first;
-    const std::span<const CutLine> planes = bounds_of(w, f, mask, first);
+    const std::span<const CutLine> planes = bounds_of(w, f, mask, firsts);
     const std::array<Vec3, 3> X{w.nodes.rest[face[0]], w.nodes.rest[face[1]], w.nodes.rest[face[2]]};
     const Vec3 normal = (X[1] - X[0]).cross(X[2] - X[0]);
-    for (int l = 0; l < static_cast<int>(planes.size()) && poly.size() >= 3; ++l) {
+    for (int l = 0; l < static_cast<int>(planes.size()) && poly.n >= 3; ++l) {
         if (!(mask & bound_by(l))) continue;
-        std::vector<Vec3> ends;
+        std::array<Vec3, 3> ends;
+        int n_ends = 0;
         for (int e = 0; e < 3; ++e)
             if (const double t = plane_edge_param(w, f, l, face[e], face[(e + 1) % 3]); t > 0.0 && t < 1.0)
-                ends.push_back(X[e] + t * (X[(e + 1) % 3] - X[e]));
+                ends[n_ends++] = X[e] + t * (X[(e + 1) % 3] - X[e]);
         int far = 0;
         for (int v = 1; v < 3; ++v)
             if (std::abs(planes[l].normal.dot(X[v] - planes[l].origin)) > std::abs(planes[l].normal.dot(X[far] - planes[l].origin))) far = v;
         const bool far_kept = (planes[l].normal.dot(X[far] - planes[l].origin) >= 0.0) == static_cast<bool>(mask >> l & 1u);
-        if (ends.size() != 2) {
-            if (!far_kept) poly.clear();
+        if (n_ends != 2) {
+            if (!far_kept) poly.n = 0;
             continue;
         }
         const CutLine trace{ends[0], (ends[1] - ends[0]).cross(normal)};
-        poly = clip_to_side(poly, trace, (trace.normal.dot(X[far] - ends[0]) >= 0.0) == far_kept);
+        FacePolygon out;
+        out.n = clip_to_side(poly.v.data(), poly.n, trace, (trace.normal.dot(X[far] - ends[0]) >= 0.0) == far_kept, out.v.data(),
+                             static_cast<int>(out.v.size()));
+        poly = out;
     }
     return poly;
 }
@@ -166,12 +188,14 @@ std::vector<Vec3> clip_to_face_part(const World& w, const Fragment& f, const std
 /// the edge's ordered ends (p -> q and q -> p are different parameters).
 class EdgeParts {
 public:
-    EdgeParts(const World& w, const std::vector<Fragment>& frags) : w_(w), frags_(frags), memo_(frags.size()) {}
+    EdgeParts(const World& w, const std::vector<Fragment>& frags, FirstLines& firsts)
+        : w_(w), frags_(frags), firsts_(firsts), memo_(frags.size()) {}
+    FirstLines& firsts() { return firsts_; }
     std::array<double, 2> operator()(int f, int p, int q) {
         for (const Entry& m : memo_[f])
             if (m.p == p && m.q == q) return m.part;
         const Fragment& fr = frags_[f];
-        const auto part = w_.elements.dim == 2 ? part_of_edge(w_, fr, p, q) : part_of_edge_3d(w_, fr, p, q);
+        const auto part = w_.elements.dim == 2 ? part_of_edge(w_, fr, p, q, firsts_) : part_of_edge_3d(w_, fr, p, q, firsts_);
         memo_[f].push_back({p, q, part});
         return part;
     }
@@ -183,6 +207,7 @@ private:
     };
     const World& w_;
     const std::vector<Fragment>& frags_;
+    FirstLines& firsts_;
     std::vector<std::vector<Entry>> memo_;
 };
 
@@ -203,9 +228,11 @@ bool share_face(const World& w, const std::vector<Fragment>& frags, EdgeParts& p
         const auto pa = parts(a, p, q), pb = parts(b, p, q);
         if (std::min(pa[1], pb[1]) - std::max(pa[0], pb[0]) > kFaceOverlap) return true;
     }
-    const std::vector<Vec3> whole{w.nodes.rest[face[0]], w.nodes.rest[face[1]], w.nodes.rest[face[2]]};
-    const std::vector<Vec3> both = clip_to_face_part(w, frags[b], face, clip_to_face_part(w, frags[a], face, whole));
-    return both.size() >= 3 && polygon_area_3d(both) > kFaceOverlap * polygon_area_3d(whole);
+    FacePolygon whole;
+    whole.v[0] = w.nodes.rest[face[0]], whole.v[1] = w.nodes.rest[face[1]], whole.v[2] = w.nodes.rest[face[2]], whole.n = 3;
+    const FacePolygon both =
+        clip_to_face_part(w, frags[b], face, clip_to_face_part(w, frags[a], face, whole, parts.firsts()), parts.firsts());
+    return both.n >= 3 && polygon_area_3d(both.v.data(), both.n) > kFaceOverlap * polygon_area_3d(whole.v.data(), whole.n);
 }
 
 /// share_face's answers over one batch of nodes (assign_node_copies): a face's pair of fragments is
@@ -222,6 +249,8 @@ public:
         return known_[key] = share_face(w, frags, parts, a, b, face);
     }
 
+    FirstLines& firsts() { return firsts_; }
+
 private:
     using Key = std::array<int, 5>;
     struct Hash {
@@ -233,6 +262,7 @@ private:
     };
     static int id(const Fragment& f) { return f.ve >= 0 ? f.ve : -1 - f.element; }
     std::unordered_map<Key, bool, Hash> known_;
+    FirstLines firsts_;
 };
 
 /// Whether fragment f holds mesh node j's own material: a whole element, the side j is on, or the
@@ -254,8 +284,9 @@ auto& vertex_of(W& w, const Fragment& f) {
 /// The DOF node fragment f uses for the node now.
 int dof_of(const World& w, const Fragment& f, int j) { return f.side == 0 ? j : vertex_of(w, f); }
 
-/// A phantom of mesh node j, starting from DOF node `from`'s position and velocity (and its last
-/// velocity increment, the solver's warm start): the material it holds was at `from` until now.
+/// A phantom of mesh node j, starting from DOF node `from`'s position and velocity (its last
+/// velocity increment, the solver's warm start, follows once per batch: extend_warm_start): the
+/// material it holds was at `from` until now.
 int add_phantom(World& w, int j, int from) {
     Nodes& n = w.nodes;
     const int p = n.count();
@@ -267,12 +298,18 @@ int add_phantom(World& w, int j, int from) {
     if (w.enriched.phantom[j] < 0) w.enriched.phantom[j] = p;
     w.enriched.node_of_phantom.push_back(j);
     w.enriched.phantom_from.push_back(from);
-    Eigen::VectorXd& dv = w.forces.last_dv;
-    if (dv.size() == 3 * p) {
-        dv.conservativeResize(3 * p + 3);
-        dv.segment<3>(3 * p) = dv.segment<3>(3 * from);
-    }
     return p;
+}
+
+/// The solver's warm start (ForceState::last_dv) for the phantoms from DOF node `first` on, each
+/// its source's, once for a batch: resized per phantom, it was copied whole each time (a megabyte
+/// at 200k tets). Only where it held every node before them, as the solver then reads it.
+void extend_warm_start(World& w, int first) {
+    Eigen::VectorXd& dv = w.forces.last_dv;
+    const int count = w.nodes.count();
+    if (count == first || dv.size() != 3 * first) return;
+    dv.conservativeResize(3 * count);
+    for (int p = first; p < count; ++p) dv.segment<3>(3 * p) = dv.segment<3>(3 * w.enriched.phantom_from[p - w.mesh_nodes]);
 }
 
 /// The fragments around mesh node j, in incidence order (a cut element's side +1 before -1).
@@ -304,7 +341,7 @@ std::vector<int> material_classes(const World& w, const std::vector<Fragment>& f
     const Elements& el = w.elements;
     const int npe = el.nodes_per_element();
     DisjointSets sets(static_cast<int>(frags.size()));
-    EdgeParts parts(w, frags);
+    EdgeParts parts(w, frags, shared.firsts());
     std::vector<FaceOf> faces;
     faces.reserve(frags.size() * 3);
     for (size_t f = 0; f < frags.size(); ++f) {
@@ -408,7 +445,9 @@ void assign_copies_of(World& w, int j, SharedFaces& shared, std::vector<int>& ch
 
 void assign_node_copies(World& w, const std::vector<int>& nodes, std::vector<int>& changed) {
     SharedFaces shared;
+    const int first = w.nodes.count();
     for (int j : nodes) assign_copies_of(w, j, shared, changed);
+    extend_warm_start(w, first);
 }
 
 }  // namespace xcut

@@ -74,16 +74,24 @@ bool fragment_holds(const World& w, int c, int v, const Vec3& x) {
     return in_fragment(lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v], x);
 }
 
-std::vector<CutLine> lines_of(const World& w, int c) {
+std::span<const CutLine> lines_in(const World& w, int c, CutLine& first) {
     if (!w.cuts.lines[c].empty()) return w.cuts.lines[c];
-    return {first_cut_line(w, c)};
+    first = first_cut_line(w, c);
+    return {&first, 1};
+}
+
+std::vector<CutLine> lines_of(const World& w, int c) {
+    CutLine first;
+    const std::span<const CutLine> lines = lines_in(w, c, first);
+    return {lines.begin(), lines.end()};
 }
 
 bool cuts_across(const World& w, int e, const Vec3& normal) {
     const int c = w.cuts.cut_of_element[e];
     const double n = normal.norm();
     if (c < 0 || !(n > 0.0)) return false;
-    const std::vector<CutLine> lines = lines_of(w, c);
+    CutLine first;
+    const std::span<const CutLine> lines = lines_in(w, c, first);
     if (static_cast<int>(lines.size()) >= kMaxElementLines) return false;
     for (int k = 0; k < static_cast<int>(lines.size()); ++k) {
         if (std::abs(lines[k].normal.dot(normal)) / n <= kRecutCos) continue;
@@ -100,7 +108,8 @@ bool crosses_near_its_cut(const World& w, int e, int k, double t) {
     if (c < 0) return false;
     const int* ed = edge_nodes(w.elements.dim, k);
     const Vec3 &a = w.nodes.rest[w.elements.nodes[e][ed[0]]], &b = w.nodes.rest[w.elements.nodes[e][ed[1]]];
-    for (const CutLine& l : lines_of(w, c)) {
+    CutLine first;
+    for (const CutLine& l : lines_in(w, c, first)) {
         const double da = l.normal.dot(a - l.origin), db = l.normal.dot(b - l.origin);
         if ((da >= 0.0) != (db >= 0.0) && std::abs(da / (da - db) - t) <= kAlongFraction) return true;
     }
@@ -307,7 +316,8 @@ double incision_edge_param(const World& w, int a, int b, const Vec3& normal, dou
         bool from_a = true;
         const int k = local_edge_of(w, f, a, b, from_a);
         if (k < 0) continue;
-        const std::vector<CutLine> lines = lines_of(w, c);
+        CutLine first;
+        const std::span<const CutLine> lines = lines_in(w, c, first);
         for (size_t l = 0; l < lines.size(); ++l) {
             const double stored = line_edge_params(w, c, l)[k];
             const double t = param_from(stored, from_a);

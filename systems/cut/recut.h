@@ -8,6 +8,7 @@
 // from the vertices of the one it was cut from; the node copies (systems/cut/node_copies.h) then
 // give each its own where material connectivity parts them.
 #include <algorithm>
+#include <span>
 #include <vector>
 
 #include "engine/world.h"
@@ -25,6 +26,9 @@ CutLine first_cut_line(const World& world, int c);
 
 /// Cut element c's lines: those it keeps once cut again, else its first cut's line alone.
 std::vector<CutLine> lines_of(const World& world, int c);
+/// lines_of without a copy: a view of the element's lines, or of its first cut's line, kept in
+/// `first` (valid while `first` and the cut's lines are).
+std::span<const CutLine> lines_in(const World& world, int c, CutLine& first);
 
 /// Cuts element ev.element again along the line (plane) of ev's levels (linear, already cut): its
 /// fragments crossed by the line are split, each into the part on the line's side +1 (the old
