@@ -224,26 +224,21 @@ int across_edge(const World& w, int e, int a, int b) {
     return -1;
 }
 
-/// Whether `tool`'s blade has crossed the edge (a, b) of mesh triangle f and is still inside f
-/// (CutState: f among its partly crossed elements, that edge crossed).
-bool blade_entered_across(const World& w, int tool, int f, int a, int b) {
+/// Where `tool`'s blade went into mesh triangle f through its edge (a, b), as a parameter from a,
+/// while it is still inside f (CutState: f among its partly crossed elements, that edge crossed);
+/// -1 if it is not.
+double blade_entry(const World& w, int tool, int f, int a, int b) {
     const auto& blades = w.cut_state.blade;
-    if (tool < 0 || tool >= static_cast<int>(blades.size())) return false;
+    if (tool < 0 || tool >= static_cast<int>(blades.size())) return -1.0;
     const auto it = blades[tool].crossing.find(f);
-    if (it == blades[tool].crossing.end()) return false;
+    if (it == blades[tool].crossing.end()) return -1.0;
     bool from_a = true;
     const int k = local_edge_of(w, f, a, b, from_a);
-    return k >= 0 && (it->second.mask >> k & 1);
+    return k >= 0 && (it->second.mask >> k & 1) ? param_from(it->second.t[k], from_a) : -1.0;
 }
 
-/// Where `tool`'s blade went into mesh triangle f through its edge (a, b), as a parameter from a,
-/// while it is still inside f; -1 if it is not (blade_entered_across).
-double blade_entry(const World& w, int tool, int f, int a, int b) {
-    if (!blade_entered_across(w, tool, f, a, b)) return -1.0;
-    bool from_a = true;
-    const int k = local_edge_of(w, f, a, b, from_a);
-    return param_from(w.cut_state.blade[tool].crossing.at(f).t[k], from_a);
-}
+/// Whether `tool`'s blade has crossed the edge (a, b) of mesh triangle f and is still inside f.
+bool blade_entered_across(const World& w, int tool, int f, int a, int b) { return blade_entry(w, tool, f, a, b) >= 0.0; }
 
 /// The point of edge (a, b) of cut triangle e (a parameter from a) where one of e's lines crosses
 /// it nearest `t`, if within kJoinFraction of it; else t.
