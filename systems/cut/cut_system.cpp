@@ -215,13 +215,17 @@ std::optional<double> edge_crossing(const World& w, int e, int k, const CutQuad&
         if (!s) s = quadratic_edge_triangle(a, pm, b, q.corner[0], q.corner[2], q.corner[3]), tri = 1;
         return s;
     }
-    const auto cross = [&](int n, const Vec3& c1, const Vec3& c2) {  // against triangle n: corners 0, c1, c2
+    if (sides) {
         const int i = w.elements.nodes[e][ed[0]], j = w.elements.nodes[e][ed[1]];
-        return sides ? segment_triangle(sides->at(i, which, n), sides->at(j, which, n), a, b, q.corner[0], c1, c2)
-                     : segment_triangle(a, b, q.corner[0], c1, c2);
-    };
-    std::optional<double> t = cross(0, q.corner[1], q.corner[2]);
-    if (!t) t = cross(1, q.corner[2], q.corner[3]), tri = 1;
+        std::optional<double> t =
+            segment_triangle(sides->at(i, which, 0), sides->at(j, which, 0), a, b, q.corner[0], q.corner[1], q.corner[2]);
+        if (!t)
+            t = segment_triangle(sides->at(i, which, 1), sides->at(j, which, 1), a, b, q.corner[0], q.corner[2], q.corner[3]),
+            tri = 1;
+        return t;
+    }
+    std::optional<double> t = segment_triangle(a, b, q.corner[0], q.corner[1], q.corner[2]);
+    if (!t) t = segment_triangle(a, b, q.corner[0], q.corner[2], q.corner[3]), tri = 1;
     return t;
 }
 
