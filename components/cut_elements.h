@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "components/nodes.h"
@@ -29,6 +30,20 @@ struct CutLine {
 /// Cut lines an element can hold: its first cut and three more (docs/xfem.md, Several cuts per
 /// element). A further cut through it is not made, and counted (CutState::recut_ignored).
 inline constexpr int kMaxElementLines = 4;
+
+/// Two fragments and a face between them: each fragment by its virtual element (-1 - element for a
+/// whole one) and its mask (VirtualElements::mask, 0 whole), then the face's three nodes (sorted;
+/// 2D: -1 and the edge's two). A fragment's part of a face follows from these alone: the lines its
+/// mask names are never changed once added.
+using FaceShareKey = std::array<int, 7>;
+inline constexpr size_t kFaceShareMemoEntries = size_t{1} << 16;  ///< the memo's bound (a few MB)
+struct FaceShareHash {
+    size_t operator()(const FaceShareKey& k) const {
+        size_t h = 0;
+        for (int v : k) h = h * 0x9E3779B97F4A7C15ull + static_cast<size_t>(static_cast<unsigned>(v));
+        return h;
+    }
+};
 
 /// One entry per cut mesh element.
 struct CutElements {
@@ -69,6 +84,11 @@ struct CutElements {
     std::vector<std::vector<int>> fragments;
     /// Cut elements cut again, in order (one entry per further cut): the surfaces re-make them.
     std::vector<int> recut_log;
+
+    /// Node copies' memo of which neighbouring fragments hold one material across their common face
+    /// (systems/cut/node_copies.cpp, SharedFaces): derived data, the same answers recomputed would
+    /// give, kept between steps and emptied when it passes FaceShareKey's bound.
+    std::unordered_map<FaceShareKey, uint8_t, FaceShareHash> face_shares;
 
     int count() const { return static_cast<int>(element.size()); }
 };

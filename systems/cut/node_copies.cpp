@@ -235,33 +235,34 @@ bool share_face(const World& w, const std::vector<Fragment>& frags, EdgeParts& p
     return both.n >= 3 && polygon_area_3d(both.v.data(), both.n) > kFaceOverlap * polygon_area_3d(whole.v.data(), whole.n);
 }
 
-/// share_face's answers over one batch of nodes (assign_node_copies): a face's pair of fragments is
-/// met again at each of the face's nodes, and nothing it reads (cuts, lines, sides, rest positions)
-/// changes while the nodes' copies are assigned. Keyed by the two fragments (a virtual element, or
-/// -1 - element for a whole one) in the order asked and the face's nodes.
+/// share_face's answers, kept in the world between batches (CutElements::face_shares): a face's
+/// pair of fragments is met again at each of the face's nodes and in every later batch whose nodes
+/// it touches, and nothing it reads (the lines a fragment's mask names, their recorded crossings,
+/// rest positions) changes once made: a fragment divided again has a new mask, an element cut
+/// once that is cut again keeps the first line it was fitted to (ensure_lines). Keyed by the two
+/// fragments in the order asked and the face's nodes.
 class SharedFaces {
 public:
+    explicit SharedFaces(World& w) : memo_(w.cuts.face_shares) {
+        if (memo_.size() > kFaceShareMemoEntries) memo_.clear();
+    }
+
     bool share(const World& w, const std::vector<Fragment>& frags, EdgeParts& parts, int a, int b,
                const std::array<int, 3>& face) {
-        const Key key{id(frags[a]), id(frags[b]), face[0], face[1], face[2]};
-        const auto it = known_.find(key);
-        if (it != known_.end()) return it->second;
-        return known_[key] = share_face(w, frags, parts, a, b, face);
+        const FaceShareKey key{id(frags[a]), mask(w, frags[a]), id(frags[b]), mask(w, frags[b]), face[0], face[1], face[2]};
+        const auto it = memo_.find(key);
+        if (it != memo_.end()) return it->second != 0;
+        const bool shared = share_face(w, frags, parts, a, b, face);
+        memo_.emplace(key, shared ? 1 : 0);
+        return shared;
     }
 
     FirstLines& firsts() { return firsts_; }
 
 private:
-    using Key = std::array<int, 5>;
-    struct Hash {
-        size_t operator()(const Key& k) const {
-            size_t h = 0;
-            for (int v : k) h = h * 0x9E3779B97F4A7C15ull + static_cast<size_t>(static_cast<unsigned>(v));
-            return h;
-        }
-    };
     static int id(const Fragment& f) { return f.ve >= 0 ? f.ve : -1 - f.element; }
-    std::unordered_map<Key, bool, Hash> known_;
+    static int mask(const World& w, const Fragment& f) { return f.ve >= 0 ? static_cast<int>(w.virtual_elements.mask[f.ve]) : 0; }
+    std::unordered_map<FaceShareKey, uint8_t, FaceShareHash>& memo_;
     FirstLines firsts_;
 };
 
@@ -444,7 +445,7 @@ void assign_copies_of(World& w, int j, SharedFaces& shared, std::vector<int>& ch
 }  // namespace
 
 void assign_node_copies(World& w, const std::vector<int>& nodes, std::vector<int>& changed) {
-    SharedFaces shared;
+    SharedFaces shared(w);
     const int first = w.nodes.count();
     for (int j : nodes) assign_copies_of(w, j, shared, changed);
     extend_warm_start(w, first);

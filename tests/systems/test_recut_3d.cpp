@@ -232,6 +232,7 @@ struct Cruciate {
     bool closed = true;
     int joined = 0;  ///< pairs of fragments in two quadrants of the X holding one copy of a node
     uint64_t state = 0;  ///< testing::state_hash of the world, its visual surface too
+    size_t remembered = 0;  ///< the most answers node copies' memo held after a step
 };
 
 /// The fragments of the elements cut again that hold one copy of a mesh node must lie in one
@@ -276,9 +277,10 @@ nlohmann::json scalpel(const char* name, const Vec3& from, const Vec3& to, doubl
 }
 
 /// The cruciate scene to `until` [s]; with `scalpels`, its two cuts made by two scalpels along
-/// the same lines instead (the first drawn 0.2-1.0 s, the second 1.3-2.1 s).
+/// the same lines instead (the first drawn 0.2-1.0 s, the second 1.3-2.1 s). With `forget`, node
+/// copies' memo of shared faces (CutElements::face_shares) is emptied before every step.
 Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int threads = 2, double second_from = 0.016,
-                      double second_to = 0.046) {
+                      double second_to = 0.046, bool forget = false) {
     std::ifstream in(std::string(XCUT_SOURCE_DIR) + "/scenes/cruciate.json");
     nlohmann::json j;
     in >> j;
@@ -291,9 +293,15 @@ Cruciate run_cruciate(bool recut, bool scalpels = false, double until = 1.0, int
     set_thread_count(threads);
     auto sim = make_simulation(load_scene_text(j.dump(), "cruciate", "."), /*with_output=*/false);
     World& w = sim->world;
-    while (w.time < until - 1e-9) step_simulation(*sim);
+    size_t remembered = 0;
+    while (w.time < until - 1e-9) {
+        if (forget) w.cuts.face_shares.clear();
+        step_simulation(*sim);
+        remembered = std::max(remembered, w.cuts.face_shares.size());
+    }
     set_thread_count(2);
     Cruciate out;
+    out.remembered = remembered;
     out.state = testing::state_hash(w, /*with_visual=*/true);
     double y = -1.0, x = -1.0;  // the cuts' planes at rest: their elements' cuts through their edge points
     for (int c = 0; c < w.cuts.count(); ++c)
@@ -397,6 +405,16 @@ TEST(Recut3d, ScalpelsCuttingAgainAreBitIdenticalOnOneAndTwoThreads) {
     const Cruciate one = run_cruciate(true, true, 1.8, 1), two = run_cruciate(true, true, 1.8, 2);
     EXPECT_EQ(one.state, two.state);
     EXPECT_GT(two.along, 0) << "midway through the second incision, elements were cut again";
+}
+
+// Node copies remember which fragments share a face from step to step (CutElements::face_shares):
+// the memo must give what a fresh comparison gives, so the same run with it emptied before every
+// step ends in the same bits.
+TEST(Recut3d, NodeCopiesMemoOfSharedFacesChangesNoBit) {
+    const Cruciate kept = run_cruciate(true, true, 2.3), forgotten = run_cruciate(true, true, 2.3, 2, 0.016, 0.046, true);
+    EXPECT_GT(kept.remembered, 100u) << "the elements cut again were compared through the memo";
+    EXPECT_EQ(kept.state, forgotten.state);
+    EXPECT_EQ(kept.along, forgotten.along);
 }
 
 }  // namespace
