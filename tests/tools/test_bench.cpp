@@ -42,7 +42,8 @@ TEST(Bench, CutSuiteTinyRun) {
     const auto lines = csv_lines(o.csv);
     ASSERT_EQ(lines.size(), 4u);  // header, neighbourhood search, BVH search, cut again
     EXPECT_EQ(lines[0],
-              "search,tets,quads,splits,cut_again,quad_p50_ms,quad_p99_ms,update_p50_ms,update_p99_ms,delay_p50_s,delay_p99_s");
+              "search,tets,quads,splits,cut_again,quad_p50_ms,quad_p99_ms,update_p50_ms,update_p99_ms,delay_p50_s,delay_p99_s,"
+              "update_max_ms,worst_cutter_ms,worst_enrichment_ms");
     EXPECT_EQ(lines[1].rfind("neighbourhood,", 0), 0u);
     EXPECT_EQ(lines[2].rfind("bvh,", 0), 0u);
     EXPECT_EQ(lines[3].rfind("recut,", 0), 0u);
@@ -50,6 +51,10 @@ TEST(Bench, CutSuiteTinyRun) {
     const auto rows = run_cut_bench(o);
     EXPECT_GT(rows[0].splits, 0) << "the blade cuts the block";
     EXPECT_GT(rows[0].quads, 1);
+    EXPECT_GE(rows[0].update_max_ms, rows[0].update_p99_ms) << "the worst step bounds every percentile";
+    EXPECT_NEAR(rows[0].worst_cutter_ms + rows[0].worst_enrichment_ms, rows[0].update_max_ms, 1e-9 * rows[0].update_max_ms)
+        << "the worst step's two parts make it up";
+    EXPECT_GT(rows[0].worst_cutter_ms, 0.0);
     o.bvh_every_quad = true;
     EXPECT_EQ(run_cut_bench(o)[0].splits, rows[0].splits) << "both searches find the same elements";
     EXPECT_EQ(rows[0].cut_again, 0) << "one scalpel cuts each element once";

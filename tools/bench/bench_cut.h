@@ -25,6 +25,8 @@ struct CutBenchRow {
     int cut_again = 0;    ///< mesh elements whose cut holds more than one line at the end
     double quad_p50_ms = 0, quad_p99_ms = 0;      ///< CutSystem per quad
     double update_p50_ms = 0, update_p99_ms = 0;  ///< CutSystem + EnrichmentSystem per step with a quad
+    /// The step with the largest update: the whole, and its CutSystem's and EnrichmentSystem's parts [ms].
+    double update_max_ms = 0, worst_cutter_ms = 0, worst_enrichment_ms = 0;
     double delay_p50_s = 0, delay_p99_s = 0;      ///< crossing delay, simulated time
 };
 

@@ -278,11 +278,12 @@ def save(fig, plots, name, rel, caption):
 def cut_section(d, plt, plots):
     rows, _ = read_csv(os.path.join(d, "bench_cut.csv"))
     return table(["search", "tets", "quads", "splits", "cut again", "quad p50 ms", "quad p99 ms", "update p50 ms",
-                  "update p99 ms", "delay p50 s", "delay p99 s"],
+                  "update p99 ms", "delay p50 s", "delay p99 s", "update max ms", "its cutter ms", "its enrichment ms"],
                  [[r["search"], r["tets"], r["quads"], r["splits"], r.get("cut_again", "–"), r["quad_p50_ms"],
-                   r["quad_p99_ms"], r["update_p50_ms"], r["update_p99_ms"], r["delay_p50_s"], r["delay_p99_s"]]
+                   r["quad_p99_ms"], r["update_p50_ms"], r["update_p99_ms"], r["delay_p50_s"], r["delay_p99_s"],
+                   r.get("update_max_ms", "–"), r.get("worst_cutter_ms", "–"), r.get("worst_enrichment_ms", "–")]
                   for r in rows],
-                 ["---"] + ["---:"] * 10)
+                 ["---"] + ["---:"] * 13)
 
 
 def accuracy_section(d, plt, plots):
