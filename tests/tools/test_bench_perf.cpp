@@ -156,10 +156,11 @@ TEST_F(BenchPerf, RooflineAndKernel) {
 TEST_F(BenchPerf, CutUpdateAgainstSize) {
     const Table t = part("cut");
     expect_table(t, "search,tets,quads,splits,cut_again,quad_p50_ms,quad_p99_ms,update_p50_ms,update_p99_ms,delay_p50_s,"
-                   "delay_p99_s",
+                   "delay_p99_s,update_max_ms,worst_cutter_ms,worst_enrichment_ms",
                  {"search"});
     EXPECT_GT(t.number(0, "splits"), 0.0);
     EXPECT_GE(t.number(0, "update_p99_ms"), t.number(0, "update_p50_ms"));
+    EXPECT_GE(t.number(0, "update_max_ms"), t.number(0, "update_p99_ms"));
 }
 
 TEST_F(BenchPerf, SkippedSystemsCostExactlyZero) {
