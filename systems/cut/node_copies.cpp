@@ -250,11 +250,9 @@ public:
     bool share(const World& w, const std::vector<Fragment>& frags, EdgeParts& parts, int a, int b,
                const std::array<int, 3>& face) {
         const FaceShareKey key{id(frags[a]), mask(w, frags[a]), id(frags[b]), mask(w, frags[b]), face[0], face[1], face[2]};
-        const auto it = memo_.find(key);
-        if (it != memo_.end()) return it->second != 0;
-        const bool shared = share_face(w, frags, parts, a, b, face);
-        memo_.emplace(key, shared ? 1 : 0);
-        return shared;
+        const auto [it, fresh] = memo_.try_emplace(key, 0);
+        if (fresh) it->second = share_face(w, frags, parts, a, b, face) ? 1 : 0;  // share_face reads no memo
+        return it->second != 0;
     }
 
     FirstLines& firsts() { return firsts_; }

@@ -407,6 +407,14 @@ TEST(Recut3d, ScalpelsCuttingAgainAreBitIdenticalOnOneAndTwoThreads) {
     EXPECT_GT(two.along, 0) << "midway through the second incision, elements were cut again";
 }
 
+// The scene's two cuts made at once: batches of 56-60 nodes whose copies are assigned with the
+// second cut's fragments compared across the first's (systems/cut/node_copies.cpp).
+TEST(Recut3d, CutsMadeAtOnceAreBitIdenticalOnOneAndTwoThreads) {
+    const Cruciate one = run_cruciate(true, false, 1.0, 1), two = run_cruciate(true, false, 1.0, 2);
+    EXPECT_EQ(one.state, two.state);
+    EXPECT_GT(two.remembered, 100u) << "fragments of elements cut again were compared";
+}
+
 // Node copies remember which fragments share a face from step to step (CutElements::face_shares):
 // the memo must give what a fresh comparison gives, so the same run with it emptied before every
 // step ends in the same bits.
