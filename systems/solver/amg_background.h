@@ -25,8 +25,10 @@ namespace xcut {
 struct PendingHierarchy : PendingResult<AmgHierarchy> {};
 
 /// Starts building a hierarchy for A (its pattern and values now), `position` and `mask`, for
-/// stiff_scale / mass_scale = `ratio`, due at `due_step`.
-std::shared_ptr<PendingHierarchy> start_background_hierarchy(const LinearSystem& A, const std::vector<Eigen::Vector3d>& position,
+/// stiff_scale / mass_scale = `ratio`, due at `due_step`. A is copied into `snapshot` (the copy the
+/// kept hierarchy was built from, AmgHierarchy::snapshot, or null): it changes from the next step on.
+std::shared_ptr<PendingHierarchy> start_background_hierarchy(const LinearSystem& A, std::shared_ptr<LinearSystem> snapshot,
+                                                             const std::vector<Eigen::Vector3d>& position,
                                                              const Eigen::VectorXd& mask, double ratio, int requested_step,
                                                              int due_step);
 

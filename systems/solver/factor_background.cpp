@@ -2,6 +2,7 @@
 
 #include "engine/background_threads.h"
 #include "systems/solver/beside_augment.h"
+#include "systems/solver/linear_assembly.h"
 #include "systems/kernels/solver/block_sparse.h"
 
 namespace xcut {
@@ -9,11 +10,7 @@ namespace xcut {
 std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<LinearSystem> snapshot,
                                                        BesideBlock jumps, int requested_step, int due_step) {
     if (!snapshot) snapshot = std::make_shared<LinearSystem>();
-    if (snapshot->topology != A.topology || snapshot->value.size() != A.value.size()) {
-        snapshot->row_offset = A.row_offset, snapshot->column = A.column, snapshot->diagonal = A.diagonal;
-        snapshot->topology = A.topology;
-    }
-    snapshot->value = A.value;
+    copy_linear_system(A, *snapshot);
     auto f = std::make_shared<LinearFactor>(true);
     f->topology = A.topology, f->computed_step = requested_step, f->snapshot = snapshot;
     f->jumps = std::move(jumps);

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "engine/parallel.h"
+#include "engine/vector_room.h"
 #include "systems/kernels/solver/block_sparse.h"
 
 namespace xcut {
@@ -47,15 +48,6 @@ int quadratic_incident(const World& w, int i) {
     int n = 0;
     for_quadratic(w, i, [&](int, int) { ++n; });
     return n;
-}
-
-/// Resizes v to n, growing its storage by half again when it must grow: a split adds a few blocks,
-/// and storage grown to the exact size would be copied to fresh pages at every split (first touches
-/// cost this kind of virtual machine 4-10 ms a split on the default skin, docs/BENCHMARKS.md).
-template <class T>
-void resize_with_room(std::vector<T>& v, size_t n) {
-    if (n > v.capacity()) v.reserve(n + n / 2);
-    v.resize(n);
 }
 
 }  // namespace
@@ -131,6 +123,15 @@ void assemble_step_matrix(World& w, const StepOperator& op, double mass_scale, d
     for (const auto& t : op.terms)
         if (!t->by_rows() && !t->beside_assembly() && t->active(w)) t->add_scattered(w, stiff_scale, A);
     filter_held_axes(w, A);
+}
+
+void copy_linear_system(const LinearSystem& A, LinearSystem& into) {
+    if (into.topology != A.topology || into.value.size() != A.value.size()) {
+        assign_with_room(into.row_offset, A.row_offset), assign_with_room(into.column, A.column);
+        assign_with_room(into.diagonal, A.diagonal);
+        into.topology = A.topology;
+    }
+    assign_with_room(into.value, A.value);
 }
 
 }  // namespace xcut

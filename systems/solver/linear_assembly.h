@@ -25,4 +25,9 @@ bool ensure_linear_pattern(World& world);
 /// scattered terms) at their current linearization (the pattern must be current).
 void assemble_step_matrix(World& world, const StepOperator& op, double mass_scale, double stiff_scale);
 
+/// Copies A's pattern (when it differs from into's) and values into `into`, for a preconditioner
+/// built off the step from a matrix the step changes next: in into's storage, grown with room
+/// (engine/vector_room.h), so a copy kept from build to build lands in pages already touched.
+void copy_linear_system(const LinearSystem& A, LinearSystem& into);
+
 }  // namespace xcut

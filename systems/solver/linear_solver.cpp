@@ -243,7 +243,7 @@ public:
         if ((stale || aging) && h && h->ok && h->topology == A_.topology && !ratio_grew && !failed_off_step &&
             s.renew_delay > 0) {
             if (!A_.pending_amg) {
-                A_.pending_amg = start_background_hierarchy(A_, w_.nodes.position, mask_, ratio, w_.step,
+                A_.pending_amg = start_background_hierarchy(A_, h->snapshot, w_.nodes.position, mask_, ratio, w_.step,
                                                             w_.step + s.renew_delay);
                 ++A_.background_builds;
             }

@@ -13,6 +13,7 @@
 #include "systems/solver/cholesky_factor.h"
 #include "systems/solver/factor_augment.h"
 #include "systems/solver/factor_background.h"
+#include "systems/solver/linear_assembly.h"
 #include "tests/systems/background_runs.h"
 
 namespace xcut {
@@ -332,6 +333,42 @@ TEST(FactorBackground, CloseToFactoringInTheStep) {
     EXPECT_EQ(in.augmented, 0);
     EXPECT_EQ(in.swaps, 0) << "factor_delay 0: nothing is computed off the step";
     expect_close_to_renewing_in_the_step(off, in);
+}
+
+// The step's copy of A for a preconditioner built off the step (copy_linear_system) is A, and after a
+// split grows A by a few blocks it lands in the storage the last copy used: fresh pages cost the
+// requesting step milliseconds (docs/BENCHMARKS.md, Real time through a cut).
+TEST(FactorBackground, TheStepsCopyOfAGrownByACutReusesItsStorage) {
+    LinearSystem A;
+    const auto fill = [&](int rows) {
+        A.row_offset.assign(1, 0), A.column.clear(), A.diagonal.clear();
+        for (int i = 0; i < rows; ++i) {
+            A.diagonal.push_back(static_cast<int>(A.column.size()));
+            for (int j = std::max(0, i - 2); j <= std::min(rows - 1, i + 2); ++j) A.column.push_back(j);
+            A.row_offset.push_back(static_cast<int>(A.column.size()));
+        }
+        A.value.resize(9 * A.column.size());
+        for (size_t k = 0; k < A.value.size(); ++k) A.value[k] = 0.5 + static_cast<double>(k % 97) / 7.0;
+        A.topology = 1000u + static_cast<uint64_t>(rows);
+    };
+    const auto same = [](const LinearSystem& a, const LinearSystem& b) {
+        return a.row_offset == b.row_offset && a.column == b.column && a.diagonal == b.diagonal && a.value == b.value &&
+               a.topology == b.topology;
+    };
+    LinearSystem copy;
+    fill(1000);
+    copy_linear_system(A, copy);
+    EXPECT_TRUE(same(A, copy));
+    const double* values = copy.value.data();
+    const int* columns = copy.column.data();
+    fill(1030);  // a split: 30 more DOF nodes
+    copy_linear_system(A, copy);
+    EXPECT_TRUE(same(A, copy));
+    EXPECT_EQ(copy.value.data(), values) << "the values went to fresh storage";
+    EXPECT_EQ(copy.column.data(), columns) << "the pattern went to fresh storage";
+    fill(2000);  // past the room: grown, and still A
+    copy_linear_system(A, copy);
+    EXPECT_TRUE(same(A, copy));
 }
 
 }  // namespace

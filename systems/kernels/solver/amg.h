@@ -31,6 +31,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "components/linear_system.h"
@@ -91,6 +92,9 @@ struct AmgHierarchy {
     /// as that ratio falls (a substep), so the kept smoother bounds hold below it, not above.
     double stiffness_ratio = 0.0;
     bool ok = false;         ///< built, and the coarsest factor succeeded
+    /// Built off the step: the copy of the step's A it was built from, whose storage the next
+    /// renewal's copy reuses (systems/solver/amg_background.h); the hierarchy does not read it.
+    std::shared_ptr<LinearSystem> snapshot;
 };
 
 /// Coarsening stops at this many DOFs (then LDL^T).
