@@ -371,5 +371,27 @@ TEST(FactorBackground, TheStepsCopyOfAGrownByACutReusesItsStorage) {
     EXPECT_TRUE(same(A, copy));
 }
 
+// The factor made at load copies A into the storage its successors are copied into, so the first
+// request (the default skin asks at its second step) copies into pages touched at load, and the
+// successors taken keep handing that storage on.
+TEST(FactorBackground, TheLoadsFactorHoldsTheCopyItsSuccessorsUse) {
+    Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json");
+    scene.visual_subdivisions = scene.collision_subdivisions = -1;
+    auto sim = make_simulation(scene, false);
+    const LinearSystem& A = sim->world.linear;
+    ASSERT_EQ(A.method, "cholesky");
+    ASSERT_TRUE(A.factor && A.factor->snapshot);
+    const LinearSystem* storage = A.factor->snapshot.get();
+    EXPECT_EQ(storage->value, A.value) << "the copy at load is A";
+    int swaps = 0;
+    for (int i = 0; i < 40; ++i) {
+        step_simulation(*sim);
+        swaps += sim->world.metrics.current.preconditioner == 2;
+        ASSERT_TRUE(A.factor && A.factor->snapshot);
+        EXPECT_EQ(A.factor->snapshot.get(), storage) << "step " << i + 1;
+    }
+    EXPECT_GE(swaps, 1) << "a successor was taken";
+}
+
 }  // namespace
 }  // namespace xcut
