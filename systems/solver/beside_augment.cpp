@@ -140,40 +140,55 @@ bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, uint64_t
     return b.ok = b.schur_indefinite.info() == Eigen::Success && pivots.minCoeff() > 1e-14 * pivots.maxCoeff();
 }
 
+void apply_augmented_in_team(const LowerFactor& lf, const FactorAugment* g, const BesideAugment* b, const Eigen::VectorXd& r,
+                             Eigen::VectorXd& z, AugmentScratch& sh) {
+    const int base = lf.rows(), m = g ? g->columns() : 0, n = b ? static_cast<int>(b->s_rows.size()) : 0;
+    if (m > 0) {
+#pragma omp single
+        {
+            sh.g1 = r.head(base);  // T^T r: each new DOF's residual also on its mesh node's
+            for (int q = 0; q < m; ++q)
+                if (g->parent[q] >= 0) sh.g1[g->parent[q]] += r[base + q];
+        }
+    }
+    Eigen::VectorXd& p = sh.p;
+    lf.solve_in_team(m > 0 ? sh.g1 : r, z, sh.lower, [&] {
+        Eigen::VectorXd& t = sh.lower.t;  // L^-1 P T^T r
+        Eigen::VectorXd y;
+        p.resize(m);
+        for (int q = 0; q < m; ++q) p[q] = r[base + q] - g->column_dot(q, t);
+        if (m > 0) g->schur.matrixL().solveInPlace(p);
+        if (b) {
+            Eigen::VectorXd xs(n);
+            for (int c = 0; c < n; ++c) xs[c] = column_dot(*b, c, t);
+            y = -(b->E.transpose() * xs);  // -Y_E^T v: the amplitudes' residual is 0
+            if (m > 0) y.noalias() -= b->V.transpose() * p;
+            y = b->indefinite ? Eigen::VectorXd(b->schur_indefinite.solve(y)) : Eigen::VectorXd(b->schur.solve(y));
+            if (m > 0) p -= b->V * y;
+        }
+        if (m > 0) {  // a = L_g^-T (p - V y)
+            g->schur.matrixU().solveInPlace(p);
+            for (int q = 0; q < m; ++q)
+                for (int e = g->y_start[q]; e < g->y_start[q + 1]; ++e) t[g->y_row[e]] -= g->y_value[e] * p[q];
+        }
+        if (b) {
+            const Eigen::VectorXd ey = b->E * y;  // Y_E y = X_S (E y)
+            for (int c = 0; c < n; ++c)
+                for (int e = b->x_start[c]; e < b->x_start[c + 1]; ++e) t[b->x_row[e]] -= b->x_value[e] * ey[c];
+        }
+    });
+    if (m > 0) {
+#pragma omp single
+        for (int q = 0; q < m; ++q) z[base + q] = p[q] + (g->parent[q] >= 0 ? z[g->parent[q]] : 0.0);
+    }
+}
+
 void apply_augmented(const LowerFactor& lf, const FactorAugment* g, const BesideAugment* b, const Eigen::VectorXd& r,
                      Eigen::VectorXd& z) {
-    const int base = lf.rows(), m = g ? g->columns() : 0, n = b ? static_cast<int>(b->s_rows.size()) : 0;
-    Eigen::VectorXd g1 = r.head(base);  // T^T r: each new DOF's residual also on its mesh node's
-    for (int q = 0; q < m; ++q)
-        if (g->parent[q] >= 0) g1[g->parent[q]] += r[base + q];
-    Eigen::VectorXd t(base);
-    for (int j = 0; j < base; ++j) t[j] = g1[lf.perm[j]];
-    lf.forward(t);
-    Eigen::VectorXd p(m), y;
-    for (int q = 0; q < m; ++q) p[q] = r[base + q] - g->column_dot(q, t);
-    if (m > 0) g->schur.matrixL().solveInPlace(p);
-    if (b) {
-        Eigen::VectorXd xs(n);
-        for (int c = 0; c < n; ++c) xs[c] = column_dot(*b, c, t);
-        y = -(b->E.transpose() * xs);  // -Y_E^T v: the amplitudes' residual is 0
-        if (m > 0) y.noalias() -= b->V.transpose() * p;
-        y = b->indefinite ? Eigen::VectorXd(b->schur_indefinite.solve(y)) : Eigen::VectorXd(b->schur.solve(y));
-        if (m > 0) p -= b->V * y;
-    }
-    if (m > 0) {  // a = L_g^-T (p - V y)
-        g->schur.matrixU().solveInPlace(p);
-        for (int q = 0; q < m; ++q)
-            for (int e = g->y_start[q]; e < g->y_start[q + 1]; ++e) t[g->y_row[e]] -= g->y_value[e] * p[q];
-    }
-    if (b) {
-        const Eigen::VectorXd ey = b->E * y;  // Y_E y = X_S (E y)
-        for (int c = 0; c < n; ++c)
-            for (int e = b->x_start[c]; e < b->x_start[c + 1]; ++e) t[b->x_row[e]] -= b->x_value[e] * ey[c];
-    }
-    lf.backward(t);
+    AugmentScratch sh;
+    lf.prepare(sh.lower);
     z.resize(r.size());
-    for (int j = 0; j < base; ++j) z[lf.perm[j]] = t[j];
-    for (int q = 0; q < m; ++q) z[base + q] = p[q] + (g->parent[q] >= 0 ? z[g->parent[q]] : 0.0);
+    apply_augmented_in_team(lf, g, b, r, z, sh);
 }
 
 }  // namespace xcut

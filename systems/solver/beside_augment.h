@@ -84,8 +84,17 @@ bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, uint64_t
 
 /// z = T M^-1 T^T r through the kept factor `lf`, its phantoms' block g (null: none) and the
 /// amplitudes' block b (null: none; else the first A-sized part of M^-1 [r; 0], see above); r and z
-/// of A's size. With neither block, the factor's own solve.
+/// of A's size. With neither block, the factor's own solve. Outside any parallel region.
 void apply_augmented(const LowerFactor& lf, const FactorAugment* g, const BesideAugment* b, const Eigen::VectorXd& r,
                      Eigen::VectorXd& z);
+/// What a team's threads share in apply_augmented_in_team.
+struct AugmentScratch {
+    LowerFactor::Scratch lower;  ///< the factor's split solve (LowerFactor::prepare sizes it)
+    Eigen::VectorXd g1, p;       ///< T^T r; the phantoms' part of the solution
+};
+/// The same, by every thread of a team, the factor's solves split among them
+/// (LowerFactor::solve_in_team: the same bits on any number of threads); sh.lower prepared, z sized.
+void apply_augmented_in_team(const LowerFactor& lf, const FactorAugment* g, const BesideAugment* b,
+                             const Eigen::VectorXd& r, Eigen::VectorXd& z, AugmentScratch& sh);
 
 }  // namespace xcut

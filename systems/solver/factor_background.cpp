@@ -50,9 +50,4 @@ bool augment_for_grown_system(const World& w, LinearFactor& f, const Eigen::Vect
     return extend_augment(A, *f.lower, std::move(parent), f.augment);
 }
 
-void solve_with_factor(const LinearFactor& f, bool augmented, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-    if (!augmented) return f.solve(r, z);
-    apply_augmented(*f.lower, &f.augment, nullptr, r, z);
-}
-
 }  // namespace xcut

@@ -44,7 +44,4 @@ void retire_factor(std::shared_ptr<LinearFactor> f);
 /// through it.
 bool augment_for_grown_system(const World& world, LinearFactor& f, const Eigen::VectorXd& mask);
 
-/// z = A^-1 r with the kept factor: directly, or through its augmented block when A has grown.
-void solve_with_factor(const LinearFactor& f, bool augmented, const Eigen::VectorXd& r, Eigen::VectorXd& z);
-
 }  // namespace xcut

@@ -175,7 +175,7 @@ public:
 
     /// CG with the preconditioner given as team_cg takes it.
     template <class Rows, class Whole>
-    CgResult cg(Preconditioning mode, Rows&& rows, Whole&& whole) {
+    CgResult cg(Preconditioning mode, Rows&& rows, Whole&& whole, bool heavy_preconditioner = false) {
         const LinearSystem& A = A_;
         const bool beside = op_.any_beside(w_);
         const auto product = [&](const Eigen::VectorXd& v, Eigen::VectorXd& q) {
@@ -186,8 +186,8 @@ public:
                 op_.add_beside_product(w_, v, q, stiff_scale_, mask_);
             }
         };
-        return team_cg(A.rows(), product, mode, rows, whole, b_, mask_, limits_.tolerance, limits_.max_iterations,
-                       x_);
+        return team_cg(A.rows(), product, mode, rows, whole, b_, mask_, limits_.tolerance, limits_.max_iterations, x_,
+                       heavy_preconditioner);
     }
 
     CgResult block_jacobi() {
@@ -287,7 +287,25 @@ public:
         return false;
     }
 
-    /// cholesky / direct: CG preconditioned by CHOLMOD's factor, solved on one thread of the team.
+    /// CG preconditioned by the factor f (through its augmented block and `beside`, if given):
+    /// through the views of L (no BLAS) by the whole team (LowerFactor::solve_in_team, the solves
+    /// split among its threads), else by CHOLMOD's solve on one thread.
+    CgResult factor_cg(const LinearFactor& f, bool augmented, const BesideAugment* beside) {
+        AugmentScratch scratch;
+        const auto solve_in_team = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+            if (beside || augmented)
+                return apply_augmented_in_team(*f.lower, augmented ? &f.augment : nullptr, beside, r, z, scratch);
+            f.lower->solve_in_team(r, z, scratch.lower, [] {});
+        };
+        const auto solve_by_cholmod = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+            with_cholmod_blas([&] { f.solve(r, z); });
+        };
+        if (!f.lower) return cg(Preconditioning::kSingle, no_rows, solve_by_cholmod);
+        f.lower->prepare(scratch.lower);
+        return cg(Preconditioning::kTeam, no_rows, solve_in_team, f.lower->split.bins > 0);
+    }
+
+    /// cholesky / direct: CG preconditioned by CHOLMOD's factor (factor_cg).
     /// cholesky renews it off the step (systems/solver/factor_background.h): at a cut the old one
     /// goes on through an augmented block, an aged one as it is, until the successor is due.
     void cholesky(double mass_scale) {
@@ -345,11 +363,6 @@ public:
             }
             if (t.ok) beside = &t, ++t.solves;
         };
-        const auto solve_factor = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-            if (beside) return apply_augmented(*f->lower, augmented ? &f->augment : nullptr, beside, r, z);
-            if (f->lower) return solve_with_factor(*f, augmented, r, z);  // no BLAS
-            with_cholmod_blas([&] { f->solve(r, z); });
-        };
         const auto renew = [&] {
             const bool ok = factorize(w_);
             f = A_.factor.get();
@@ -364,7 +377,7 @@ public:
         with_kept(stale, renew, [&] { return f && f->ok; },
                   [&] {
                       prepare_beside();
-                      return cg(Preconditioning::kSingle, no_rows, solve_factor);
+                      return factor_cg(*f, augmented, beside);
                   },
                   solved);
     }

@@ -11,7 +11,19 @@
 // (systems/solver/factor_background.h). The dense blocks here are Eigen's own kernels; on the
 // default skin and hand_dorsum factors a solve takes about what CHOLMOD's supernodal one takes.
 // The views are valid while the factor they view lives.
+//
+// The two triangular solves are split over the team's threads by subtrees of the supernodal
+// elimination tree (the subtree-to-thread mapping of Geist & Ng 1989, "Task scheduling for
+// parallel sparse Cholesky factorization"; CHOLMOD numbers supernodes in postorder, so a subtree is
+// a range of them): each thread solves its subtrees, and one thread the supernodes above them (the
+// top separators). Forward, a subtree's updates to rows above it are recorded in order and replayed
+// by the top's thread in the supernodes' order, so every entry of x is updated in the order of the
+// serial solve: the same bits on any number of threads and as the serial solve itself. Backward,
+// the top first, then the subtrees, each reading only what is final.
+#include <omp.h>
+
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 namespace xcut {
@@ -26,6 +38,21 @@ struct LowerFactor {
     const int* perm = nullptr;
     std::vector<Supernode> supernodes;
     std::vector<int> supernode_of;  ///< per column
+    int max_below = 0;              ///< the most rows any supernode has below its own columns
+
+    /// The solves' split (see above): bins of subtrees, one bin a thread; 0 bins: all top.
+    struct Split {
+        int bins = 0;
+        std::vector<std::array<int, 2>> range;  ///< subtrees as supernode ranges [lo, hi), lo increasing
+        std::vector<int> bin_of;                ///< per range: its bin
+        std::vector<int> record_start;          ///< per range (+ 1 at the end): its recorded updates' offset
+        std::vector<int> range_of;              ///< per supernode: its range, -1 on top
+    } split;
+    /// What a team's threads share in a split solve (sized by the solve).
+    struct Scratch {
+        Eigen::VectorXd t;            ///< the permuted vector being solved
+        std::vector<double> record;   ///< the subtrees' updates to the rows above them, in order
+    };
 
     int rows() const { return n; }
     /// Column j's first row below the diagonal: j's parent in the elimination tree, -1 at a root.
@@ -53,7 +80,49 @@ struct LowerFactor {
     void backward(Eigen::VectorXd& x) const;
     /// z = A^-1 r = P^T L^-T L^-1 P r.
     void solve(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
+
+    /// The split solve's parts. forward_bin: bin b's subtrees of L t = P src (their columns of t
+    /// gathered from src first when src is given), their updates above them recorded;
+    /// forward_top: the rest (the top's columns gathered first), replaying the records.
+    /// backward_top, backward_bin: L^T t = t for the top, then bin b's subtrees, each column
+    /// scattered to dst (dst[perm[k]] = t[k]) when dst is given.
+    void forward_bin(int b, const Eigen::VectorXd* src, Eigen::VectorXd& t, double* record) const;
+    /// With `whole`, forward_top and backward_top solve every supernode: the serial solve, in the
+    /// same order, without records.
+    void forward_top(const Eigen::VectorXd* src, Eigen::VectorXd& t, const double* record, bool whole = false) const;
+    void backward_top(Eigen::VectorXd& t, Eigen::VectorXd* dst, bool whole = false) const;
+    void backward_bin(int b, Eigen::VectorXd& t, Eigen::VectorXd* dst) const;
+    /// Sizes `sh` for a split solve.
+    void prepare(Scratch& sh) const;
+
+    /// dst = A^-1 src through sh.t, by every thread of a team (or outside any parallel region:
+    /// never inside a single or a loop of one); `between()` runs on one thread between the forward
+    /// and the backward solve (t = L^-1 P src then; it may change t); sh prepared, dst sized.
+    template <class Between>
+    void solve_in_team(const Eigen::VectorXd& src, Eigen::VectorXd& dst, Scratch& sh, Between&& between) const {
+        if (omp_get_num_threads() == 1) {  // the serial order without the records: the same bits
+            forward_top(&src, sh.t, nullptr, true);
+            between();
+            backward_top(sh.t, &dst, true);
+            return;
+        }
+#pragma omp for schedule(static, 1)
+        for (int b = 0; b < split.bins; ++b) forward_bin(b, &src, sh.t, sh.record.data());
+#pragma omp single
+        {
+            forward_top(&src, sh.t, sh.record.data());
+            between();
+            backward_top(sh.t, &dst);
+        }
+#pragma omp for schedule(static, 1)
+        for (int b = 0; b < split.bins; ++b) backward_bin(b, sh.t, &dst);
+    }
 };
+
+/// Splits the solves of `f` into `bins` bins of subtrees whose work (the flops of their
+/// supernodes) is within 10 % of each other where the tree allows, if L has at least
+/// `min_nonzeros` entries (else none: the team's barriers would cost more than they save).
+void split_solves(LowerFactor& f, int bins, double min_nonzeros);
 
 /// Views of a lower triangular matrix stored by columns: column j's entries [outer[j],
 /// outer[j] + count[j]) (count null: up to outer[j + 1]), its diagonal first, rows increasing.

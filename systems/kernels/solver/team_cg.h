@@ -75,10 +75,13 @@ enum class Preconditioning { kRows, kSingle, kTeam };
 /// reduction's loop (no loop and barrier of their own): `product` must not carry a held input entry
 /// into a free row, as the assembled A does not (its held rows and columns are dropped,
 /// filter_held_axes in systems/solver/linear_assembly.cpp).
+/// The team has thread_count() threads from kParallelMin unknowns on, below it one (the barriers
+/// cost more than the rows save), unless `heavy_preconditioner`: a kTeam preconditioner that does
+/// enough work per application to pay for them (a Cholesky factor's split solves).
 template <class Product, class PreconditionRows, class PreconditionAll>
 CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, PreconditionRows&& precondition_rows,
                  PreconditionAll&& precondition_all, const Eigen::VectorXd& b, const Eigen::VectorXd& mask, double tol,
-                 int max_iterations, Eigen::VectorXd& x) {
+                 int max_iterations, Eigen::VectorXd& x, bool heavy_preconditioner = false) {
     using team_cg_detail::rows;
     const int n = 3 * block_rows;
     team_cg_detail::Shared sh;
@@ -86,7 +89,7 @@ CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, Precon
     sh.r.resize(n), sh.u.resize(n), sh.w.resize(n), sh.p.setZero(n), sh.s.setZero(n);
     Eigen::VectorXd &r = sh.r, &u = sh.u, &w = sh.w, &p = sh.p, &s = sh.s;
     CgResult result;
-#pragma omp parallel num_threads(n >= kParallelMin ? thread_count() : 1)
+#pragma omp parallel num_threads(n >= kParallelMin || heavy_preconditioner ? thread_count() : 1)
     {
         int reductions = 0;
         const auto precondition = [&](int lo, int hi) {  // u = mask M^-1 r on rows, if row-wise

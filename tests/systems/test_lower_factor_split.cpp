@@ -1,0 +1,135 @@
+// The step's solves through a Cholesky factor's supernodes split over a team's threads by subtrees
+// of the elimination tree (systems/solver/lower_factor.h): the same bits as the serial solve on 1,
+// 2 and 3 threads and for 2 or 3 bins, and the solve CHOLMOD makes; the augmented solve of a grown
+// system the same (systems/solver/beside_augment.h).
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <omp.h>
+#include <vector>
+
+#include "systems/solver/beside_augment.h"
+#include "systems/solver/cholesky_factor.h"
+#include "systems/solver/factor_augment.h"
+
+namespace xcut {
+namespace {
+
+/// A grid of g x g x layers nodes, 3 DOFs each, and `extra_nodes` apart: a diagonally dominant
+/// block Laplacian (neighbours -I, the diagonal 6.5 I plus a small SPD coupling of a node's axes).
+Eigen::MatrixXd grid_matrix(int g, int layers, int extra_nodes) {
+    const int grid = g * g * layers, nodes = grid + extra_nodes, n = 3 * nodes;
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
+    Eigen::Matrix3d coupling;
+    coupling << 0.3, 0.1, 0.0, 0.1, 0.2, 0.05, 0.0, 0.05, 0.4;
+    for (int i = 0; i < nodes; ++i) M.block<3, 3>(3 * i, 3 * i) = 6.5 * Eigen::Matrix3d::Identity() + coupling;
+    for (int i = 0; i < grid; ++i)
+        for (int d : {1, g, g * g})
+            if (i + d < grid && (d != 1 || (i + 1) % g != 0) && (d != g || (i / g + 1) % g != 0)) {
+                M.block<3, 3>(3 * i, 3 * (i + d)) = -Eigen::Matrix3d::Identity();
+                M.block<3, 3>(3 * (i + d), 3 * i) = -Eigen::Matrix3d::Identity();
+            }
+    return M;
+}
+
+/// A viewed CHOLMOD factor of M, its solves split into `bins` bins.
+void factor_split(const Eigen::MatrixXd& M, int bins, LinearFactor& f) {
+    f.matrix = M.sparseView();
+    ASSERT_TRUE(compute_factor(f, true));
+    ASSERT_TRUE(f.lower);
+    split_solves(*f.lower, bins, 0.0);
+    ASSERT_EQ(f.lower->split.bins, bins);
+    ASSERT_GE(f.lower->split.range.size(), static_cast<size_t>(bins));
+}
+
+/// The split solve by a team of `threads`.
+Eigen::VectorXd team_solve(const LowerFactor& lf, const Eigen::VectorXd& r, int threads) {
+    Eigen::VectorXd z(r.size());
+    LowerFactor::Scratch sh;
+    lf.prepare(sh);
+#pragma omp parallel num_threads(threads)
+    lf.solve_in_team(r, z, sh, [] {});
+    return z;
+}
+
+bool same_bits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    return a.size() == b.size() && std::equal(a.data(), a.data() + a.size(), b.data());
+}
+
+TEST(LowerFactorSplit, TeamSolvesHaveTheSerialSolvesBits) {
+    const Eigen::MatrixXd M = grid_matrix(24, 2, 0);  // a thin layer, as the skin
+    LinearFactor f(true);
+    factor_split(M, 2, f);
+    // Both bins hold a share of the work, the top separators the rest.
+    std::vector<double> work(3, 0.0);
+    for (size_t s = 0; s < f.lower->supernodes.size(); ++s) {
+        const int k = f.lower->split.range_of[s];
+        const double w = double(f.lower->supernodes[s].rows) * f.lower->supernodes[s].cols;
+        work[k < 0 ? 2 : f.lower->split.bin_of[k]] += w;
+    }
+    EXPECT_GT(std::min(work[0], work[1]), 0.8 * std::max(work[0], work[1])) << "bins within 20 %";
+    EXPECT_LT(work[2], work[0] + work[1]) << "most of the work below the top";
+
+    const Eigen::VectorXd r = Eigen::VectorXd::Random(M.rows());
+    Eigen::VectorXd serial;
+    f.lower->solve(r, serial);
+    EXPECT_LE((serial - f.llt.solve(r)).norm(), 1e-12 * serial.norm()) << "CHOLMOD's solve";
+    for (int threads : {1, 2, 3}) EXPECT_TRUE(same_bits(team_solve(*f.lower, r, threads), serial)) << threads << " threads";
+    LinearFactor three(true);
+    factor_split(M, 3, three);
+    EXPECT_TRUE(same_bits(team_solve(*three.lower, r, 3), serial)) << "three bins";
+    EXPECT_TRUE(same_bits(team_solve(*three.lower, r, 2), serial)) << "three bins, two threads";
+}
+
+// A grown system (phantom copies of four nodes, A = M in the copies' own DOFs) solved through the
+// old block's factor in the jump basis and the augmented block: the team's bits are the serial
+// solve's, and both are the dense solve of M.
+TEST(LowerFactorSplit, AugmentedTeamSolveHasTheSerialSolvesBits) {
+    const int g = 8, old_nodes = g * g * g;
+    const std::vector<int> parent_node = {37, 38, 100, 301};
+    Eigen::MatrixXd M = grid_matrix(g, g, static_cast<int>(parent_node.size()));
+    for (size_t j = 0; j < parent_node.size(); ++j) {  // each copy joined to its node's neighbour
+        const int a = 3 * (old_nodes + static_cast<int>(j)), b = 3 * (parent_node[j] + 1);
+        M.block<3, 3>(a, b) = M.block<3, 3>(b, a) = -0.5 * Eigen::Matrix3d::Identity();
+    }
+    const int base = 3 * old_nodes, n = static_cast<int>(M.rows());
+    Eigen::MatrixXd T = Eigen::MatrixXd::Identity(n, n);  // (u, a) -> (x_old, x_new)
+    std::vector<int> parent;
+    for (size_t j = 0; j < parent_node.size(); ++j)
+        for (int c = 0; c < 3; ++c) {
+            const int q = 3 * static_cast<int>(j) + c;
+            parent.push_back(3 * parent_node[j] + c);
+            T(base + q, 3 * parent_node[j] + c) = 1.0;
+        }
+    LinearFactor f(true);
+    factor_split((T.transpose() * M * T).topLeftCorner(base, base), 2, f);
+    LinearSystem A;  // M as the assembled system stores it: every block
+    A.row_offset.push_back(0);
+    for (int i = 0; i < n / 3; ++i) {
+        for (int j = 0; j < n / 3; ++j) {
+            A.column.push_back(j);
+            for (int rr = 0; rr < 3; ++rr)
+                for (int cc = 0; cc < 3; ++cc) A.value.push_back(M(3 * i + rr, 3 * j + cc));
+        }
+        A.diagonal.push_back(static_cast<int>(A.column.size()) - n / 3 + i);
+        A.row_offset.push_back(static_cast<int>(A.column.size()));
+    }
+    A.topology = 77;
+    FactorAugment aug;
+    ASSERT_TRUE(extend_augment(A, *f.lower, parent, aug));
+    const Eigen::VectorXd r = Eigen::VectorXd::Random(n);
+    Eigen::VectorXd serial;
+    apply_augmented(*f.lower, &aug, nullptr, r, serial);
+    EXPECT_LE((serial - M.llt().solve(r)).norm(), 1e-10 * serial.norm()) << "the dense solve";
+    for (int threads : {1, 2}) {
+        Eigen::VectorXd z(n);
+        AugmentScratch sh;
+        f.lower->prepare(sh.lower);
+#pragma omp parallel num_threads(threads)
+        apply_augmented_in_team(*f.lower, &aug, nullptr, r, z, sh);
+        EXPECT_TRUE(same_bits(z, serial)) << threads << " threads";
+    }
+}
+
+}  // namespace
+}  // namespace xcut
