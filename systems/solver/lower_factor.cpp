@@ -19,7 +19,7 @@ void index_columns(LowerFactor& out) {
     split_solves(out, 0, 0.0);
 }
 
-/// The columns [lo, hi) of supernode range [a, b).
+/// The first column of supernode a, and the end of the columns of supernode range [.., b).
 int first_column(const LowerFactor& f, int a) { return f.supernodes[a].first; }
 int end_column(const LowerFactor& f, int b) { return f.supernodes[b - 1].first + f.supernodes[b - 1].cols; }
 

@@ -99,11 +99,20 @@ struct LowerFactor {
     /// never inside a single or a loop of one); `between()` runs on one thread between the forward
     /// and the backward solve (t = L^-1 P src then; it may change t); sh prepared, dst sized.
     template <class Between>
+    void serial_in(const Eigen::VectorXd& src, Eigen::VectorXd& dst, Scratch& sh, Between& between) const {
+        forward_top(&src, sh.t, nullptr, true);
+        between();
+        backward_top(sh.t, &dst, true);
+    }
+    template <class Between>
     void solve_in_team(const Eigen::VectorXd& src, Eigen::VectorXd& dst, Scratch& sh, Between&& between) const {
         if (omp_get_num_threads() == 1) {  // the serial order without the records: the same bits
-            forward_top(&src, sh.t, nullptr, true);
-            between();
-            backward_top(sh.t, &dst, true);
+            serial_in(src, dst, sh, between);
+            return;
+        }
+        if (split.bins == 0) {  // not split: one thread solves, the team waits once
+#pragma omp single
+            serial_in(src, dst, sh, between);
             return;
         }
 #pragma omp for schedule(static, 1)

@@ -79,6 +79,9 @@ TEST(LowerFactorSplit, TeamSolvesHaveTheSerialSolvesBits) {
     factor_split(M, 3, three);
     EXPECT_TRUE(same_bits(team_solve(*three.lower, r, 3), serial)) << "three bins";
     EXPECT_TRUE(same_bits(team_solve(*three.lower, r, 2), serial)) << "three bins, two threads";
+    LinearFactor whole(true);
+    factor_split(M, 0, whole);  // not split: one thread of the team solves
+    for (int threads : {1, 2}) EXPECT_TRUE(same_bits(team_solve(*whole.lower, r, threads), serial)) << "unsplit, " << threads;
 }
 
 // A grown system (phantom copies of four nodes, A = M in the copies' own DOFs) solved through the
