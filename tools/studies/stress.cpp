@@ -304,9 +304,14 @@ CaseResult random_cut(std::mt19937_64& rng, int index, const StressOptions& o) {
         return r;
     }
     // No gravity: the work put in is the tension of the borders drawn outward, released by the cuts.
+    // After each step (the work's callback): a cross-cut after the loop is followed through the lens.
     const double put_in = energy_at_start(sim->world);
-    run_steps(*sim, static_cast<int>(std::lround(kLoopDuration / kLoopStep)), [put_in](const World&) { return put_in; }, r);
-    if (r.nan == 0) r.loops = loop_pieces(sim->world, regions);
+    std::vector<Vec3> cross_path;
+    run_steps(*sim, static_cast<int>(std::lround(kLoopDuration / kLoopStep)), [&](const World& w) {
+        track_cross_cut(w, regions, cross_path);
+        return put_in;
+    }, r);
+    if (r.nan == 0) r.loops = loop_pieces(sim->world, regions, cross_path);
     return r;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/fragment_geometry.h"
 #include "engine/world.h"
 #include "systems/cut/pieces_system.h"
 
@@ -66,7 +67,85 @@ double ellipse_perimeter(double a, double b) {
     return M_PI * (a + b) * (1.0 + 3.0 * h / (10.0 + std::sqrt(4.0 - 3.0 * h)));
 }
 
+/// Rest point X in the unit-circle frame of the ellipse at rest.
+Eigen::Vector2d unit_of(const LoopRegions& r, const Vec3& X) {
+    const double c = std::cos(r.angle), s = std::sin(r.angle);
+    const Eigen::Vector2d d = (X - r.centre).head<2>();
+    return Eigen::Vector2d((c * d.x() + s * d.y()) / r.a, (-s * d.x() + c * d.y()) / r.b);
+}
+
+Vec3 ellipse_at(const LoopRegions& r, double th) {
+    const double c = std::cos(r.angle), s = std::sin(r.angle), u = r.a * std::cos(th), v = r.b * std::sin(th);
+    return r.centre + Vec3(c * u - s * v, s * u + c * v, 0.0);
+}
+
+/// Where segment p -> q crosses the ellipse, p and q on either side of it (bisection to 1e-15 of it).
+Vec3 rim_crossing(const LoopRegions& r, const Vec3& p, const Vec3& q) {
+    const bool p_in = unit_of(r, p).norm() < 1.0;
+    double lo = 0.0, hi = 1.0;
+    for (int k = 0; k < 50; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        ((unit_of(r, p + mid * (q - p)).norm() < 1.0) == p_in ? lo : hi) = mid;
+    }
+    return p + 0.5 * (lo + hi) * (q - p);
+}
+
+double polyline_length(const std::vector<Vec3>& p) {
+    double l = 0.0;
+    for (size_t k = 1; k < p.size(); ++k) l += (p[k] - p[k - 1]).norm();
+    return l;
+}
+
 }  // namespace
+
+void track_cross_cut(const World& w, const LoopRegions& r, std::vector<Vec3>& path) {
+    if (!r.cross_after_loop || w.tools.count() < 2 || w.time > w.tools.trajectory[1].back().time + 1e-9) return;
+    // x = A X + t over the lens's nodes, least squares (X from the ellipse's centre).
+    Eigen::Matrix3d hh = Eigen::Matrix3d::Zero();
+    Eigen::Matrix<double, 3, 2> hx = Eigen::Matrix<double, 3, 2>::Zero();
+    int n = 0;
+    for (int i = 0; i < w.mesh_nodes; ++i) {
+        if (unit_of(r, w.nodes.rest[i]).norm() > 0.7) continue;
+        const Eigen::Vector3d h((w.nodes.rest[i] - r.centre).x(), (w.nodes.rest[i] - r.centre).y(), 1.0);
+        hh += h * h.transpose();
+        hx += h * w.nodes.position[i].head<2>().transpose();
+        ++n;
+    }
+    if (n < 3) return;
+    const Eigen::Matrix<double, 3, 2> m = hh.ldlt().solve(hx);
+    const Eigen::Matrix2d A = m.topRows<2>().transpose();
+    const Eigen::Vector2d X = A.inverse() * (w.tools.position[1].head<2>() - m.row(2).transpose());
+    path.push_back(r.centre + Vec3(X.x(), X.y(), 0.0));
+}
+
+bool path_regions(const LoopRegions& r, const std::vector<Vec3>& path, LoopRegions& out) {
+    const int count = static_cast<int>(path.size());
+    int first = -1, last = -1;  // the segments that enter first and leave last
+    for (int k = 0; k + 1 < count; ++k) {
+        const bool in = unit_of(r, path[k]).norm() < 1.0, next = unit_of(r, path[k + 1]).norm() < 1.0;
+        if (!in && next && first < 0) first = k;
+        if (in && !next && first >= 0) last = k;
+    }
+    if (first < 0 || last < 0) return false;
+    std::vector<Vec3> chord{rim_crossing(r, path[first], path[first + 1])};
+    chord.insert(chord.end(), path.begin() + first + 1, path.begin() + last + 1);
+    chord.push_back(rim_crossing(r, path[last], path[last + 1]));
+    const Eigen::Vector2d in = unit_of(r, chord.front()), out_at = unit_of(r, chord.back());
+    const double from = std::atan2(out_at.y(), out_at.x()), to = std::atan2(in.y(), in.x());
+    const double span = std::fmod(to - from + 4.0 * M_PI, 2.0 * M_PI);  // from the exit round to the entry, counter-clockwise
+    out.area.clear(), out.perimeter.clear();
+    for (const double way : {1.0, -1.0}) {
+        const double turn = way > 0.0 ? span : 2.0 * M_PI - span;
+        const int pieces = std::max(2, static_cast<int>(std::ceil(720.0 * turn / (2.0 * M_PI))));
+        std::vector<Vec3> region = chord, arc{chord.back()};
+        for (int k = 1; k < pieces; ++k) arc.push_back(ellipse_at(r, from + way * turn * k / pieces));
+        arc.push_back(chord.front());
+        region.insert(region.end(), arc.begin() + 1, arc.end() - 1);
+        out.area.push_back(polygon_area(region));
+        out.perimeter.push_back(polyline_length(chord) + polyline_length(arc));
+    }
+    return true;
+}
 
 Scene random_loop_scene(std::mt19937_64& rng, LoopRegions* regions) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -121,14 +200,19 @@ Scene random_loop_scene(std::mt19937_64& rng, LoopRegions* regions) {
         add_scalpel(s, "cross", std::move(keys));
         chord_regions(el, n, d, (q - p).norm(), r);
     }
-    // At rest: the paths are drawn on the patch stretched by its borders.
+    // At rest: the paths are drawn on the patch stretched by its borders (x = S X - pull).
     for (double& a : r.area) a /= kLoopStretch * kLoopStretch;
     for (double& p : r.perimeter) p /= kLoopStretch;
+    r.cross_after_loop = cross == 1;
+    r.centre = (el.centre + Vec3(kLoopPull, kLoopPull, 0.0)) / kLoopStretch;
+    r.angle = el.angle, r.a = el.a / kLoopStretch, r.b = el.b / kLoopStretch;
     if (regions) *regions = r;
     return s;
 }
 
-LoopTally loop_pieces(World& w, const LoopRegions& regions) {
+LoopTally loop_pieces(World& w, const LoopRegions& drawn, const std::vector<Vec3>& path) {
+    LoopRegions regions = drawn;
+    if (drawn.cross_after_loop) path_regions(drawn, path, regions);
     count_pieces(w);
     const double thickness = w.materials.list.front().thickness;
     double element = 0.0;  // the mean element's area [m^2]

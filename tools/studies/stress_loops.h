@@ -3,7 +3,9 @@
 // random ellipse in a 2D skin patch, with a straight cross-cut through its lens before or after the
 // loop in two runs of three; the pieces the cuts free are checked against the regions the paths
 // enclose, computed in closed form (the ellipse's area, and the two segments a chord divides it
-// into), not by the cutter.
+// into), not by the cutter. A cross-cut after the loop goes through a lens that is free and moves:
+// its segments are those of the path the blade took through the lens's material (the lens's nodes'
+// motion, not the cutter, says where that is).
 #include <random>
 #include <vector>
 
@@ -27,6 +29,13 @@ constexpr double kLoopStretch = 1.0 + 2.0 * kLoopPull / kLoopPatch;
 /// on the skin stretched 2.5 % each way by its borders) and the length of their boundaries [m].
 struct LoopRegions {
     std::vector<double> area, perimeter;
+    /// A cross-cut after the loop: the lens is free then, and it drifts and turns as it relaxes
+    /// (1-2 mm and 5-10 degrees while the cross-cut goes through it, on trajectories 119 and 237),
+    /// so the chord the blade cuts through its material is not the drawn one. Its regions are then
+    /// taken from the blade's path through the lens's material (track_cross_cut) instead.
+    bool cross_after_loop = false;
+    Vec3 centre = Vec3::Zero();  ///< the drawn ellipse at rest: centre [m], major axis's angle, semi-axes [m]
+    double angle = 0.0, a = 0.0, b = 0.0;
 };
 
 /// The next loop trajectory of `rng`: a 40 x 40 mm skin patch (2 mm cells, 2 mm thick, E 1e4 Pa),
@@ -57,7 +66,20 @@ struct LoopTally {
 /// retracts) and the cut's straight line through each element.
 constexpr double kLoopAreaTolerance = 0.0005;
 
-/// The pieces of `w` (counted again) against `regions`.
-LoopTally loop_pieces(World& w, const LoopRegions& regions);
+/// After a step of a cross-cut made after the loop: the cross-cut blade's point pulled back to rest
+/// through the lens's motion (the affine map that best takes the rest positions of the mesh nodes
+/// well inside the drawn ellipse to where they are now: the lens's drift, turn and relaxation, not
+/// anything the cutter decided), appended to `path` while the blade is within the ellipse's
+/// neighbourhood. Nothing otherwise.
+void track_cross_cut(const World& w, const LoopRegions& regions, std::vector<Vec3>& path);
+
+/// The regions the ellipse at rest is divided into by `path` (rest points; from its first entry
+/// into the ellipse to its last exit): each one's area and boundary, as LoopRegions holds them.
+/// False if the path does not cross the ellipse.
+bool path_regions(const LoopRegions& ellipse, const std::vector<Vec3>& path, LoopRegions& out);
+
+/// The pieces of `w` (counted again) against `regions` (a cross-cut after the loop: against the
+/// regions of its tracked `path`, when it crossed the lens).
+LoopTally loop_pieces(World& w, const LoopRegions& regions, const std::vector<Vec3>& path = {});
 
 }  // namespace xcut
