@@ -74,10 +74,8 @@ Eigen::Vector2d unit_of(const LoopRegions& r, const Vec3& X) {
     return Eigen::Vector2d((c * d.x() + s * d.y()) / r.a, (-s * d.x() + c * d.y()) / r.b);
 }
 
-Vec3 ellipse_at(const LoopRegions& r, double th) {
-    const double c = std::cos(r.angle), s = std::sin(r.angle), u = r.a * std::cos(th), v = r.b * std::sin(th);
-    return r.centre + Vec3(c * u - s * v, s * u + c * v, 0.0);
-}
+/// The point of the ellipse at rest at angle th of its unit-circle frame.
+Vec3 ellipse_at(const LoopRegions& r, double th) { return Ellipse{r.centre, r.angle, r.a, r.b}.at(std::cos(th), std::sin(th)); }
 
 /// Where segment p -> q crosses the ellipse, p and q on either side of it (bisection to 1e-15 of it).
 Vec3 rim_crossing(const LoopRegions& r, const Vec3& p, const Vec3& q) {
