@@ -21,7 +21,6 @@ using namespace tip_triangles;
 
 namespace {
 
-constexpr int kRuleOrder = 8;  ///< Gauss points per direction of a fan triangle's Duffy rule
 /// Pivots of the Jacobi-scaled H (unit diagonal) below this share of the largest are the
 /// functions' exact dependencies, at rounding (1e-16 measured; the smallest kept one on the
 /// accuracy suite's zones is 1e-4).
@@ -84,12 +83,12 @@ struct ZoneJob {
     std::vector<int> slots;
 };
 
-/// Zone part `job`'s integrals (tip frame f, 8 x 8 Duffy points per fan triangle).
+/// Zone part `job`'s integrals (tip frame f, kTipRuleOrder^2 Duffy points per fan triangle).
 BranchIntegrals zone_integrals(const World& w, const ZoneJob& job, const TipFrame& f) {
     std::array<int, 3> lip{};
     for (int k = 0; k < 3; ++k) lip[k] = node_lip(w, f, w.elements.nodes[job.e][k]);
     return branch_integrals(rest_triangle(w, job.e), job.slots, lip, f, job.part.lip,
-                            tip_polygon_rule(job.part.polygon, f, kRuleOrder));
+                            tip_polygon_rule(job.part.polygon, f, kTipRuleOrder));
 }
 
 /// Appends zone part `job` with its integrals `bi` (2D: times the thickness).
