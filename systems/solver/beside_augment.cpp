@@ -15,36 +15,61 @@ constexpr int kSolveWidth = 8;
 /// X_S's column c . v (v dense, in the factor's order).
 double column_dot(const BesideAugment& b, int c, const Eigen::VectorXd& v) { return sparse_column_dot(b.x_start, b.x_row, b.x_value, c, v); }
 
-/// X_S = L^-1 P I_S (kSolveWidth columns a sparse solve: each column of L on their joint reach is
-/// read once for all of them) and G = X_S^T X_S.
-void solve_rows(const LowerFactor& lf, BesideAugment& b) {
-    const int n = static_cast<int>(b.s_rows.size());
-    b.x_start.assign(1, 0), b.x_row.clear(), b.x_value.clear();
+/// X_S = L^-1 P I_S for S = `rows` (sorted) and G = X_S^T X_S. The columns of rows S held before,
+/// over the same factor (`same_factor`), are kept with their entries of G: a column's solve
+/// depends on its row alone (SparseForward's elimination visits its reach in increasing order
+/// whatever columns share the pass), so kept and solved again are the same bits. A tip entering
+/// the next cell keeps the rows of the nodes the two cells share. The rest are solved kSolveWidth
+/// columns a sparse solve (each column of L on their joint reach read once for all of them).
+void solve_rows(const LowerFactor& lf, const std::vector<int>& rows, bool same_factor, BesideAugment& b) {
+    const int n = static_cast<int>(rows.size());
+    std::vector<int> was(n, -1), fresh;  // a row's column in the old S; the rows to solve
+    for (int c = 0; c < n; ++c) {
+        const auto it = std::lower_bound(b.s_rows.begin(), b.s_rows.end(), rows[c]);
+        if (same_factor && it != b.s_rows.end() && *it == rows[c]) was[c] = static_cast<int>(it - b.s_rows.begin());
+        else fresh.push_back(c);
+    }
+    std::vector<int> solved_start{0}, solved_row;
+    std::vector<double> solved_value;
     SparseForward<kSolveWidth> solver(lf);
-    for (int first = 0; first < n; first += kSolveWidth) {
-        const int width = std::min(kSolveWidth, n - first);
+    for (size_t first = 0; first < fresh.size(); first += kSolveWidth) {
+        const int width = static_cast<int>(std::min<size_t>(kSolveWidth, fresh.size() - first));
         for (int c = 0; c < width; ++c) {
             double entry[kSolveWidth] = {};
             entry[c] = 1.0;
-            solver.add(b.s_rows[first + c], entry);
+            solver.add(rows[fresh[first + c]], entry);
         }
         solver.solve();
         for (int c = 0; c < width; ++c) {
             for (int j : solver.reach())
-                if (solver.x(j)[c] != 0.0) b.x_row.push_back(j), b.x_value.push_back(solver.x(j)[c]);
-            b.x_start.push_back(static_cast<int>(b.x_row.size()));
+                if (solver.x(j)[c] != 0.0) solved_row.push_back(j), solved_value.push_back(solver.x(j)[c]);
+            solved_start.push_back(static_cast<int>(solved_row.size()));
         }
         solver.clear();
     }
+    const std::vector<int> old_start = std::move(b.x_start), old_row = std::move(b.x_row);
+    const std::vector<double> old_value = std::move(b.x_value);
+    const Eigen::MatrixXd old_G = std::move(b.G);
+    b.s_rows = rows;
+    b.x_start.assign(1, 0), b.x_row.clear(), b.x_value.clear();
+    const auto append = [&](const std::vector<int>& start, const std::vector<int>& row, const std::vector<double>& value, int q) {
+        b.x_row.insert(b.x_row.end(), row.begin() + start[q], row.begin() + start[q + 1]);
+        b.x_value.insert(b.x_value.end(), value.begin() + start[q], value.begin() + start[q + 1]);
+        b.x_start.push_back(static_cast<int>(b.x_row.size()));
+    };
+    for (int c = 0, next = 0; c < n; ++c)
+        was[c] >= 0 ? append(old_start, old_row, old_value, was[c]) : append(solved_start, solved_row, solved_value, next++);
     Eigen::VectorXd w = Eigen::VectorXd::Zero(lf.rows());
     b.G.resize(n, n);
     for (int c = 0; c < n; ++c) {
         for (int p = b.x_start[c]; p < b.x_start[c + 1]; ++p) w[b.x_row[p]] = b.x_value[p];
-        for (int d = 0; d <= c; ++d) b.G(c, d) = b.G(d, c) = column_dot(b, d, w);
+        for (int d = 0; d <= c; ++d)
+            b.G(c, d) = b.G(d, c) = was[c] >= 0 && was[d] >= 0 ? old_G(was[c], was[d]) : column_dot(b, d, w);
         for (int p = b.x_start[c]; p < b.x_start[c + 1]; ++p) w[b.x_row[p]] = 0.0;
     }
     b.f_columns = -1;
     ++b.s_builds;
+    b.s_solved += static_cast<int>(fresh.size());
 }
 
 /// F = Y_g^T X_S for the phantoms' block g.
@@ -104,8 +129,8 @@ bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, uint64_t
     std::sort(rows.begin(), rows.end());
     rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
     if (rows != b.s_rows || factor != b.factor) {
-        b.s_rows = rows, b.factor = factor;
-        solve_rows(lf, b);
+        solve_rows(lf, rows, factor == b.factor, b);
+        b.factor = factor;
     }
     const int n = static_cast<int>(rows.size());
     b.E = Eigen::MatrixXd::Zero(n, k);

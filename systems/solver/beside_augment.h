@@ -21,6 +21,8 @@
 // What is kept: X_S (sparse forward solves, 8 columns side by side), G = X_S^T X_S and
 // F = Y_g^T X_S stay while the factor and S stay: a tip moving inside one cell changes E_S's values,
 // not S, so most moving steps pay only the small dense products (E^T G E, F E, V, S_E's Cholesky).
+// When S changes over the same factor, the columns of the rows it keeps stay with their entries
+// of G (the same bits as solved again), and only the new rows are solved.
 // Solving the amplitudes' columns every step instead took 0.3-0.44 ms a step on the face skin and
 // saved nothing (docs/xfem.md, Solvers).
 //
@@ -65,7 +67,8 @@ struct BesideAugment {
     BesideBlock jumps;             ///< the jumping terms' block now it was built for
     bool ok = false;
     int solves = 0;                ///< CG solves it preconditioned
-    int s_builds = 0;              ///< times X_S was solved for
+    int s_builds = 0;              ///< times S changed (X_S was built)
+    int s_solved = 0;              ///< columns of X_S solved for (the others kept)
 
     int amplitudes() const { return static_cast<int>(E.cols()); }
 };

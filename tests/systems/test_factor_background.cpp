@@ -156,7 +156,8 @@ BesideBlock random_block(int k, int n, int first, int stride, std::mt19937& rng,
 }
 
 /// Three blocks in turn over one factor, as a moving tip gives them: new DOFs, then the same DOFs
-/// with new values (X_S kept), then other DOFs (X_S solved again); each solve exact.
+/// with new values (X_S kept), then other DOFs, some shared (X_S solved again for the new ones);
+/// each solve exact.
 void expect_beside_exact(int old_nodes, const std::vector<int>& parent_node, const Eigen::VectorXd& mask) {
     const int nodes = old_nodes + static_cast<int>(parent_node.size()), n = 3 * nodes, k = 7;
     const Eigen::MatrixXd M = dense_spd(nodes, mask);
@@ -174,9 +175,23 @@ void expect_beside_exact(int old_nodes, const std::vector<int>& parent_node, con
     for (const auto& [first, stride] : {std::pair{0, 2}, std::pair{0, 2}, std::pair{1, 4}}) {
         Eigen::MatrixXd C, H;
         const BesideBlock block = random_block(k, n, first, stride, rng, C, H);
-        const int builds = b.s_builds;
+        const int builds = b.s_builds, solved = b.s_solved;
+        const std::vector<int> rows_before = b.s_rows;
         ASSERT_TRUE(build_beside_augment(A, jf.lf, 1, parent_node.empty() ? nullptr : &g, block, s, mask, b));
         kept += b.s_builds == builds;
+        // S changed over the same factor: only its new rows solved, and X_S and G the bits of a
+        // build from nothing.
+        int new_rows = 0;
+        for (int row : b.s_rows) new_rows += !std::binary_search(rows_before.begin(), rows_before.end(), row);
+        if (b.s_builds != builds) {
+            EXPECT_EQ(b.s_solved - solved, new_rows);
+        }
+        BesideAugment fresh;
+        ASSERT_TRUE(build_beside_augment(A, jf.lf, 1, parent_node.empty() ? nullptr : &g, block, s, mask, fresh));
+        EXPECT_EQ(fresh.x_start, b.x_start);
+        EXPECT_EQ(fresh.x_row, b.x_row);
+        EXPECT_EQ(fresh.x_value, b.x_value) << "bit for bit";
+        EXPECT_EQ(fresh.G, b.G) << "bit for bit";
         for (int d = 0; d < n; ++d)
             if (mask[d] == 0.0) C.col(d).setZero();
         H.diagonal() *= 1.0 + kBesideRegularization;
@@ -189,6 +204,7 @@ void expect_beside_exact(int old_nodes, const std::vector<int>& parent_node, con
         EXPECT_LE((z - expected).norm(), 1e-10 * expected.norm()) << "largest difference " << (z - expected).cwiseAbs().maxCoeff();
     }
     EXPECT_EQ(kept, 1) << "the second block's DOFs were the first's: X_S kept once";
+    EXPECT_LT(b.s_solved, static_cast<int>(2 * b.s_rows.size())) << "the third block kept rows the first had";
 }
 
 TEST(BesideAugment, ExactOverAFactorWithPhantomsAndHeldAxes) {
