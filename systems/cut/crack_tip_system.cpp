@@ -415,9 +415,14 @@ bool blade_rest_point(const World& w, int t, Vec3& rest) {
     for (int e = 0; e < w.mesh_elements; ++e) {
         if (w.elements.weight[e] <= 0.0 || (e < static_cast<int>(cut_of.size()) && cut_of[e] >= 0)) continue;
         const auto& n = w.elements.nodes[e];
+        // Outside the corners' box (widened by 1e-6 of it, far beyond the 1e-12 the coordinates
+        // allow below): not held; the solve is left for the few elements around p.
+        const Vec2 a = xy(w.nodes.position[n[0]]), b = xy(w.nodes.position[n[1]]), c = xy(w.nodes.position[n[2]]);
+        const Vec2 lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c), pad = Vec2::Constant(1e-6 * (hi - lo).maxCoeff());
+        if ((p.array() < (lo - pad).array()).any() || (p.array() > (hi + pad).array()).any()) continue;
         Eigen::Matrix2d D;
-        D << xy(w.nodes.position[n[1]] - w.nodes.position[n[0]]), xy(w.nodes.position[n[2]] - w.nodes.position[n[0]]);
-        const Vec2 l = D.partialPivLu().solve(p - xy(w.nodes.position[n[0]]));
+        D << b - a, c - a;
+        const Vec2 l = D.partialPivLu().solve(p - a);
         if (std::min({1.0 - l.x() - l.y(), l.x(), l.y()}) < -1e-12) continue;
         rest = (1.0 - l.x() - l.y()) * w.nodes.rest[n[0]] + l.x() * w.nodes.rest[n[1]] + l.y() * w.nodes.rest[n[2]];
         return true;
