@@ -3,6 +3,8 @@
 // the regions the paths enclose.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <unistd.h>
@@ -12,6 +14,7 @@
 #include "systems/pipeline.h"
 #include "tests/test_helpers.h"
 #include "tools/studies/stress.h"
+#include "tools/studies/parted_regions.h"
 #include "tools/studies/stress_loops.h"
 
 namespace xcut {
@@ -65,53 +68,96 @@ TEST(StressLoops, TheRegionsAreThoseThePathsEnclose) {
     EXPECT_LT(crossed, 55);
 }
 
-// A cross-cut after the loop is scored against the chord its blade cut through the lens's material
-// (the freed lens drifts and turns): the regions a path divides the ellipse into are the closed
-// forms' for the drawn chord (at rest), and the blade is pulled back to rest through the lens's
-// motion exactly when that motion is a turn, a shift and a shrink.
-TEST(StressLoops, ACrossCutAfterTheLoopIsFollowedThroughTheLensMaterial) {
-    int after = 0;
-    each_loop_scene(40, [&](const Scene& s, const LoopRegions& r, int n) {
-        EXPECT_EQ(r.cross_after_loop, s.tools.count() == 2 && s.tools.trajectory[1].size() == 3) << n;
-        if (s.tools.count() < 2) return;
-        // The drawn chord at rest, in 30 steps from 3 mm before the rim to 3 mm past it.
-        const Vec3 from = s.tools.trajectory[1].front().position, to = s.tools.trajectory[1].back().position;
-        const Vec3 pull(kLoopPull, kLoopPull, 0.0);
-        std::vector<Vec3> path;
-        for (int k = 0; k <= 30; ++k) path.push_back((from + (to - from) * (k / 30.0) + pull) / kLoopStretch);
-        LoopRegions cut;
-        ASSERT_TRUE(path_regions(r, path, cut));
-        ASSERT_EQ(cut.area.size(), 2u);
-        const double whole = r.area[0] + r.area[1];
-        EXPECT_NEAR(std::min(cut.area[0], cut.area[1]), std::min(r.area[0], r.area[1]), 1e-4 * whole) << n;
-        EXPECT_NEAR(std::max(cut.area[0], cut.area[1]), std::max(r.area[0], r.area[1]), 1e-4 * whole) << n;
-        EXPECT_NEAR(cut.perimeter[0] + cut.perimeter[1], r.perimeter[0] + r.perimeter[1], 1e-4 * (r.perimeter[0] + r.perimeter[1]));
-        EXPECT_FALSE(path_regions(r, {path.front(), path.front()}, cut)) << "a path that never enters";
-        if (!r.cross_after_loop || after++ > 0) return;
+/// Scene s's drawn path of tool i at rest (its keyframes: x = S X - pull).
+std::vector<Vec3> drawn_at_rest(const Scene& s, int i) {
+    std::vector<Vec3> path;
+    for (const Keyframe& k : s.tools.trajectory[i]) path.push_back((k.position + Vec3(kLoopPull, kLoopPull, 0.0)) / kLoopStretch);
+    return path;
+}
 
-        // The lens turned by 0.15 rad, shifted and shrunk by 2.5 %: the blade's point comes back to
-        // the rest point it lies over.
-        auto sim = make_simulation(s, false);
-        World& w = sim->world;
-        const Eigen::Rotation2Dd turn(0.15);
-        const Eigen::Vector2d shift(0.0011, -0.0007);
-        const auto moved = [&](const Vec3& X) {
-            const Eigen::Vector2d x = turn * ((X - r.centre).head<2>() * 0.975) + r.centre.head<2>() + shift;
-            return Vec3(x.x(), x.y(), X.z());
-        };
-        for (int i = 0; i < w.mesh_nodes; ++i) w.nodes.position[i] = moved(w.nodes.rest[i]);
-        const Vec3 X = r.centre + Vec3(0.002, -0.001, 0.0);
-        w.tools.position[1] = moved(X);
-        w.time = 2.5;
-        std::vector<Vec3> tracked;
-        track_cross_cut(w, r, tracked);
-        ASSERT_EQ(tracked.size(), 1u);
-        EXPECT_LT((tracked[0] - X).head<2>().norm(), 1e-12);
-        w.time = 3.1;  // the cross-cut is over
-        track_cross_cut(w, r, tracked);
-        EXPECT_EQ(tracked.size(), 1u);
+// The raster the suite scores against parts the patch as the closed forms do: the drawn paths at
+// rest give the patch and the ellipse's region or its two segments (besides slivers, smaller than
+// an element, where the overshoot's chords cross the first turn's), within 0.3 % of the ellipse (a
+// polygon of 61 sides inside it) and a cell along the boundary. Each region's boundary is its part
+// of the paths (the cross-cut's ends outside bound nothing), with the slivers' sides along the
+// overshoot's 0.4 rad (up to 23 % more here).
+TEST(StressLoops, TheRasterPartsTheDrawnPathsAsTheClosedFormsDo) {
+    const double element = 0.002 * 0.002 / 2.0;  // the patch's triangles [m^2]
+    each_loop_scene(12, [&](const Scene& s, const LoopRegions& r, int n) {
+        std::vector<std::vector<Vec3>> paths;
+        for (int i = 0; i < s.tools.count(); ++i) paths.push_back(drawn_at_rest(s, i));
+        const PartedRegions parted = parted_regions(paths, Vec3::Zero(), Vec3(kLoopPatch, kLoopPatch, 0.0), kLoopRaster);
+        std::vector<std::pair<double, double>> got;
+        for (size_t k = 0; k < parted.area.size(); ++k)
+            if (parted.area[k] >= element) got.push_back({parted.area[k], parted.boundary[k]});
+        ASSERT_EQ(got.size(), r.area.size() + 1) << n;
+        std::sort(got.rbegin(), got.rend());
+        double whole = 0.0, perimeter = 0.0;
+        for (size_t k = 0; k < r.area.size(); ++k) whole += r.area[k], perimeter += r.perimeter[k];
+        EXPECT_NEAR(got[0].first, kLoopPatch * kLoopPatch - whole, 3e-3 * whole + kLoopRaster * perimeter) << n;
+        std::vector<std::pair<double, double>> want;
+        for (size_t k = 0; k < r.area.size(); ++k) want.push_back({r.area[k], r.perimeter[k]});
+        std::sort(want.rbegin(), want.rend());
+        for (size_t k = 0; k < want.size(); ++k) {
+            EXPECT_NEAR(got[k + 1].first, want[k].first, 3e-3 * whole + kLoopRaster * want[k].second) << n;
+            EXPECT_GT(got[k + 1].second, 0.997 * want[k].second) << n;
+            EXPECT_LT(got[k + 1].second, 1.3 * want[k].second) << n;
+        }
+        Vec3 from = Vec3::Zero(), to = Vec3::Zero();
+        EXPECT_EQ(closest_return(paths[0], from, to), 0.0) << "the overshoot crosses the loop's start";
     });
-    EXPECT_GT(after, 0);
+}
+
+// A loop that ends beside its start does not part the patch: one region, its gap measured; closed
+// across that gap, two, the lens a circle's area within half a cell along its rim. A path whose end
+// crosses its start comes back to it at distance 0, where it crosses.
+TEST(StressLoops, ALoopThatEndsBesideItsStartFreesNothing) {
+    const Vec3 c(0.02, 0.02, 0.0);
+    const double radius = 0.008, gap = 3e-4;
+    std::vector<Vec3> loop;
+    for (int k = 0; k <= 200; ++k) {  // 2 pi + 0.4, the radius shrinking by `gap` over the last 0.4 rad
+        const double th = (2.0 * M_PI + 0.4) * k / 200, in = th > 2.0 * M_PI ? gap : gap * th / (2.0 * M_PI);
+        loop.push_back(c + (radius - in) * Vec3(std::cos(th), std::sin(th), 0.0));
+    }
+    Vec3 from = Vec3::Zero(), to = Vec3::Zero();
+    EXPECT_NEAR(closest_return(loop, from, to), gap, 2e-5);
+    const Vec3 lo = Vec3::Zero(), hi(kLoopPatch, kLoopPatch, 0.0);
+    EXPECT_EQ(parted_regions({loop}, lo, hi, kLoopRaster).area.size(), 1u);
+    const PartedRegions closed = parted_regions({loop, {from, to}}, lo, hi, kLoopRaster);
+    ASSERT_EQ(closed.area.size(), 2u);
+    const double lens = std::min(closed.area[0], closed.area[1]);
+    EXPECT_NEAR(lens, M_PI * radius * radius, 2.0 * M_PI * radius * (gap + kLoopRaster));
+    const std::vector<Vec3> crossing{Vec3(0.5, 0, 0), Vec3(1, 0, 0), Vec3(4, 0, 0), Vec3(4, 4, 0), Vec3(0.7, 4, 0), Vec3(0.7, -1, 0)};
+    EXPECT_EQ(closest_return(crossing, from, to), 0.0);
+    EXPECT_LT((from - Vec3(0.7, 0, 0)).norm(), 1e-12);
+}
+
+// A blade is pulled back to rest through the tissue's current shape: with the patch turned by 0.15
+// rad, shifted and shrunk by 2.5 %, its point comes back to the rest point it lies over; off the
+// patch it adds nothing.
+TEST(StressLoops, ABladeIsFollowedThroughTheMaterial) {
+    std::mt19937_64 rng(1);
+    Scene s = random_loop_scene(rng);
+    while (s.tools.count() < 2) s = random_loop_scene(rng);
+    auto sim = make_simulation(s, false);
+    World& w = sim->world;
+    const Vec3 c(0.02, 0.02, 0.0);
+    const Eigen::Rotation2Dd turn(0.15);
+    const Eigen::Vector2d shift(0.0011, -0.0007);
+    const auto moved = [&](const Vec3& X) {
+        const Eigen::Vector2d x = turn * ((X - c).head<2>() * 0.975) + c.head<2>() + shift;
+        return Vec3(x.x(), x.y(), X.z());
+    };
+    for (int i = 0; i < w.nodes.count(); ++i) w.nodes.position[i] = moved(w.nodes.rest[i]);
+    const Vec3 X = c + Vec3(0.002, -0.001, 0.0);
+    w.tools.position[0] = moved(X);
+    w.tools.position[1] = Vec3(-0.01, 0.02, 0.0);
+    std::vector<std::vector<Vec3>> paths;
+    track_blades(w, paths);
+    ASSERT_EQ(paths.size(), 2u);
+    ASSERT_EQ(paths[0].size(), 1u);
+    EXPECT_LT((paths[0][0] - X).head<2>().norm(), 1e-12);
+    EXPECT_TRUE(paths[1].empty());
 }
 
 /// The loop trajectories `o` asks for (seed 1; its CSV in a file of its own, removed): their summary.
@@ -191,6 +237,38 @@ TEST(StressLoops, LoopsPassingBesideANodeOrDippingIntoACutElementFreeTheirPieces
         EXPECT_EQ(s.lost_vertices + s.pinched_edges + s.zero_area + s.nan, 0) << "trajectory " << index;
         EXPECT_EQ(s.pieces_mismatch, 0) << "trajectory " << index << ": the pieces are not the regions its paths enclose";
     }
+}
+
+// A loop whose passes miss each other in the material by less than the cutter's join distance is
+// scored as closed. Trajectory 856, a loop alone: its closing pass, drawn along the same ellipse in
+// space, runs beside its first pass in the material, 0.16 mm from it (that pass's wound has opened
+// and the tissue has moved; docs/BENCHMARKS.md traced it from the cuts the run recorded). The
+// paths alone part nothing bigger than an element from the patch; closed across the gap, they
+// free the lens, and that is the count the suite expects (the cutter joins such passes in the other
+// runs; this one it leaves joined, printed here, counted by the suite).
+TEST(StressLoops, ALoopWhosePassesMissByLessThanTheJoinIsClosed) {
+    std::mt19937_64 rng(1);
+    for (int k = 0; k < 856; ++k) random_loop_scene(rng);
+    auto sim = make_simulation(random_loop_scene(rng), false);
+    ASSERT_EQ(sim->world.tools.count(), 1);
+    std::vector<std::vector<Vec3>> paths;
+    track_blades(sim->world, paths);
+    for (int n = 0; n < static_cast<int>(std::lround(kLoopDuration / kLoopStep)); ++n) {
+        step_simulation(*sim);
+        track_blades(sim->world, paths);
+    }
+    const auto regions = [](const std::vector<std::vector<Vec3>>& cuts) {
+        int count = 0;
+        for (const double a : parted_regions(cuts, Vec3::Zero(), Vec3(kLoopPatch, kLoopPatch, 0.0), kLoopRaster).area)
+            count += a >= 0.002 * 0.002 / 2.0;
+        return count;
+    };
+    EXPECT_EQ(regions(paths), 1) << "the paths as they are";
+    const LoopTally t = loop_pieces(sim->world, paths);
+    EXPECT_GT(t.gap, 1e-4);
+    EXPECT_LT(t.gap, 3e-4);
+    EXPECT_EQ(t.expected, 2);
+    std::printf("  measured: trajectory 856 frees %d pieces of an element or more (expected %d)\n", t.pieces, t.expected);
 }
 
 }  // namespace

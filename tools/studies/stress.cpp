@@ -294,8 +294,7 @@ std::string random_problem(const StressOptions& o) {
 /// Problem 8: one random trajectory's run (several scalpels, or a 2D patch with crack tips, as the
 /// options ask).
 CaseResult random_cut(std::mt19937_64& rng, int index, const StressOptions& o) {
-    LoopRegions regions;
-    Scene scene = o.loops ? random_loop_scene(rng, &regions) : random_scene(rng, o);
+    Scene scene = o.loops ? random_loop_scene(rng) : random_scene(rng, o);
     if (o.newton > 1) scene.solver.newton_iterations = o.newton, scene.solver.newton_tolerance = 1e-9;
     auto sim = make_simulation(scene, false);
     CaseResult r{random_problem(o), fmt::format("trajectory {}", index)};
@@ -304,14 +303,15 @@ CaseResult random_cut(std::mt19937_64& rng, int index, const StressOptions& o) {
         return r;
     }
     // No gravity: the work put in is the tension of the borders drawn outward, released by the cuts.
-    // After each step (the work's callback): a cross-cut after the loop is followed through the lens.
+    // After each step (the work's callback): the blades followed through the material.
     const double put_in = energy_at_start(sim->world);
-    std::vector<Vec3> cross_path;
+    std::vector<std::vector<Vec3>> paths;
+    track_blades(sim->world, paths);
     run_steps(*sim, static_cast<int>(std::lround(kLoopDuration / kLoopStep)), [&](const World& w) {
-        track_cross_cut(w, regions, cross_path);
+        track_blades(w, paths);
         return put_in;
     }, r);
-    if (r.nan == 0) r.loops = loop_pieces(sim->world, regions, cross_path);
+    if (r.nan == 0) r.loops = loop_pieces(sim->world, paths);
     return r;
 }
 
@@ -384,15 +384,15 @@ void tally(StressSummary& s, const CaseResult& r) {
 std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     std::string rows = "problem,case,steps,cuts,max_cg,nan,energy_ratio,energy_bound,lost_vertices,open_edges,"
                        "pinched_edges,zero_area_triangles,crossed_through,bridged,left_out,pieces,expected_pieces,strips,"
-                       "pieces_mismatch,piece_offset_mm\n";
+                       "pieces_mismatch,piece_offset_mm,loop_gap_mm\n";
     std::map<std::string, StressSummary> by_problem;
     auto record = [&](const CaseResult& r) {
         tally(by_problem[r.problem], r);
         // Problem and case names hold commas: quoted.
-        rows += fmt::format("\"{}\",\"{}\",{},{},{},{},{:.6g},{:g},{},{},{},{},{},{},{},{},{},{},{},{:.4g}\n", r.problem, r.name,
+        rows += fmt::format("\"{}\",\"{}\",{},{},{},{},{:.6g},{:g},{},{},{},{},{},{},{},{},{},{},{},{:.4g},{:.4g}\n", r.problem, r.name,
                             r.steps, r.cuts, r.max_cg, r.nan, r.energy_ratio, r.energy_bound, r.lost, r.open_edges,
                             r.pinched_edges, r.zero_area, r.bridges.crossed, r.bridges.bridged, r.bridges.left_out,
-                            r.loops.pieces, r.loops.expected, r.loops.strips, r.loops.mismatch, r.loops.offset * 1e3);
+                            r.loops.pieces, r.loops.expected, r.loops.strips, r.loops.mismatch, r.loops.offset * 1e3, r.loops.gap * 1e3);
     };
     std::mt19937_64 rng(o.seed);
     if (o.only < 0) {

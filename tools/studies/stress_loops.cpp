@@ -1,12 +1,15 @@
 #include "tools/studies/stress_loops.h"
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
 #include "engine/fragment_geometry.h"
 #include "engine/world.h"
+#include "systems/xfem_queries.h"
+#include "systems/cut/material_anchor.h"
 #include "systems/cut/pieces_system.h"
+#include "systems/cut/recut.h"
+#include "tools/studies/parted_regions.h"
 
 namespace xcut {
 namespace {
@@ -15,6 +18,7 @@ constexpr double kPatch = kLoopPatch;
 constexpr double kCell = 0.002;   ///< its cells [m]
 constexpr double kMargin = 0.005; ///< the ellipse's bounding box from the held borders [m]
 constexpr double kPast = 0.003;   ///< the cross-cut's reach past the rim [m]
+static_assert(kLoopJoin == kJoinFraction * kCell * 1.4142135623730951, "kLoopJoin: the cutter's join on the cells' diagonal");
 
 /// An ellipse in the patch's plane: centre, angle of its major axis, semi-axes [m].
 struct Ellipse {
@@ -67,83 +71,7 @@ double ellipse_perimeter(double a, double b) {
     return M_PI * (a + b) * (1.0 + 3.0 * h / (10.0 + std::sqrt(4.0 - 3.0 * h)));
 }
 
-/// Rest point X in the unit-circle frame of the ellipse at rest.
-Eigen::Vector2d unit_of(const LoopRegions& r, const Vec3& X) {
-    const double c = std::cos(r.angle), s = std::sin(r.angle);
-    const Eigen::Vector2d d = (X - r.centre).head<2>();
-    return Eigen::Vector2d((c * d.x() + s * d.y()) / r.a, (-s * d.x() + c * d.y()) / r.b);
-}
-
-/// The point of the ellipse at rest at angle th of its unit-circle frame.
-Vec3 ellipse_at(const LoopRegions& r, double th) { return Ellipse{r.centre, r.angle, r.a, r.b}.at(std::cos(th), std::sin(th)); }
-
-/// Where segment p -> q crosses the ellipse, p and q on either side of it (bisection to 1e-15 of it).
-Vec3 rim_crossing(const LoopRegions& r, const Vec3& p, const Vec3& q) {
-    const bool p_in = unit_of(r, p).norm() < 1.0;
-    double lo = 0.0, hi = 1.0;
-    for (int k = 0; k < 50; ++k) {
-        const double mid = 0.5 * (lo + hi);
-        ((unit_of(r, p + mid * (q - p)).norm() < 1.0) == p_in ? lo : hi) = mid;
-    }
-    return p + 0.5 * (lo + hi) * (q - p);
-}
-
-double polyline_length(const std::vector<Vec3>& p) {
-    double l = 0.0;
-    for (size_t k = 1; k < p.size(); ++k) l += (p[k] - p[k - 1]).norm();
-    return l;
-}
-
 }  // namespace
-
-void track_cross_cut(const World& w, const LoopRegions& r, std::vector<Vec3>& path) {
-    if (!r.cross_after_loop || w.tools.count() < 2 || w.time > w.tools.trajectory[1].back().time + 1e-9) return;
-    // x = A X + t over the lens's nodes, least squares (X from the ellipse's centre).
-    Eigen::Matrix3d hh = Eigen::Matrix3d::Zero();
-    Eigen::Matrix<double, 3, 2> hx = Eigen::Matrix<double, 3, 2>::Zero();
-    int n = 0;
-    for (int i = 0; i < w.mesh_nodes; ++i) {
-        if (unit_of(r, w.nodes.rest[i]).norm() > 0.7) continue;
-        const Eigen::Vector3d h((w.nodes.rest[i] - r.centre).x(), (w.nodes.rest[i] - r.centre).y(), 1.0);
-        hh += h * h.transpose();
-        hx += h * w.nodes.position[i].head<2>().transpose();
-        ++n;
-    }
-    if (n < 3) return;
-    const Eigen::Matrix<double, 3, 2> m = hh.ldlt().solve(hx);
-    const Eigen::Matrix2d A = m.topRows<2>().transpose();
-    const Eigen::Vector2d X = A.inverse() * (w.tools.position[1].head<2>() - m.row(2).transpose());
-    path.push_back(r.centre + Vec3(X.x(), X.y(), 0.0));
-}
-
-bool path_regions(const LoopRegions& r, const std::vector<Vec3>& path, LoopRegions& out) {
-    const int count = static_cast<int>(path.size());
-    int first = -1, last = -1;  // the segments that enter first and leave last
-    for (int k = 0; k + 1 < count; ++k) {
-        const bool in = unit_of(r, path[k]).norm() < 1.0, next = unit_of(r, path[k + 1]).norm() < 1.0;
-        if (!in && next && first < 0) first = k;
-        if (in && !next && first >= 0) last = k;
-    }
-    if (first < 0 || last < 0) return false;
-    std::vector<Vec3> chord{rim_crossing(r, path[first], path[first + 1])};
-    chord.insert(chord.end(), path.begin() + first + 1, path.begin() + last + 1);
-    chord.push_back(rim_crossing(r, path[last], path[last + 1]));
-    const Eigen::Vector2d in = unit_of(r, chord.front()), out_at = unit_of(r, chord.back());
-    const double from = std::atan2(out_at.y(), out_at.x()), to = std::atan2(in.y(), in.x());
-    const double span = std::fmod(to - from + 4.0 * M_PI, 2.0 * M_PI);  // from the exit round to the entry, counter-clockwise
-    out.area.clear(), out.perimeter.clear();
-    for (const double way : {1.0, -1.0}) {
-        const double turn = way > 0.0 ? span : 2.0 * M_PI - span;
-        const int pieces = std::max(2, static_cast<int>(std::ceil(720.0 * turn / (2.0 * M_PI))));
-        std::vector<Vec3> region = chord, arc{chord.back()};
-        for (int k = 1; k < pieces; ++k) arc.push_back(ellipse_at(r, from + way * turn * k / pieces));
-        arc.push_back(chord.front());
-        region.insert(region.end(), arc.begin() + 1, arc.end() - 1);
-        out.area.push_back(polygon_area(region));
-        out.perimeter.push_back(polyline_length(chord) + polyline_length(arc));
-    }
-    return true;
-}
 
 Scene random_loop_scene(std::mt19937_64& rng, LoopRegions* regions) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -201,16 +129,64 @@ Scene random_loop_scene(std::mt19937_64& rng, LoopRegions* regions) {
     // At rest: the paths are drawn on the patch stretched by its borders (x = S X - pull).
     for (double& a : r.area) a /= kLoopStretch * kLoopStretch;
     for (double& p : r.perimeter) p /= kLoopStretch;
-    r.cross_after_loop = cross == 1;
-    r.centre = (el.centre + Vec3(kLoopPull, kLoopPull, 0.0)) / kLoopStretch;
-    r.angle = el.angle, r.a = el.a / kLoopStretch, r.b = el.b / kLoopStretch;
     if (regions) *regions = r;
     return s;
 }
 
-LoopTally loop_pieces(World& w, const LoopRegions& drawn, const std::vector<Vec3>& path) {
-    LoopRegions regions = drawn;
-    if (drawn.cross_after_loop) path_regions(drawn, path, regions);
+/// The rest point of the material nearest to p (current), where no material holds p: over each
+/// whole triangle and each fragment of a cut one (its rest polygon carried by its node copies), the
+/// nearest point of its current shape, pulled back through that shape. False if none is within
+/// `reach` [m].
+bool nearest_material(const World& w, const Vec3& p, double reach, Vec3& rest) {
+    double best = reach;
+    const auto consider = [&](const std::array<Vec3, 3>& X, int carrier, const std::vector<Vec3>& polygon) {
+        const auto& n = w.elements.nodes[carrier];
+        const std::array<Vec3, 3> x{w.nodes.position[n[0]], w.nodes.position[n[1]], w.nodes.position[n[2]]};
+        const auto map = [](const std::array<Vec3, 3>& from, const std::array<Vec3, 3>& to, const Vec3& q) {
+            const Vec3 b = triangle_barycentric(from, q);
+            return Vec3(b.x() * to[0] + b.y() * to[1] + b.z() * to[2]);
+        };
+        for (size_t k = 0; k < polygon.size(); ++k) {
+            const Vec3 q = nearest_on(map(X, x, polygon[k]), map(X, x, polygon[(k + 1) % polygon.size()]), p);
+            const double d = (q - p).head<2>().norm();
+            if (d < best) best = d, rest = map(x, X, q);
+        }
+    };
+    for (int e = 0; e < w.mesh_elements; ++e) {
+        const std::array<Vec3, 3> X = corners(w, e);
+        const int c = w.cuts.cut_of_element.empty() ? -1 : w.cuts.cut_of_element[e];
+        if (c < 0) {
+            consider(X, e, {X.begin(), X.end()});
+            continue;
+        }
+        CutLine first;
+        const std::span<const CutLine> lines = lines_in(w, c, first);
+        for (const int v : fragments_of(w, c))
+            consider(X, w.virtual_elements.element[v],
+                     fragment_polygon(X, lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v]));
+    }
+    return best < reach;
+}
+
+void track_blades(const World& w, std::vector<std::vector<Vec3>>& paths) {
+    paths.resize(w.tools.count());
+    for (int i = 0; i < w.tools.count(); ++i) {
+        if (!w.tools.has_blade[i]) continue;
+        const Vec3& p = w.tools.position[i];
+        bool held = false;
+        for (int e = 0; e < w.mesh_elements && !held; ++e) {
+            const MaterialPoint m = material_in(w, e, p);
+            if (m.element < 0) continue;
+            const std::array<Vec3, 3> X = corners(w, e);
+            paths[i].push_back(m.bary.x() * X[0] + m.bary.y() * X[1] + m.bary.z() * X[2]);
+            held = true;
+        }
+        Vec3 rest;
+        if (!held && nearest_material(w, p, kLoopWoundReach, rest)) paths[i].push_back(rest);
+    }
+}
+
+LoopTally loop_pieces(World& w, const std::vector<std::vector<Vec3>>& paths) {
     count_pieces(w);
     const double thickness = w.materials.list.front().thickness;
     double element = 0.0;  // the mean element's area [m^2]
@@ -225,16 +201,20 @@ LoopTally loop_pieces(World& w, const LoopRegions& drawn, const std::vector<Vec3
     }
     std::sort(big.rbegin(), big.rend());
     t.pieces = static_cast<int>(big.size());
-    t.expected = 1 + static_cast<int>(regions.area.size());
+
+    // The regions the paths part, the loop closed across its gap where its end passes within
+    // kLoopJoin of its start without crossing it (the cutter joins the passes there).
+    std::vector<std::vector<Vec3>> cuts = paths;
+    Vec3 from = Vec3::Zero(), to = Vec3::Zero();
+    if (!cuts.empty() && cuts[0].size() > 2) t.gap = closest_return(cuts[0], from, to);
+    if (t.gap > 0.0 && t.gap <= kLoopJoin) cuts.push_back({from, to});
+    const PartedRegions parted = parted_regions(cuts, Vec3::Zero(), Vec3(kPatch, kPatch, 0.0), kLoopRaster);
+    std::vector<std::pair<double, double>> want;  // area, boundary: the regions of an element or more
+    for (size_t k = 0; k < parted.area.size(); ++k)
+        if (parted.area[k] >= element) want.push_back({parted.area[k], std::max(parted.boundary[k], kLoopRaster)});
+    std::sort(want.rbegin(), want.rend());
+    t.expected = static_cast<int>(want.size());
     if (t.pieces != t.expected) return t.mismatch = 1, t;
-    // The patch's area less the regions', its error the regions' (along the cuts round them).
-    std::vector<std::pair<double, double>> want{{kPatch * kPatch, 0.0}};
-    for (size_t k = 0; k < regions.area.size(); ++k) {
-        want.front().first -= regions.area[k];
-        want.front().second += regions.perimeter[k];
-        want.push_back({regions.area[k], regions.perimeter[k]});
-    }
-    std::sort(want.begin() + 1, want.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
     for (size_t k = 0; k < want.size(); ++k) t.offset = std::max(t.offset, std::abs(big[k] - want[k].first) / want[k].second);
     t.mismatch = t.offset > kLoopAreaTolerance;
     return t;

@@ -24,18 +24,13 @@ constexpr double kLoopPull = 0.0005;  ///< each of its borders drawn outward by 
 /// The patch's stretch each way [-], uniform away from the cuts: a drawn length is this times its rest one.
 constexpr double kLoopStretch = 1.0 + 2.0 * kLoopPull / kLoopPatch;
 
-/// The regions a loop trajectory's paths enclose, besides the patch around them: their rest areas
-/// [m^2] (the drawn ellipse's, or its two segments', less the patch's stretch: the paths are drawn
-/// on the skin stretched 2.5 % each way by its borders) and the length of their boundaries [m].
+/// The regions a loop trajectory's paths enclose as drawn, besides the patch around them: their rest
+/// areas [m^2] (the drawn ellipse's, or its two segments', less the patch's stretch: the paths are
+/// drawn on the skin stretched 2.5 % each way by its borders) and the length of their boundaries [m].
+/// Closed forms, against which the raster of parted_regions is checked; the suite scores the
+/// pieces against the paths through the material.
 struct LoopRegions {
     std::vector<double> area, perimeter;
-    /// A cross-cut after the loop: the lens is free then, and it drifts and turns as it relaxes
-    /// (1-2 mm and 5-10 degrees while the cross-cut goes through it, on trajectories 119 and 237),
-    /// so the chord the blade cuts through its material is not the drawn one. Its regions are then
-    /// taken from the blade's path through the lens's material (track_cross_cut) instead.
-    bool cross_after_loop = false;
-    Vec3 centre = Vec3::Zero();  ///< the drawn ellipse at rest: centre [m], major axis's angle, semi-axes [m]
-    double angle = 0.0, a = 0.0, b = 0.0;
 };
 
 /// The next loop trajectory of `rng`: a 40 x 40 mm skin patch (2 mm cells, 2 mm thick, E 1e4 Pa),
@@ -59,27 +54,42 @@ struct LoopTally {
     int mismatch = 0;
     /// With the right count, the largest |piece's area - region's| over a region's boundary [m]
     double offset = 0.0;
+    /// The loop's path through the material: how near its end comes back to its start [m]
+    /// (closest_return: 0 where it crosses it). Within kLoopJoin the loop is taken as closed.
+    double gap = 0.0;
 };
+
+/// A loop whose end passes this near its start in the material [m] is closed: the cutter moves a
+/// crossing within kJoinFraction (systems/cut/recut.h) of an element's longest edge (the patch's
+/// 2 mm cells' diagonal) of an earlier one onto it, so that a scalpel closing a loop meets its own
+/// wound where the tissue has moved since. In 915 of the first 1,000 trajectories the loop's end
+/// passes its start 0.001-0.38 mm apart in the material without crossing it, and the cutter freed
+/// the lens in all but one (docs/BENCHMARKS.md).
+constexpr double kLoopJoin = 0.2 * 0.002 * 1.4142135623730951;
+
+/// The raster's cells for the regions [m] (a 40 mm patch: 2000 x 2000).
+constexpr double kLoopRaster = 2e-5;
 
 /// A freed piece's area may differ from its region's by this much per metre of the region's
 /// boundary [m]: the tissue's motion under the blade (the wound opens behind it, the skin
 /// retracts) and the cut's straight line through each element.
 constexpr double kLoopAreaTolerance = 0.0005;
 
-/// After a step of a cross-cut made after the loop: the cross-cut blade's point pulled back to rest
-/// through the lens's motion (the affine map that best takes the rest positions of the mesh nodes
-/// well inside the drawn ellipse to where they are now: the lens's drift, turn and relaxation, not
-/// anything the cutter decided), appended to `path` while the blade is within the ellipse's
-/// neighbourhood. Nothing otherwise.
-void track_cross_cut(const World& w, const LoopRegions& regions, std::vector<Vec3>& path);
+/// How far from the material a blade in an open wound is followed along its lip [m].
+constexpr double kLoopWoundReach = 0.001;
 
-/// The regions the ellipse at rest is divided into by `path` (rest points; from its first entry
-/// into the ellipse to its last exit): each one's area and boundary, as LoopRegions holds them.
-/// False if the path does not cross the ellipse.
-bool path_regions(const LoopRegions& ellipse, const std::vector<Vec3>& path, LoopRegions& out);
+/// After a step: each bladed tool's point pulled back to rest through the tissue that holds it
+/// now, appended to paths[tool] (resized to the tools): the first mesh triangle whose material
+/// holds it, a whole one by its current shape, a cut one by the fragment whose node copies' current
+/// triangle holds it with its own material there (material_in, systems/cut/material_anchor.h). A
+/// blade in an open wound, which no material holds, is at the wound's lip in the material: the
+/// rest point of the nearest material within kLoopWoundReach (a blade that runs into a wound has
+/// met it; one that runs along its own open wound, as a loop's overshoot does, follows its first
+/// pass). Off the patch it adds nothing.
+void track_blades(const World& w, std::vector<std::vector<Vec3>>& paths);
 
-/// The pieces of `w` (counted again) against `regions` (a cross-cut after the loop: against the
-/// regions of its tracked `path`, when it crossed the lens).
-LoopTally loop_pieces(World& w, const LoopRegions& regions, const std::vector<Vec3>& path = {});
+/// The pieces of `w` (counted again) against the regions the blades' `paths` (rest) part the patch
+/// into, the loop's (path 0) closed across its gap where that is within kLoopJoin.
+LoopTally loop_pieces(World& w, const std::vector<std::vector<Vec3>>& paths);
 
 }  // namespace xcut
