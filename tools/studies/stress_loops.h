@@ -1,11 +1,13 @@
 #pragma once
 // `xcut stress --loops` (docs/verification.md problem 8, closed loops): a scalpel drawn round a
 // random ellipse in a 2D skin patch, with a straight cross-cut through its lens before or after the
-// loop in two runs of three; the pieces the cuts free are checked against the regions the paths
-// enclose, computed in closed form (the ellipse's area, and the two segments a chord divides it
-// into), not by the cutter. A cross-cut after the loop goes through a lens that is free and moves:
-// its segments are those of the path the blade took through the lens's material (the lens's nodes'
-// motion, not the cutter, says where that is).
+// loop in two runs of three; the pieces the cuts free are checked against the regions the blades'
+// paths through the material enclose (tools/studies/parted_regions.h), not against what the cutter
+// recorded. The paths are drawn in space, and the tissue moves under them: a wound opens behind the
+// blade, a freed lens drifts and turns, so a loop drawn closed in space ends 0.001-0.4 mm beside its
+// first pass in the material in most runs, and a cross-cut after the loop cuts the lens along a chord
+// turned 5-10 degrees from the drawn one (trajectories 119, 237). Each blade's point is pulled back
+// to rest at every step through the tissue that holds it (track_blades).
 #include <random>
 #include <vector>
 
