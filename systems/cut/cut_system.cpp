@@ -254,7 +254,7 @@ void note_dip(const World& w, int e, ElementCrossings& c, int k, double t, const
     const MaterialPoint m = material_in(w, e, turn);
     if (m.element < 0) return;
     const std::array<Vec3, 3> X = corners(w, e);
-    const Vec3 at = m.bary.x() * X[0] + m.bary.y() * X[1] + m.bary.z() * X[2];
+    const Vec3 at = material_rest(w, m);
     for (const CutLine& l : lines_of(w, cut[e]))
         if (std::abs(l.normal.dot(at - l.origin)) < kJoinFraction * longest_edge(X)) c.turn = m;
 }

@@ -66,6 +66,11 @@ Vec3 material_position(const World& w, const MaterialPoint& m) {
     return x;
 }
 
+Vec3 material_rest(const World& w, const MaterialPoint& m) {
+    const std::array<Vec3, 3> X = corners(w, m.element);
+    return m.bary.x() * X[0] + m.bary.y() * X[1] + m.bary.z() * X[2];
+}
+
 MaterialPoint material_in(const World& w, int e, const Vec3& p) {
     Vec3 b;
     if (whole(w, e)) return holds_now(w, e, p, b) ? MaterialPoint{e, b, -1} : MaterialPoint{};

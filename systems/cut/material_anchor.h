@@ -41,6 +41,10 @@ MaterialPoint material_in(const World& w, int e, const Vec3& p);
 /// positions at its barycentric coordinates.
 Vec3 material_position(const World& w, const MaterialPoint& m);
 
+/// Where material point m (2D) lies at rest [m]: its element's rest corners at its barycentric
+/// coordinates (a fragment's node copies share their element's rest corners).
+Vec3 material_rest(const World& w, const MaterialPoint& m);
+
 /// Moves tool i's anchor (tip, heel) to where the tissue it was in is now, while that element is
 /// still whole (or its fragment still holds it): an end in tissue moves with it, an end outside by
 /// the other end's displacement.

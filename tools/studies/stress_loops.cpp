@@ -177,8 +177,7 @@ void track_blades(const World& w, std::vector<std::vector<Vec3>>& paths) {
         for (int e = 0; e < w.mesh_elements && !held; ++e) {
             const MaterialPoint m = material_in(w, e, p);
             if (m.element < 0) continue;
-            const std::array<Vec3, 3> X = corners(w, e);
-            paths[i].push_back(m.bary.x() * X[0] + m.bary.y() * X[1] + m.bary.z() * X[2]);
+            paths[i].push_back(material_rest(w, m));
             held = true;
         }
         Vec3 rest;
