@@ -61,7 +61,8 @@ void cut_to(World& w, ElementBvh& bvh, int i, const BladeAt& b) {
     if (w.elements.dim == 2) {
         if (static_cast<int>(cs.path.size()) <= i || cs.path[i].empty()) {  // the path begins: in which element
             if (static_cast<int>(cs.blade.size()) <= i) cs.blade.resize(i + 1);
-            cs.blade[i].start_element = tissue_at(w, bvh, cs.anchor_tip[i], cs.anchor_heel[i])[0].element;
+            cs.blade[i].start_point = tissue_at(w, bvh, cs.anchor_tip[i], cs.anchor_heel[i])[0];
+            cs.blade[i].start_element = cs.blade[i].start_point.element;
         }
         note_loop(w, i, cs.anchor_tip[i], b.tip);
     }
@@ -158,6 +159,7 @@ void run_cut_system(World& w, ElementBvh& bvh) {
             cs.last_tip[i] = path.front().tip, cs.last_heel[i] = path.front().heel;
         }
         carry_anchor(w, i);
+        if (w.elements.dim == 2 && recut_allowed(w)) stem_at_start(w, i);
         sweep_blade(w, bvh, i, path, threshold);
     }
 }

@@ -402,6 +402,7 @@ void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed, int 
                 cs.delay_wall.push_back(wall_seconds() - c.first_wall);
                 ++cs.elements_split;
                 c.split = true;
+                if (e == bc.start_element && full && __builtin_popcount(bc.start_exit.mask) == 1) bc.start_stem = 1;
             }
         }
         if (c.split && full) {  // fully crossed: done
@@ -452,7 +453,23 @@ void close_at_start(World& w, int tool) {
     if (c.split || __builtin_popcount(c.mask) != 1 || __builtin_popcount(out) != 1 || c.mask == out) return;
     const int k = __builtin_ctz(out);
     c.mask |= out, c.t[k] = bc.start_exit.t[k], c.normal[k] = bc.start_exit.normal[k];
+    bc.start_exit = ElementCrossings{};  // its crossing out is this split's: no stem from the start
     split_or_list(w, bc, {e}, tool, CutQuad{});
+}
+
+void stem_at_start(World& w, int tool) {
+    CutState& cs = w.cut_state;
+    if (tool >= static_cast<int>(cs.blade.size())) return;
+    BladeCut& bc = cs.blade[tool];
+    const int e = bc.start_element;
+    if (bc.start_stem != 1 || w.cuts.cut_of_element.empty() || w.cuts.cut_of_element[e] < 0) return;
+    bc.start_stem = 2;
+    const int k = __builtin_ctz(bc.start_exit.mask);
+    CutEvent ev;
+    if (bc.start_point.element != e || !stem_event(w, e, k, bc.start_exit.t[k], material_position(w, bc.start_point), ev)) return;
+    ev.tool = tool;
+    w.pending_cuts.push_back(ev);
+    ++cs.elements_split;
 }
 
 void process_cut_quad(World& w, ElementBvh& bvh, const CutQuad& q, int tool, const CutQuad* face) {

@@ -39,6 +39,12 @@ void process_cut_quad(World& world, ElementBvh& bvh, const CutQuad& quad, int to
 /// by, that element is split from where it came back in to where it first went out
 /// (BladeCut::start_exit): a loop that closes inside the element it began in frees its piece.
 void close_at_start(World& world, int tool);
+/// 2D: once the element a blade's path began inside (BladeCut::start_element) has been split by
+/// the same blade coming back across it, that element is cut again from where the path began to
+/// where it first went out (BladeCut::start_exit; stem_event: a start within the join distance of
+/// the split's line meets it): a loop whose closing pass runs past its start, beside it in the
+/// material, meets it there and frees its piece.
+void stem_at_start(World& world, int tool);
 /// The mesh elements and nodes the cut searches (the element BVH's view of the world).
 MeshView mesh_view(const World& world);
 /// One step of the cutter for every bladed tool.
