@@ -182,6 +182,30 @@ TEST(Recut3d, TheBoxFiveOvershootingPlanesFreeHasAClosedSurfaceOfItsVolume) {
     EXPECT_NEAR(parts[1], kSize * kSize * kSize - kBoxVolume, 1e-9 * kSize * kSize * kSize);
 }
 
+// Two planes that meet on the skin (a V cut from the top face along x = x0, each wall 19 degrees
+// off the vertical, so the second cuts the first's elements again: more than 30 degrees apart): the
+// wedge between them is a fragment of every element along that line at the top, with no skin of
+// its own there. Three closed parts of the prisms' volumes (within 1e-6 of the cube's: the skin's
+// points are snapped to the cracks' points on the mesh edges, 1e-7 of it here). Not yet held: with
+// x0 = 9.3 mm the first plane passes through a line of the subdivided skin's vertices (x = 10 mm at
+// z = 18 mm) on the cube's sides, and 12 directed edges stay open there once the second plane cuts
+// those elements again (the second plane first: closed; docs/BENCHMARKS.md).
+TEST(Recut3d, TwoPlanesMeetingOnTheSkinLeaveItClosed) {
+    const double x0 = 0.00937, tilt = 0.35;
+    const Vec3 a = Vec3(1.0, 0.0, tilt).normalized(), b = Vec3(1.0, 0.0, -tilt).normalized();
+    const Vec3 top(x0, 0.5 * kSize, kSize);  // on both planes
+    const auto square = [&](const Vec3& n) {  // 2 m across, centred on `top`
+        const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
+        return std::vector<Vec3>{top - u - v, top + u - v, top + u + v, top - u + v};
+    };
+    const std::vector<double> parts = surface_parts({square(a), square(b)}, 5);
+    ASSERT_EQ(parts.size(), 3u);
+    const double k3 = kSize * kSize * kSize, wedge = tilt * k3;
+    std::vector<double> exact{x0 * kSize * kSize - 0.5 * wedge, wedge, (kSize - x0) * kSize * kSize - 0.5 * wedge};
+    std::sort(exact.begin(), exact.end());
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(parts[k], exact[k], 1e-6 * k3) << k;  // the skin's points snapped to the cracks'
+}
+
 TEST(Recut3d, TheVolumeOutputWritesEachFragmentAsTetrahedraOfItsVolume) {
     World w = cube();
     cut_now(w, plane_cut(Vec3::UnitX(), 0.0071));
