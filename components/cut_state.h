@@ -68,11 +68,10 @@ struct BladeCut {
     int start_element = -1;
     ElementCrossings start_exit;
     /// 2D: where the path began inside start_element, as a point of the tissue. When the blade
-    /// comes back across that element and splits it (a loop closing past its start), the stretch
-    /// from there to start_exit is cut too, once the split is made (stem_at_start): 1 pending,
-    /// 2 made.
+    /// comes back across that element and splits it (a loop closing past its start: start_stem),
+    /// the stretch from there to start_exit is cut too, once the split is made (stem_at_start).
     MaterialPoint start_point;
-    int8_t start_stem = 0;
+    bool start_stem = false;
     /// Elements already cut that the blade passes along their cut (test_element's `beside`), and
     /// the crossings it made there near that cut, not counted yet: once it crosses one of them away
     /// from the cut, they count with that crossing (a blade that met a wound at a slant and went on

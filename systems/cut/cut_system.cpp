@@ -402,7 +402,7 @@ void split_or_list(World& w, BladeCut& bc, const std::vector<int>& crossed, int 
                 cs.delay_wall.push_back(wall_seconds() - c.first_wall);
                 ++cs.elements_split;
                 c.split = true;
-                if (e == bc.start_element && full && __builtin_popcount(bc.start_exit.mask) == 1) bc.start_stem = 1;
+                if (e == bc.start_element && full && __builtin_popcount(bc.start_exit.mask) == 1) bc.start_stem = true;
             }
         }
         if (c.split && full) {  // fully crossed: done
@@ -462,11 +462,11 @@ void stem_at_start(World& w, int tool) {
     if (tool >= static_cast<int>(cs.blade.size())) return;
     BladeCut& bc = cs.blade[tool];
     const int e = bc.start_element;
-    if (bc.start_stem != 1 || w.cuts.cut_of_element.empty() || w.cuts.cut_of_element[e] < 0) return;
-    bc.start_stem = 2;
+    if (!bc.start_stem || w.cuts.cut_of_element.empty() || w.cuts.cut_of_element[e] < 0) return;
+    bc.start_stem = false;
     const int k = __builtin_ctz(bc.start_exit.mask);
     CutEvent ev;
-    if (bc.start_point.element != e || !stem_event(w, e, k, bc.start_exit.t[k], material_position(w, bc.start_point), ev)) return;
+    if (!stem_event(w, e, k, bc.start_exit.t[k], material_position(w, bc.start_point), ev)) return;
     ev.tool = tool;
     w.pending_cuts.push_back(ev);
     ++cs.elements_split;
