@@ -6,6 +6,7 @@
 #include "systems/cut/cut_system.h"
 #include "systems/cut/material_anchor.h"
 #include "systems/cut/recut.h"
+#include "systems/cut/stem_2d.h"
 #include "systems/cut/stem_3d.h"
 #include "systems/kernels/blade_pose.h"
 #include "systems/kernels/intersection.h"
@@ -70,7 +71,7 @@ void cut_to(World& w, ElementBvh& bvh, int i, const BladeAt& b) {
     process_cut_quad(w, bvh, CutQuad{{cs.anchor_tip[i], cs.anchor_heel[i], b.heel, b.tip}}, i,
                      b.back == Vec3::Zero() ? nullptr : &face);
     cs.anchor_tip[i] = b.tip, cs.anchor_heel[i] = b.heel;
-    cs.anchor_material[i] = tissue_at(w, bvh, b.tip, b.heel);
+    cs.anchor_material[i] = tissue_at(w, bvh, b.tip, b.heel, &cs.blade[i]);
 }
 
 /// A blade stopped at `end` inside cut elements it entered across their cuts (2D): each crossed on
@@ -89,7 +90,8 @@ void end_stems(World& w, int tool, const Vec3& end) {
     std::sort(entered.begin(), entered.end());
     for (int e : entered) {
         const ElementCrossings& c = bc.crossing.at(e);
-        queue_stem(w, e, c, c.turn.element >= 0 ? material_position(w, c.turn) : end, tool);  // a dip: where it turned
+        if (c.turn.element >= 0) queue_stem(w, e, c, material_position(w, c.turn), tool);  // a dip: where it turned
+        else queue_stem(w, e, c, end, tool, true);
     }
 }
 

@@ -11,6 +11,7 @@
 #include "systems/cut/node_sides.h"
 #include "systems/cut/quad_reach.h"
 #include "systems/cut/recut.h"
+#include "systems/cut/stem_2d.h"
 #include "systems/cut/stem_3d.h"
 #include "systems/cut/skin_flap.h"
 #include "systems/kernels/intersection.h"

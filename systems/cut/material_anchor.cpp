@@ -81,7 +81,8 @@ MaterialPoint material_in(const World& w, int e, const Vec3& p) {
     return {};
 }
 
-std::array<MaterialPoint, 2> tissue_at(const World& w, ElementBvh& bvh, const Vec3& tip, const Vec3& heel) {
+std::array<MaterialPoint, 2> tissue_at(const World& w, ElementBvh& bvh, const Vec3& tip, const Vec3& heel,
+                                       const BladeCut* entered) {
     std::array<MaterialPoint, 2> found{};
     if (w.elements.dim != 2) return found;  // 3D: the paper's anchor in space (material_anchor.h)
     const CutState& cs = w.cut_state;
@@ -92,11 +93,12 @@ std::array<MaterialPoint, 2> tissue_at(const World& w, ElementBvh& bvh, const Ve
         candidates.clear();
         bvh.query_ball(p, 0.0, candidates);
         std::sort(candidates.begin(), candidates.end());
-        for (const int e : candidates) {
-            if (e >= w.mesh_elements) continue;
-            found[k] = material_in(w, e, p);
-            if (found[k].element >= 0) break;
-        }
+        for (int pass = entered && !entered->crossing.empty() ? 0 : 1; pass < 2 && found[k].element < 0; ++pass)
+            for (const int e : candidates) {
+                if (e >= w.mesh_elements || (pass == 0 && !entered->crossing.contains(e))) continue;
+                found[k] = material_in(w, e, p);
+                if (found[k].element >= 0) break;
+            }
     }
     return found;
 }

@@ -28,8 +28,13 @@ namespace xcut {
 /// deterministic): a whole one (not cut, nor queued) by its current shape; one cut, where elements
 /// are cut again (recut_allowed), by the first of its fragments whose node copies' current triangle
 /// holds it with the fragment's own material there (MaterialPoint::fragment). Element -1 if none,
-/// and in 3D.
-std::array<MaterialPoint, 2> tissue_at(const World& w, ElementBvh& bvh, const Vec3& tip, const Vec3& heel);
+/// and in 3D. Where two materials hold it (a freed piece drifted over the tissue it was cut from:
+/// in 2D they overlap), one that `entered` (the blade's partly crossed elements) holds comes first:
+/// the blade went into that element's material and has not left it. Taken in the other, the anchor
+/// moved with it, the piece slid under the blade's next quad, and the cross-cut through a freed lens
+/// missed its rim element's edge (loop stress seed 2, trajectory 700).
+std::array<MaterialPoint, 2> tissue_at(const World& w, ElementBvh& bvh, const Vec3& tip, const Vec3& heel,
+                                       const BladeCut* entered = nullptr);
 
 /// The tissue at p (current, 2D) in mesh triangle e: the whole triangle's, by its current shape, or,
 /// where e is cut and cut again in this world (recut_allowed), the first of its fragments whose node

@@ -94,20 +94,6 @@ inline constexpr double kScriptedRecutCos = 0.9961946980917455;
 /// kScriptedRecutCos for a scripted cut in 3D).
 double incision_cos(const World& world, const CutEvent& ev);
 
-/// A scalpel that starts inside cut element e (2D; its swept segment from `start`, current
-/// positions) and crosses one of its edges, `crossed` (local edge) at parameter t: the event cutting
-/// e again along that segment, bounded by it (the stem of a T begun at the wound divides the
-/// fragment between the wound and that edge). A start a hair short of one of e's lines (on the
-/// crossed edge's side, within kJoinFraction of e's longest edge) is moved onto it: a blade that
-/// stops just short of its own wound, where the tissue moved under it, meets it. False if `start`
-/// is not inside e.
-bool stem_event(const World& world, int e, int crossed, double t, const Vec3& start, CutEvent& ev);
-
-/// Queues the stem event (stem_event) of blade `tool` in cut element e, crossed once (`c`: its one
-/// crossed edge), from `start` (current position: where the blade stopped, or turned in a dip).
-/// False if there is none.
-bool queue_stem(World& world, int e, const ElementCrossings& c, const Vec3& start, int tool);
-
 /// Fraction of an edge [-] within which a later crossing of it (another incision's, or the same
 /// blade's later pass) is the point an earlier crack put there: a scalpel closing a loop meets its
 /// own wound where the tissue has moved since (0.05-0.4 mm on 2 mm skin), and two points apart on

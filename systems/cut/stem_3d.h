@@ -9,7 +9,7 @@
 // fragments, those whose section by the plane lies ahead of the start are divided, those behind it
 // (across the wound) are not. A stem drawn to a wound and ended there is cut the same way behind the
 // blade's last edge inside the element, once the blade has left it. 2D's form is stem_event
-// (systems/cut/recut.h).
+// (systems/cut/stem_2d.h).
 #include <array>
 #include <vector>
 
