@@ -50,11 +50,9 @@ Vec3 end_on_wound(const World& w, int e, const std::array<Vec3, 3>& X, const Vec
 }
 
 /// The fragment of cut element e (rest corners X) a blade came in to across its rest crossing
-/// `cross` of an edge, heading for `p` (current): the one holding the segment from `cross` toward p
-/// as its node copies' current triangle maps p to rest (`end`); `part` is that segment's part in it
-/// (parameters from `cross`). -1 if none.
-int entered_fragment(const World& w, int e, const std::array<Vec3, 3>& X, const Vec3& cross, const Vec3& p, Vec3& end,
-                     std::array<double, 2>& part) {
+/// `cross` of an edge, heading for `p` (current): the one holding the start of the segment from
+/// `cross` toward p as its node copies' current triangle maps p to rest (`end`). -1 if none.
+int entered_fragment(const World& w, int e, const std::array<Vec3, 3>& X, const Vec3& cross, const Vec3& p, Vec3& end) {
     const int c = w.cuts.cut_of_element[e];
     if (c < 0) return -1;
     CutLine first;
@@ -64,7 +62,7 @@ int entered_fragment(const World& w, int e, const std::array<Vec3, 3>& X, const 
         const std::array<Vec3, 3> x{w.nodes.position[n[0]], w.nodes.position[n[1]], w.nodes.position[n[2]]};
         const Vec3 b = triangle_barycentric(x, p);
         end = b.x() * X[0] + b.y() * X[1] + b.z() * X[2];
-        part = segment_part(cross, end, lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v]);
+        const auto part = segment_part(cross, end, lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v]);
         if (part[0] <= 0.0 && part[1] > part[0]) return v;
     }
     return -1;
@@ -112,13 +110,13 @@ bool end_stem_event(const World& w, int e, int k, double t, const Vec3& end, Cut
     const std::array<Vec3, 3> X = corners(w, e);
     const Vec3 cross = X[kTriEdges[k][0]] + t * (X[kTriEdges[k][1]] - X[kTriEdges[k][0]]);
     Vec3 rest;
-    std::array<double, 2> part{};
-    const int v = entered_fragment(w, e, X, cross, end, rest, part);
+    const int v = entered_fragment(w, e, X, cross, end, rest);
     if (v < 0) return false;
     CutLine first;
     const std::span<const CutLine> lines = lines_in(w, w.cuts.cut_of_element[e], first);
     const uint32_t mask = w.virtual_elements.mask[v];
-    double nearest = kJoinFraction * longest_edge(X);
+    const double join = kJoinFraction * longest_edge(X);
+    double nearest = join;
     Vec3 best = Vec3::Zero(), p;
     for (size_t m = 0; m < lines.size(); ++m) {
         const CutLine& line = lines[m];
@@ -126,7 +124,7 @@ bool end_stem_event(const World& w, int e, int k, double t, const Vec3& end, Cut
         if (!(mask & bound_by(static_cast<int>(m))) || d >= nearest) continue;
         if (nearest_on_chord(line, X, cross - line.normal.dot(cross - line.origin) * line.normal, p)) best = p, nearest = d;
     }
-    return nearest < kJoinFraction * longest_edge(X) && stem_between(w, e, k, t, triangle_barycentric(X, best).cwiseMax(0.0), ev);
+    return nearest < join && stem_between(w, e, k, t, triangle_barycentric(X, best).cwiseMax(0.0), ev);
 }
 
 bool queue_stem(World& w, int e, const ElementCrossings& c, const Vec3& start, int tool, bool ended) {
