@@ -21,15 +21,7 @@ namespace {
 /// length (the face's area) [-]: two lines crossing it at one point (each element computes it)
 /// leave a few ulps, not an overlap.
 constexpr double kFaceOverlap = 1e-9;
-/// In 2D, by more than this fraction of the edge [-]. Each element's lines are its own, fitted
-/// through its own points, and two incisions that nearly meet give two elements across an edge
-/// crossings of it that differ: a loop's first pass began beside a cross-cut's wound and its line
-/// in that element, run across it, crossed the edge 2.1e-4 of it (0.6 um) from where the closing
-/// pass crossed it into the element beside; the parts below and above the loop then overlapped by
-/// that much, and the lens half they bound was one material with the skin (loop stress trajectory
-/// 781, docs/BENCHMARKS.md). Material is a thousandth of the edge (2 um on the skin's 2 mm cells)
-/// or more: the strips between two passes the stress suite counts are 0.1 mm and wider.
-constexpr double kEdgeOverlap2d = 1e-3;
+// In 2D, by more than kEdgeOverlap2d of the edge (systems/cut/recut.h).
 
 /// Material of one element around the node: side 0 a whole element, else a cut element's side or,
 /// once it is cut again, one of its fragments (systems/cut/recut.h).

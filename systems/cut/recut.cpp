@@ -367,6 +367,22 @@ int same_line(const std::vector<CutLine>& before, CutLine& line, double size) {
     return -1;
 }
 
+/// Whether `line` crosses an edge of triangle e (rest corners X) that event ev crosses at a point an
+/// earlier crack put there (crack_point_near: a neighbour's or one of e's own) more than
+/// kEdgeOverlap2d of the edge from that point (or misses the edge).
+bool misses_earlier_point(const World& w, int e, const CutEvent& ev, const std::array<Vec3, 3>& X, const CutLine& line) {
+    const auto& n = w.elements.nodes[e];
+    for (int k = 0; k < 3; ++k) {
+        const int i = kTriEdges[k][0], j = kTriEdges[k][1];
+        if (!ev.edge_has_t[k] || (ev.level[i] >= 0.0) == (ev.level[j] >= 0.0)) continue;
+        const double t = ev.edge_t[k];
+        if (std::abs(crack_point_near(w, n[i], n[j], t) - t) > 1e-12) continue;  // a point of its own
+        const double a = line.normal.dot(X[i] - line.origin), b = line.normal.dot(X[j] - line.origin);
+        if ((a >= 0.0) == (b >= 0.0) || std::abs(a / (a - b) - t) > kEdgeOverlap2d) return true;
+    }
+    return false;
+}
+
 /// A part of a fragment below this fraction of its element's volume is round-off of a plane through
 /// a node or along a face, not a sliver [-].
 constexpr double kSliverRoundOff = 1e-12;
@@ -489,7 +505,10 @@ bool record_recut(World& w, const CutEvent& ev) {
     const std::vector<CutLine> before = lines_of(w, c);
     // One of its lines again (a stem that stopped on it goes on): the fragments it does not bound
     // yet may be divided by it, and no line is added.
-    const int same = same_line(before, line, size);
+    const CutLine own = line;
+    int same = same_line(before, line, size);
+    if (same >= 0 && static_cast<int>(before.size()) < kMaxElementLines && misses_earlier_point(w, e, ev, X, line))
+        same = -1, line = own;  // the loop's closing pass of seed 2's trajectory 628: 13 um from the point beside
     if (same < 0 && static_cast<int>(before.size()) >= kMaxElementLines) return false;
     // Which fragments the line divides: each part's area, decided before anything changes.
     const std::span<const int> now = fragments_of(w, c);

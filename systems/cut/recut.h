@@ -34,8 +34,11 @@ std::span<const CutLine> lines_in(const World& world, int c, CutLine& first);
 /// fragments crossed by the line are split, each into the part on the line's side +1 (the old
 /// virtual element, new weight) and a new virtual element for the rest. Along one of its lines
 /// already (a bounded cut on that line goes on), it divides the fragments that line does not bound
-/// yet and adds no line. Returns false (and changes nothing) if the element is not cut, it already
-/// holds kMaxElementLines and the line is a new one, or it divides no fragment.
+/// yet and adds no line; not where that line would cross an edge more than kEdgeOverlap2d from a
+/// point the event took from an earlier crack there (join_earlier_points): the element beside,
+/// whose line goes through that point, would hold a wedge of the material on both sides. Returns
+/// false (and changes nothing) if the element is not cut, it already holds kMaxElementLines and the
+/// line is a new one, or it divides no fragment.
 bool record_recut(World& world, const CutEvent& ev);
 
 /// Whether rest point x lies in fragment (virtual element) v of cut element c with lines (on or
@@ -103,6 +106,18 @@ double incision_cos(const World& world, const CutEvent& ev);
 /// its first crossed one edge 0.17 of it from the first's point, the element beside was not cut
 /// again and this one's crack ended on that edge apart from the first's (2 of 36 ellipses joined).
 inline constexpr double kJoinFraction = kAlongFraction;
+
+/// Two fragments of neighbouring elements hold one material across their common edge (2D) when
+/// their parts of it overlap by more than this fraction of the edge [-] (systems/cut/node_copies.cpp).
+/// Each element's lines are its own, fitted through its own points, and two incisions that nearly
+/// meet give two elements across an edge crossings of it that differ: a loop's first pass began
+/// beside a cross-cut's wound and its line in that element, run across it, crossed the edge 2.1e-4
+/// of it (0.6 um) from where the closing pass crossed it into the element beside; the parts below
+/// and above the loop then overlapped by that much, and the lens half they bound was one material
+/// with the skin (loop stress trajectory 781, docs/BENCHMARKS.md). Material is a thousandth of the
+/// edge (2 um on the skin's 2 mm cells) or more: the strips between two passes the stress suite
+/// counts are 0.1 mm and wider. record_recut keeps a line from missing an earlier point by more.
+inline constexpr double kEdgeOverlap2d = 1e-3;
 
 /// An event of another incision or a later pass (2D): each edge it crosses within kJoinFraction of
 /// an earlier crack's point there takes that point (a blade's, the nearest of the edge's points,
