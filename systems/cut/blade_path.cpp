@@ -115,8 +115,20 @@ void sweep_blade(World& w, ElementBvh& bvh, int i, const std::vector<BladeAt>& p
     // ended where it stopped), else a loop's end inside the element past a cross-cut met nothing.
     if (stopped && !cs.ended[i] && left < threshold) {
         if (left > 1e-6 * threshold) cut_to(w, bvh, i, end);
+        // Stopped beside a wound it never met (within the join, across an edge): drawn on to it,
+        // its stems made there, its anchor left where it stopped (a blade that goes on starts there).
+        Vec3 to, tip = end.tip;
+        const MaterialPoint& m = cs.anchor_material[i][0].element >= 0 ? cs.anchor_material[i][0] : cs.anchor_material[i][1];
+        const auto in = cs.blade[i].crossing.find(m.element);
+        const uint8_t entered = in == cs.blade[i].crossing.end() ? 0 : in->second.mask;
+        const bool beside = w.elements.dim == 2 && recut_allowed(w) && wound_beside(w, m, entered, to);
+        if (beside) cut_to(w, bvh, i, BladeAt{to, to + (end.heel - end.tip), end.back}), tip = to;
         if (w.elements.dim == 2) close_at_start(w, i);
-        end_stems(w, i, end.tip);
+        end_stems(w, i, tip);
+        if (beside) {
+            cs.anchor_tip[i] = end.tip, cs.anchor_heel[i] = end.heel;
+            cs.anchor_material[i] = tissue_at(w, bvh, end.tip, end.heel, &cs.blade[i]);
+        }
         cs.ended[i] = 1;
     }
 }

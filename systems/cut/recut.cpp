@@ -144,9 +144,6 @@ bool event_line(const CutEvent& ev, const std::array<Vec3, 3>& X, CutLine& line)
     return true;
 }
 
-namespace {
-
-/// The mesh triangle other than e with edge (a, b), or -1 (a border edge).
 int across_edge(const World& w, int e, int a, int b) {
     for (int p = w.incidence.offset[a]; p < w.incidence.offset[a + 1]; ++p) {
         const int f = w.incidence.entry[p] >> 2;
@@ -156,6 +153,8 @@ int across_edge(const World& w, int e, int a, int b) {
     }
     return -1;
 }
+
+namespace {
 
 /// Where `tool`'s blade went into mesh triangle f through its edge (a, b), as a parameter from a,
 /// while it is still inside f (CutState: f among its partly crossed elements, that edge crossed);

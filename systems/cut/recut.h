@@ -52,6 +52,9 @@ namespace xcut {
 /// The rest corners of triangle e.
 std::array<Vec3, 3> corners(const World& world, int e);
 
+/// The mesh triangle other than e with edge (a, b), or -1 (a border edge).
+int across_edge(const World& world, int e, int a, int b);
+
 /// The rest corners of tetrahedron e.
 std::array<Vec3, 4> tet_corners(const World& world, int e);
 

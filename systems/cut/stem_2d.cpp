@@ -7,6 +7,7 @@
 #include <span>
 
 #include "engine/fragment_geometry.h"
+#include "systems/cut/material_anchor.h"
 #include "systems/cut/recut.h"
 #include "systems/xfem_queries.h"
 
@@ -155,6 +156,54 @@ bool end_stem_event(const World& w, int e, int k, double t, const Vec3& end, Cut
         if (nearest_on_chord(line, X, cross - line.normal.dot(cross - line.origin) * line.normal, p)) best = p, nearest = d;
     }
     return nearest < join && stem_between(w, e, k, t, triangle_barycentric(X, best).cwiseMax(0.0), ev);
+}
+
+bool wound_beside(const World& w, const MaterialPoint& end, uint8_t entered, Vec3& to) {
+    const int e = end.element;
+    if (w.elements.dim != 2 || e < 0 || e >= w.mesh_elements) return false;
+    const std::array<Vec3, 3> X = corners(w, e);
+    const Vec3 p = material_rest(w, end);
+    double nearest = kJoinFraction * longest_edge(X);
+    Vec3 point;
+    if (const int c = w.cuts.cut_of_element[e]; c >= 0)
+        for (const CutLine& line : lines_of(w, c))
+            if (nearest_on_chord(line, X, p, point) && (point - p).norm() < nearest) return false;  // its stem meets it
+    const auto& n = w.elements.nodes[e];
+    int best = -1;
+    Vec3 at;
+    for (int k = 0; k < 3; ++k) {
+        if (entered >> k & 1) continue;  // back out where it came in: a dip, not a meeting
+        const int a = n[kTriEdges[k][0]], b = n[kTriEdges[k][1]];
+        const int f = across_edge(w, e, a, b);
+        if (f < 0 || w.cuts.cut_of_element[f] < 0) continue;
+        const std::array<Vec3, 3> Y = corners(w, f);
+        for (const CutLine& line : lines_of(w, w.cuts.cut_of_element[f])) {
+            if (!nearest_on_chord(line, Y, p, point) || (point - p).norm() >= nearest) continue;
+            // Through edge (a, b): the segment from p meets the edge's line between its ends.
+            const Vec3 &A = w.nodes.rest[a], &B = w.nodes.rest[b], d = point - p, u = B - A;
+            const double den = d.x() * u.y() - d.y() * u.x();
+            if (den == 0.0) continue;
+            const double s = ((A.x() - p.x()) * u.y() - (A.y() - p.y()) * u.x()) / den;
+            const double t = ((A.x() - p.x()) * d.y() - (A.y() - p.y()) * d.x()) / den;
+            if (s < 0.0 || s > 1.0 || t < 0.0 || t > 1.0) continue;
+            best = f, at = point, nearest = (point - p).norm();
+        }
+    }
+    if (best < 0) return false;
+    // Now: through the fragment on p's side of the line, a hair from it toward p.
+    const int c = w.cuts.cut_of_element[best];
+    const Vec3 inside = at + 1e-6 * (p - at);
+    CutLine first;
+    const std::span<const CutLine> lines = lines_in(w, c, first);
+    const std::array<Vec3, 3> Y = corners(w, best);
+    for (const int v : fragments_of(w, c)) {
+        if (!in_fragment(lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v], inside)) continue;
+        const auto& m = w.elements.nodes[w.virtual_elements.element[v]];
+        const Vec3 b = triangle_barycentric(Y, at);
+        to = b.x() * w.nodes.position[m[0]] + b.y() * w.nodes.position[m[1]] + b.z() * w.nodes.position[m[2]];
+        return true;
+    }
+    return false;
 }
 
 bool queue_stem(World& w, int e, const ElementCrossings& c, const Vec3& start, int tool, bool ended) {

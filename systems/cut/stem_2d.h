@@ -27,6 +27,18 @@ bool stem_event(const World& world, int e, int crossed, double t, const Vec3& st
 /// that pass crossed, and stopped there (loop stress seed 2, trajectory 605).
 bool end_stem_event(const World& world, int e, int crossed, double t, const Vec3& end, CutEvent& ev);
 
+/// A blade that stopped at material point `end` (2D) beside a wound it never met: the nearest point
+/// of a line of a cut element across an edge of end's element, within kJoinFraction of that
+/// element's longest edge of end's rest point (nearer than any line of end's own element, which
+/// its stem meets: end_on_wound), through that edge, as a position now (the node copies of the
+/// fragment on end's side of the line). Not through an edge the blade came into the element by
+/// (`entered`, local edges' bits: drawn back out there it would dip, and a loop's closing pass that
+/// came in across its own first pass met it already; seed 1, trajectory 381). The blade is then
+/// drawn on to it, so its wound meets the other across the gap: a loop whose closing pass runs
+/// beside its first pass, 0.3 mm inside it on 2 mm cells, and stops there, in the element beside
+/// the one the first pass crossed (loop stress seed 3, trajectory 593). False if none.
+bool wound_beside(const World& world, const MaterialPoint& end, uint8_t entered, Vec3& to);
+
 /// Queues the stem event (stem_event; end_stem_event where the blade `ended` at `start`) of blade
 /// `tool` in cut element e, crossed once (`c`: its one crossed edge), from `start` (current
 /// position: where the blade stopped, or turned in a dip). False if there is none.

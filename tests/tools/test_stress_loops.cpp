@@ -279,6 +279,17 @@ TEST(StressLoops, LoopsOfAnotherSeedFreeTheirPieces) {
 // pass is a line of its own: record_recut, systems/cut/recut.h).
 TEST(StressLoops, LoopsBegunInACrossCutsOpenWoundFreeTheirPieces) { expect_pieces_freed({{2, 424}, {2, 965}, {2, 628}}); }
 
+// A loop alone of seed 3 (593) whose closing pass runs 0.3 mm inside its first pass and stops there,
+// in the element beside the one the first pass crossed: no line of its own element is near its
+// end, so its stem met nothing, and the strip between the passes joined the lens to the skin. A
+// blade that stops within the join distance of a wound across an edge is drawn on to it
+// (wound_beside, systems/cut/stem_2d.h). Seed 2's 202 (a loop begun in a cross-cut's open wound)
+// is freed by the same rule. Seed 1's 381 keeps its three pieces: its closing pass stops beside
+// a wound across the edge it came in by, which it is not drawn back across.
+TEST(StressLoops, ALoopThatStopsBesideItsFirstPassAcrossAnEdgeIsClosed) {
+    expect_pieces_freed({{3, 593}, {2, 202}, {1, 381}});
+}
+
 // A loop whose passes miss each other in the material by less than the cutter's join distance is
 // scored as closed. Trajectory 856, a loop alone: its closing pass, drawn along the same ellipse in
 // space, runs beside its first pass in the material, 0.16 mm from it (that pass's wound has opened
