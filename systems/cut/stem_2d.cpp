@@ -9,6 +9,7 @@
 #include "engine/fragment_geometry.h"
 #include "systems/cut/material_anchor.h"
 #include "systems/cut/recut.h"
+#include "systems/kernels/intersection.h"
 #include "systems/xfem_queries.h"
 
 namespace xcut {
@@ -31,20 +32,15 @@ bool nearest_on_chord(const CutLine& line, const std::array<Vec3, 3>& X, const V
 /// it bounds carries that point (by its node copies' current triangle) from where e's own nodes
 /// carry it. A blade's position inside e is taken to rest by e's own nodes, which stand for no
 /// fragment once its lips have parted: a start in one lip's material lies up to this far off.
-double opening_at(const World& w, int e, int m, const Vec3& at) {
+double opening_at(const World& w, int e, const std::array<Vec3, 3>& X, int m, const Vec3& at) {
     const int c = w.cuts.cut_of_element[e];
-    const std::array<Vec3, 3> X = corners(w, e);
     const Vec3 b = triangle_barycentric(X, at);
-    const auto& n = w.elements.nodes[e];
-    const Vec3 own = b.x() * w.nodes.position[n[0]] + b.y() * w.nodes.position[n[1]] + b.z() * w.nodes.position[n[2]];
+    const Vec3 own = material_position(w, {e, b, -1});
     const bool first_only = w.cuts.lines[c].empty();
     double open = 0.0;
-    for (const int v : fragments_of(w, c)) {
-        if (!first_only && !(w.virtual_elements.mask[v] & bound_by(m))) continue;
-        const auto& f = w.elements.nodes[w.virtual_elements.element[v]];
-        const Vec3 x = b.x() * w.nodes.position[f[0]] + b.y() * w.nodes.position[f[1]] + b.z() * w.nodes.position[f[2]];
-        open = std::max(open, (x - own).norm());
-    }
+    for (const int v : fragments_of(w, c))
+        if (first_only || (w.virtual_elements.mask[v] & bound_by(m)))
+            open = std::max(open, (material_position(w, {e, b, v}) - own).norm());
     return open;
 }
 
@@ -67,7 +63,7 @@ Vec3 end_on_wound(const World& w, int e, const std::array<Vec3, 3>& X, const Vec
         const CutLine& line = lines[m];
         const double d = line.normal.dot(end - line.origin), dc = line.normal.dot(cross - line.origin);
         if ((d >= 0.0) != (dc >= 0.0) || std::abs(d) >= nearest) continue;
-        const double limit = std::min(nearest, std::abs(d) < join ? join : join + opening_at(w, e, static_cast<int>(m), end - d * line.normal));
+        const double limit = std::min(nearest, std::abs(d) < join ? join : join + opening_at(w, e, X, static_cast<int>(m), end - d * line.normal));
         if (std::abs(d) >= limit) continue;
         if (const Vec3 on = triangle_barycentric(X, end - d * line.normal); on.minCoeff() >= 0.0) {
             best = on, nearest = std::abs(d);
@@ -91,8 +87,7 @@ int entered_fragment(const World& w, int e, const std::array<Vec3, 3>& X, const 
     for (const int v : fragments_of(w, c)) {
         const auto& n = w.elements.nodes[w.virtual_elements.element[v]];
         const std::array<Vec3, 3> x{w.nodes.position[n[0]], w.nodes.position[n[1]], w.nodes.position[n[2]]};
-        const Vec3 b = triangle_barycentric(x, p);
-        end = b.x() * X[0] + b.y() * X[1] + b.z() * X[2];
+        end = material_rest(w, {e, triangle_barycentric(x, p), v});
         const auto part = segment_part(cross, end, lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v]);
         if (part[0] <= 0.0 && part[1] > part[0]) return v;
     }
@@ -108,7 +103,7 @@ bool stem_between(const World& w, int e, int k, double t, const Vec3& l, CutEven
     const std::array<Vec3, 3> X = corners(w, e);
     const int i = kTriEdges[k][0], j = kTriEdges[k][1];
     const Vec3 exit = x[i] + t * (x[j] - x[i]);
-    const Vec3 from = l.x() * x[0] + l.y() * x[1] + l.z() * x[2];
+    const Vec3 from = material_position(w, {e, l, -1});
     const Vec3 normal(from.y() - exit.y(), exit.x() - from.x(), 0.0);
     if (!(normal.norm() > 0.0)) return false;
     ev = CutEvent{};
@@ -179,13 +174,7 @@ bool wound_beside(const World& w, const MaterialPoint& end, uint8_t entered, Vec
         const std::array<Vec3, 3> Y = corners(w, f);
         for (const CutLine& line : lines_of(w, w.cuts.cut_of_element[f])) {
             if (!nearest_on_chord(line, Y, p, point) || (point - p).norm() >= nearest) continue;
-            // Through edge (a, b): the segment from p meets the edge's line between its ends.
-            const Vec3 &A = w.nodes.rest[a], &B = w.nodes.rest[b], d = point - p, u = B - A;
-            const double den = d.x() * u.y() - d.y() * u.x();
-            if (den == 0.0) continue;
-            const double s = ((A.x() - p.x()) * u.y() - (A.y() - p.y()) * u.x()) / den;
-            const double t = ((A.x() - p.x()) * d.y() - (A.y() - p.y()) * d.x()) / den;
-            if (s < 0.0 || s > 1.0 || t < 0.0 || t > 1.0) continue;
+            if (!segment_segment_2d(p, point, w.nodes.rest[a], w.nodes.rest[b])) continue;  // not through edge (a, b)
             best = f, at = point, nearest = (point - p).norm();
         }
     }
@@ -198,9 +187,7 @@ bool wound_beside(const World& w, const MaterialPoint& end, uint8_t entered, Vec
     const std::array<Vec3, 3> Y = corners(w, best);
     for (const int v : fragments_of(w, c)) {
         if (!in_fragment(lines.data(), static_cast<int>(lines.size()), w.virtual_elements.mask[v], inside)) continue;
-        const auto& m = w.elements.nodes[w.virtual_elements.element[v]];
-        const Vec3 b = triangle_barycentric(Y, at);
-        to = b.x() * w.nodes.position[m[0]] + b.y() * w.nodes.position[m[1]] + b.z() * w.nodes.position[m[2]];
+        to = material_position(w, {best, triangle_barycentric(Y, at), v});
         return true;
     }
     return false;
