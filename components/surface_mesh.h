@@ -71,6 +71,12 @@ struct SurfaceMesh {
     std::vector<int> manifold_saved_owner;
     std::vector<uint8_t> manifold_saved_cut_face;
 
+    /// Its defects as drawn after the last step that cut it (systems/surface/surface_check.h: edges
+    /// open or pinched, triangles without area), and the simulated time they were first seen [s]
+    /// (-1: none now).
+    int open_edges = 0, pinched_edges = 0, zero_area = 0;
+    double defects_since = -1.0;
+
     int vertex_count() const { return static_cast<int>(position.size()); }
     /// The vertex v was made of: itself, unless it is a copy where wounds touch (manifold_source).
     int source_vertex(int v) const {

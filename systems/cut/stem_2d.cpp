@@ -76,10 +76,10 @@ Vec3 end_on_wound(const World& w, int e, const std::array<Vec3, 3>& X, const Vec
     return best;
 }
 
-/// The fragment of cut element e (rest corners X) a blade came in to across its rest crossing
+/// The fragment of cut element e a blade came in to across its rest crossing
 /// `cross` of an edge, heading for `p` (current): the one holding the start of the segment from
 /// `cross` toward p as its node copies' current triangle maps p to rest (`end`). -1 if none.
-int entered_fragment(const World& w, int e, const std::array<Vec3, 3>& X, const Vec3& cross, const Vec3& p, Vec3& end) {
+int entered_fragment(const World& w, int e, const Vec3& cross, const Vec3& p, Vec3& end) {
     const int c = w.cuts.cut_of_element[e];
     if (c < 0) return -1;
     CutLine first;
@@ -136,7 +136,7 @@ bool end_stem_event(const World& w, int e, int k, double t, const Vec3& end, Cut
     const std::array<Vec3, 3> X = corners(w, e);
     const Vec3 cross = X[kTriEdges[k][0]] + t * (X[kTriEdges[k][1]] - X[kTriEdges[k][0]]);
     Vec3 rest;
-    const int v = entered_fragment(w, e, X, cross, end, rest);
+    const int v = entered_fragment(w, e, cross, end, rest);
     if (v < 0) return false;
     CutLine first;
     const std::span<const CutLine> lines = lines_in(w, w.cuts.cut_of_element[e], first);

@@ -11,7 +11,7 @@
 #include "engine/io/output.h"
 #include "systems/pipeline.h"
 #include "systems/force_system.h"
-#include "systems/surface/surface_cut.h"
+#include "systems/surface/surface_check.h"
 #include "tools/studies/bridges.h"
 #include "tools/studies/stress_loops.h"
 
@@ -37,45 +37,6 @@ int lost_vertices(const World& w, const SurfaceMesh& s) {
         lost += !ok;
     }
     return lost;
-}
-
-/// How often each directed edge of `s`'s triangles is used.
-std::map<std::pair<int, int>, int> directed_edges(const SurfaceMesh& s) {
-    std::map<std::pair<int, int>, int> directed;
-    for (const auto& t : s.triangles)
-        for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
-    return directed;
-}
-
-/// Surface edges of `s` (3D closed surfaces: each edge used once in each direction) that break
-/// closure: `open` edges are used a different number of times in the two directions (a gap);
-/// `pinched` ones are used equally often, more than once each way (closed, but not 2-manifold:
-/// two crack sheets, or a crack and the skin, meeting at one point).
-struct EdgeDefects {
-    int open = 0, pinched = 0;
-};
-
-EdgeDefects edge_defects(const SurfaceMesh& s) {
-    const auto directed = directed_edges(s);
-    EdgeDefects d;
-    for (const auto& [e, n] : directed) {
-        const auto back = directed.find({e.second, e.first});
-        const int m = back == directed.end() ? 0 : back->second;
-        if (m == 0 || e.first < e.second) {  // each undirected edge once
-            d.open += n != m;
-            d.pinched += n == m && n > 1;
-        }
-    }
-    return d;
-}
-
-/// A 2D body's surface is the sheet itself, open at its borders and along a cut: its edges are
-/// not counted open; `pinched` ones are used more than once in one direction (two triangles
-/// overlapping there, or a sheet folded onto itself by its orientation).
-EdgeDefects sheet_defects(const SurfaceMesh& s) {
-    EdgeDefects d;
-    for (const auto& [e, n] : directed_edges(s)) d.pinched += n > 1;
-    return d;
 }
 
 /// Elastic energy at the step's end [J]: the elements' own and, with crack tips, their amplitudes'
@@ -122,10 +83,10 @@ void run_steps(Simulation& sim, int steps, Work work, CaseResult& r) {
     r.bridges = bridges.tally(w);
     r.lost = lost_vertices(w, w.visual) + lost_vertices(w, w.collision);
     for (const SurfaceMesh* surface : {&w.visual, &w.collision}) {
-        const EdgeDefects d = w.elements.dim == 3 ? edge_defects(*surface) : sheet_defects(*surface);
+        const SurfaceDefects d = surface_defects(*surface, w.elements.dim == 3);
         r.open_edges += d.open;
         r.pinched_edges += d.pinched;
-        r.zero_area += zero_area_triangles(*surface);
+        r.zero_area += d.zero_area;
     }
 }
 
