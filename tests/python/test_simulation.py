@@ -201,3 +201,21 @@ def test_a_cut_through_a_bar_frees_a_piece_python_sees():
     assert sim.figures()["pieces"] == 2
     assert np.allclose(sim.figures()["freed_volumes_m3"], [0.65e-5], rtol=1e-9, atol=0)
     assert sim.metrics()["pieces"] == 2
+
+
+def test_notes_say_what_the_runs_end_would(skin_scene_dict, skin_scene_path):
+    """A scalpel carried 20 mm above the skin cuts nothing: xcut run warns so at its end, and
+    Simulation.notes says it after the steps, not at load (before any step there is nothing to say)."""
+    scene = json.loads(json.dumps(skin_scene_dict))
+    for key in scene["tools"][0]["trajectory"]:
+        key["position"][2] += 0.02
+    sim = xcut.Simulation(scene, base_directory=os.path.dirname(skin_scene_path))
+    assert sim.notes == []
+    sim.step(130)
+    assert sim.cut_state["elements_split"] == 0
+    assert any('tool "scalpel" cut nothing' in n for n in sim.notes), sim.notes
+    # The default scene's scalpel does cut: nothing to say about it.
+    cuts = xcut.Simulation(skin_scene_path)
+    cuts.step(130)
+    assert cuts.cut_state["elements_split"] > 0
+    assert not any("cut nothing" in n for n in cuts.notes), cuts.notes

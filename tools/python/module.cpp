@@ -10,6 +10,7 @@
 
 #include "engine/error.h"
 #include "engine/io/output.h"
+#include "engine/io/scene_checks.h"
 #include "engine/parallel.h"
 #include "tools/python/py_simulation.h"
 #include "tools/xcut_run_summary.h"
@@ -140,6 +141,7 @@ void bind_simulation(py::module_& m) {
     c.def_property_readonly("dim", [](PySimulation& s) { return s.world().elements.dim; });
     c.def_property_readonly("failed", [](PySimulation& s) { return s.failed(); });
     c.def_property_readonly("warnings", [](PySimulation& s) { return s.warnings(); });
+    c.def_property_readonly("notes", [](PySimulation& s) { Lock l(s.mutex()); return xcut::end_of_run_notes(s.world()); });
     c.def("metrics", [](PySimulation& s) {
         Lock l(s.mutex());
         py::dict d;

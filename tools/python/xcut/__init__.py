@@ -129,6 +129,13 @@ class Simulation:
         """The plausibility warnings and mesh notes the scene got at load."""
         return list(self._sim.warnings)
 
+    @property
+    def notes(self) -> list:
+        """What `xcut run` would warn at its end if the run ended now: a tool that cut nothing or
+        stabbed, a closed loop that freed no piece, jaws closed on nothing, a surface the cuts left
+        open (docs/xfem.md), ... Empty when there is nothing to say."""
+        return list(self._sim.notes)
+
     # --- state (read-only copies, one per step) -------------------------------------------------
     def _cached(self, key: str, make):
         if self._cache_step != self._sim.step_count:
