@@ -283,19 +283,16 @@ std::vector<std::string> end_of_run_notes(const World& w) {
                            "of an element's edge from the skin, a flap thinner than that, so it made none (docs/xfem.md)",
                            tool, n, s, kThinFlapFraction);
     });
-    // A surface the cuts left open, pinched or with triangles without area (MappingSystem checks
-    // it after each step that cuts it): drawn, exported and touched with a hole.
-    for (const auto& [name, s] : {std::pair{"visual", &w.visual}, std::pair{"collision", &w.collision}}) {
-        if (s->defects_since < 0.0) continue;
-        const bool again = w.elements.dim == 3 && w.cut_state.recut > 0;
-        out.push_back(fmt::format("the {} surface is not {} as drawn since t = {:g} s: {} open edges, {} pinched "
-                                  "(used more than once each way), {} triangles without area{}",
-                                  name, w.elements.dim == 3 ? "closed and 2-manifold" : "free of overlaps",
-                                  s->defects_since, s->open_edges, s->pinched_edges, s->zero_area,
-                                  again ? " (cutting elements again in 3D, \"cutter.recut\", still leaves such "
-                                          "holes where several cuts meet in one element: docs/BENCHMARKS.md)"
-                                        : ""));
-    }
+    // A surface the cuts left open, pinched or with triangles without area (the MappingSystem
+    // checks it after each step that cuts it where elements are cut again in 3D): drawn, exported
+    // and touched with a hole.
+    for (const auto& [name, s] : {std::pair{"visual", &w.visual}, std::pair{"collision", &w.collision}})
+        if (s->defects_since >= 0.0)
+            out.push_back(fmt::format("the {} surface is not closed and 2-manifold as drawn since t = {:g} s: {} open "
+                                      "edges, {} pinched (used more than once each way), {} triangles without area "
+                                      "(cutting elements again in 3D, \"cutter.recut\", still leaves such holes "
+                                      "where several cuts meet in one element: docs/BENCHMARKS.md)",
+                                      name, s->defects_since, s->open_edges, s->pinched_edges, s->zero_area));
     return out;
 }
 

@@ -18,9 +18,12 @@ SurfaceDefects surface_defects(const SurfaceMesh& s, bool closed) {
     for (const auto& t : s.triangles)
         for (int k = 0; k < 3; ++k) directed.push_back(key(t[k], t[(k + 1) % 3]));
     std::sort(directed.begin(), directed.end());
-    std::vector<uint64_t> reversed(directed.size());
-    std::transform(directed.begin(), directed.end(), reversed.begin(), flip);
-    if (closed) std::sort(reversed.begin(), reversed.end());
+    std::vector<uint64_t> reversed;  // a sheet (2D) counts one direction alone
+    if (closed) {
+        reversed.resize(directed.size());
+        std::transform(directed.begin(), directed.end(), reversed.begin(), flip);
+        std::sort(reversed.begin(), reversed.end());
+    }
     SurfaceDefects d;
     size_t r = 0;  // the first reversed key not below the current one
     for (size_t i = 0; i < directed.size();) {
