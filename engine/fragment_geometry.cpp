@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -96,7 +97,28 @@ std::vector<Vec3> clip_by_planes(std::vector<Vec3> poly, const CutLine* planes, 
     return poly;
 }
 
-std::vector<FragmentFace> fragment_faces(const std::array<Vec3, 4>& X, const CutLine* planes, int n, uint32_t mask) {
+namespace {
+
+/// Room for a face of a fragment as it is clipped: a square (4) clipped by the tetrahedron's faces
+/// and by every plane, each clip of a convex polygon adding at most one vertex, with room to spare
+/// for round-off near a vertex (clip_to_side says if it is ever outgrown).
+constexpr int kFaceRoom = 64;
+
+/// A polygon held in place while it is clipped (fragment_faces clips dozens per fragment).
+struct ClipBuffer {
+    std::array<Vec3, kFaceRoom> v;
+    int n = 0;
+    void clip(const CutLine& l, bool bit) {
+        std::array<Vec3, kFaceRoom> out;
+        n = clip_to_side(v.data(), n, l, bit, out.data(), kFaceRoom);
+        std::copy(out.begin(), out.begin() + n, v.begin());
+    }
+};
+
+/// Each face of fragment_faces, in its order, to emit(vertices, count, outward normal, plane):
+/// the same values, without a vector per clip.
+template <class Emit>
+void each_fragment_face(const std::array<Vec3, 4>& X, const CutLine* planes, int n, uint32_t mask, Emit emit) {
     // The tetrahedron's faces as half-spaces: face a (opposite corner a), its normal toward a.
     std::array<CutLine, 4> inside;
     double size = 0.0;
@@ -107,12 +129,13 @@ std::vector<FragmentFace> fragment_faces(const std::array<Vec3, 4>& X, const Cut
         inside[a] = {p, normal};
         for (int b = a + 1; b < 4; ++b) size = std::max(size, (X[b] - X[a]).norm());
     }
-    std::vector<FragmentFace> faces;
+    ClipBuffer poly;
     for (int a = 0; a < 4; ++a) {  // the tetrahedron's faces, wound outward, clipped by the planes
-        std::vector<Vec3> tri{X[(a + 1) % 4], X[(a + 2) % 4], X[(a + 3) % 4]};
-        if ((tri[1] - tri[0]).cross(tri[2] - tri[0]).dot(inside[a].normal) > 0.0) std::swap(tri[1], tri[2]);
-        std::vector<Vec3> poly = clip_by_planes(std::move(tri), planes, n, mask);
-        if (poly.size() >= 3 && polygon_area_3d(poly) > 0.0) faces.push_back({std::move(poly), -inside[a].normal, -1 - a});
+        poly.v[0] = X[(a + 1) % 4], poly.v[1] = X[(a + 2) % 4], poly.v[2] = X[(a + 3) % 4], poly.n = 3;
+        if ((poly.v[1] - poly.v[0]).cross(poly.v[2] - poly.v[0]).dot(inside[a].normal) > 0.0) std::swap(poly.v[1], poly.v[2]);
+        for (int k = 0; k < n && poly.n >= 3; ++k)
+            if (mask & bound_by(k)) poly.clip(planes[k], mask >> k & 1u);
+        if (poly.n >= 3 && polygon_area_3d(poly.v.data(), poly.n) > 0.0) emit(poly.v.data(), poly.n, Vec3(-inside[a].normal), -1 - a);
     }
     const Vec3 centroid = 0.25 * (X[0] + X[1] + X[2] + X[3]);
     for (int k = 0; k < n; ++k) {  // each bounding plane: a square on it round the tetrahedron, clipped
@@ -120,13 +143,35 @@ std::vector<FragmentFace> fragment_faces(const std::array<Vec3, 4>& X, const Cut
         const Vec3 out = (mask >> k & 1u) ? Vec3(-planes[k].normal) : planes[k].normal;
         const Vec3 c = centroid - out.dot(centroid - planes[k].origin) * out;
         const Vec3 u = out.unitOrthogonal(), v = out.cross(u);  // u x v = out: counter-clockwise from outside
-        std::vector<Vec3> poly{c + 4.0 * size * u, c + 4.0 * size * v, c - 4.0 * size * u, c - 4.0 * size * v};
-        for (int a = 0; a < 4 && poly.size() >= 3; ++a) poly = clip_to_side(poly, inside[a], true);
-        for (int m = 0; m < n && poly.size() >= 3; ++m)
-            if (m != k && (mask & bound_by(m))) poly = clip_to_side(poly, planes[m], mask >> m & 1u);
-        if (poly.size() >= 3 && polygon_area_3d(poly) > 0.0) faces.push_back({std::move(poly), out, k});
+        poly.v[0] = c + 4.0 * size * u, poly.v[1] = c + 4.0 * size * v, poly.v[2] = c - 4.0 * size * u;
+        poly.v[3] = c - 4.0 * size * v, poly.n = 4;
+        for (int a = 0; a < 4 && poly.n >= 3; ++a) poly.clip(inside[a], true);
+        for (int m = 0; m < n && poly.n >= 3; ++m)
+            if (m != k && (mask & bound_by(m))) poly.clip(planes[m], mask >> m & 1u);
+        if (poly.n >= 3 && polygon_area_3d(poly.v.data(), poly.n) > 0.0) emit(poly.v.data(), poly.n, out, k);
     }
+}
+
+}  // namespace
+
+std::vector<FragmentFace> fragment_faces(const std::array<Vec3, 4>& X, const CutLine* planes, int n, uint32_t mask) {
+    std::vector<FragmentFace> faces;
+    each_fragment_face(X, planes, n, mask, [&](const Vec3* v, int count, const Vec3& normal, int plane) {
+        faces.push_back({std::vector<Vec3>(v, v + count), normal, plane});
+    });
     return faces;
+}
+
+double fragment_volume(const std::array<Vec3, 4>& X, const CutLine* planes, int n, uint32_t mask) {
+    // polyhedron_volume's sum, face by face as they are made (o: the first face's first vertex).
+    Vec3 o = Vec3::Zero();
+    bool first = true;
+    double volume = 0.0;
+    each_fragment_face(X, planes, n, mask, [&](const Vec3* v, int count, const Vec3& normal, int) {
+        if (first) o = v[0], first = false;
+        volume += polygon_area_3d(v, count) * normal.dot(v[0] - o);
+    });
+    return first ? 0.0 : std::max(volume / 3.0, 0.0);
 }
 
 Eigen::Vector4d tet_barycentric(const std::array<Vec3, 4>& X, const Vec3& x) {

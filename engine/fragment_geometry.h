@@ -92,6 +92,10 @@ Eigen::Vector4d tet_barycentric(const std::array<Vec3, 4>& X, const Vec3& x);
 /// Volume of the convex polyhedron bounded by `faces` [m^3].
 double polyhedron_volume(const std::vector<FragmentFace>& faces);
 
+/// polyhedron_volume(fragment_faces(X, planes, n, mask)), the same bits, without allocating [m^3]
+/// (a cut again divides each fragment of its element: two volumes each).
+double fragment_volume(const std::array<Vec3, 4>& X, const CutLine* planes, int n, uint32_t mask);
+
 /// The part of convex polygon `poly` on the sides of planes (lines) [0..n) that `mask` names: the
 /// polygon clipped by each one that bounds it.
 std::vector<Vec3> clip_by_planes(std::vector<Vec3> poly, const CutLine* planes, int n, uint32_t mask);

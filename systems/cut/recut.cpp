@@ -445,17 +445,16 @@ bool record_recut_3d(World& w, const CutEvent& ev, int c) {
             continue;
         }
         const uint32_t with = mask | bound_by(k);
-        const std::vector<FragmentFace> above = fragment_faces(X, planes.data(), n, with | (1u << k));
         if (ev.bounded) {  // a stem: only a fragment whose section lies ahead of its start (stem_3d.h)
             std::vector<Vec3> section;
-            for (const FragmentFace& f : above)
+            for (const FragmentFace& f : fragment_faces(X, planes.data(), n, with | (1u << k)))
                 if (f.plane == k) section.insert(section.end(), f.polygon.begin(), f.polygon.end());
             if (!stem_covers(ev, section, longest_edge(X))) {
                 parts.push_back({});
                 continue;
             }
         }
-        parts.push_back({polyhedron_volume(above), polyhedron_volume(fragment_faces(X, planes.data(), n, with & ~(1u << k)))});
+        parts.push_back({fragment_volume(X, planes.data(), n, with | (1u << k)), fragment_volume(X, planes.data(), n, with & ~(1u << k))});
     }
     const double volume = std::abs((X[1] - X[0]).cross(X[2] - X[0]).dot(X[3] - X[0])) / 6.0;
     std::array<double, 6> edge_t;  // the event's own crossings of the edges

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "engine/fragment_geometry.h"
 #include "engine/io/clipped_cells.h"
@@ -55,6 +56,33 @@ TEST(FragmentGeometry, TwoPlanesCrossingInATetrahedronGiveFourFragmentsOfTheirEx
     EXPECT_NEAR(polygon_area_3d(slanted), 0.5 * std::sqrt(3.0) * (1 - a - b) * (1 - a - b), 1e-15);
     const Eigen::Vector4d l = tet_barycentric(tet, Vec3(0.1, 0.2, 0.3));
     EXPECT_NEAR((l - Eigen::Vector4d(0.4, 0.1, 0.2, 0.3)).norm(), 0.0, 1e-15);
+}
+
+TEST(FragmentGeometry, AFragmentsVolumeWithoutItsFacesIsTheSumOverItsFacesBitForBit) {
+    // fragment_volume (the volume a cut again weighs each fragment by) against polyhedron_volume of
+    // fragment_faces: the same faces, made the same way, summed in the same order. Three planes at
+    // random through a tetrahedron at random, every side of every plane; the volumes summed over the
+    // fragments against the tetrahedron's own.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const auto point = [&] { return Vec3(u(rng), u(rng), u(rng)); };
+    int compared = 0;
+    for (int trial = 0; trial < 50; ++trial) {
+        const std::array<Vec3, 4> tet{point(), point(), point(), point()};
+        const Vec3 centroid = 0.25 * (tet[0] + tet[1] + tet[2] + tet[3]);
+        std::array<CutLine, 3> planes;
+        for (CutLine& p : planes) p = {centroid + 0.2 * point(), point().normalized()};
+        const uint32_t bounded = bound_by(0) | bound_by(1) | bound_by(2);
+        double sum = 0.0;
+        for (uint32_t side = 0; side < 8; ++side) {
+            const double v = fragment_volume(tet, planes.data(), 3, side | bounded);
+            EXPECT_EQ(v, polyhedron_volume(fragment_faces(tet, planes.data(), 3, side | bounded))) << trial << " " << side;
+            sum += v, compared += v > 0.0;
+        }
+        const double whole = std::abs((tet[1] - tet[0]).cross(tet[2] - tet[0]).dot(tet[3] - tet[0])) / 6.0;
+        EXPECT_NEAR(sum, whole, 1e-12 * std::max(whole, 1e-3)) << trial;
+    }
+    EXPECT_GT(compared, 150);  // most of the 400 fragments are not empty
 }
 
 constexpr double kSize = 0.02;  // a 20 mm cube [m]
