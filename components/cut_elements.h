@@ -89,6 +89,10 @@ struct CutElements {
     /// (systems/cut/node_copies.cpp, SharedFaces): derived data, the same answers recomputed would
     /// give, kept between steps and emptied when it passes FaceShareKey's bound.
     std::unordered_map<FaceShareKey, uint8_t, FaceShareHash> face_shares;
+    /// The element and node counts up to which the arrays' reserved room was last asked to be
+    /// made resident (fault_room_ahead, systems/cut/enrichment_system.h): asked again only when a
+    /// split comes within half the stretch of it.
+    size_t room_elements = 0, room_nodes = 0;
 
     int count() const { return static_cast<int>(element.size()); }
 };

@@ -10,6 +10,7 @@
 #include "systems/cut/node_copies.h"
 #include "systems/cut/quadratic_enrichment.h"
 #include "systems/cut/recut.h"
+#include "engine/room_ahead.h"
 #include "engine/fragment_geometry.h"
 #include "systems/kernels/cut_geometry.h"
 #include "systems/xfem_queries.h"
@@ -37,6 +38,26 @@ void prepare_enrichment(World& w) {
     const size_t n_cap = static_cast<size_t>(w.mesh_nodes) * 2;
     n.rest.reserve(n_cap), n.position.reserve(n_cap), n.velocity.reserve(n_cap);
     n.mass.reserve(n_cap), n.fixed.reserve(n_cap);
+    fault_room_ahead(w);
+}
+
+void fault_room_ahead(World& w) {
+    CutElements& ce = w.cuts;
+    const size_t elements = static_cast<size_t>(w.elements.count()), nodes = static_cast<size_t>(w.nodes.count());
+    if (elements + kRoomAhead / 2 <= ce.room_elements && nodes + kRoomAhead / 2 <= ce.room_nodes) return;
+    ce.room_elements = elements + kRoomAhead, ce.room_nodes = nodes + kRoomAhead;
+    std::vector<RoomStretch> room;
+    const Elements& el = w.elements;
+    add_room_ahead(el.nodes, kRoomAhead, room), add_room_ahead(el.rest_volume, kRoomAhead, room);
+    add_room_ahead(el.dm_inv, kRoomAhead, room), add_room_ahead(el.rotation, kRoomAhead, room);
+    add_room_ahead(el.material, kRoomAhead, room), add_room_ahead(el.region, kRoomAhead, room);
+    add_room_ahead(el.body, kRoomAhead, room), add_room_ahead(el.weight, kRoomAhead, room);
+    add_room_ahead(w.forces.element_buffer, kRoomAhead, room);
+    const Nodes& n = w.nodes;
+    add_room_ahead(n.rest, kRoomAhead, room), add_room_ahead(n.position, kRoomAhead, room);
+    add_room_ahead(n.velocity, kRoomAhead, room), add_room_ahead(n.mass, kRoomAhead, room);
+    add_room_ahead(n.fixed, kRoomAhead, room);
+    populate_in_background(std::move(room));
 }
 
 namespace {
@@ -290,6 +311,7 @@ int apply_cut_batch(World& w) {
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     relump_nodes(w, touched);
+    fault_room_ahead(w);
     return split;
 }
 

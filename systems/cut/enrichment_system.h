@@ -34,6 +34,17 @@ inline constexpr double kMinSideFraction = 1e-9;
 /// cut does not pay for it).
 void prepare_enrichment(World& world);
 
+/// Entries of room past each element and node array's end kept resident for the splits to come
+/// (a batch appends a few hundred at most).
+inline constexpr size_t kRoomAhead = 4096;
+
+/// Faults in the next kRoomAhead entries of room of the arrays a split appends to, on the
+/// background thread (engine/room_ahead.h), when the arrays have come within half of that of the
+/// room asked for before (a job every ~2,000 virtual elements, not every split: each wakes the
+/// background thread, and while it runs the step's teams have one thread fewer).
+/// prepare_enrichment and every batch that splits call it.
+void fault_room_ahead(World& world);
+
 /// Applies `world.pending_cuts` (and clears it): an event for an element an earlier event of the
 /// same batch splits cuts it again after it is split, where the world cuts again. Returns the
 /// number of elements split, and of splits again.

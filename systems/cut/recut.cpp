@@ -8,6 +8,7 @@
 #include "systems/cut/enrichment_system.h"
 #include "systems/cut/stem_3d.h"
 #include "systems/kernels/cut_geometry.h"
+#include "systems/kernels/mesh_measures.h"
 #include "systems/xfem_queries.h"
 
 namespace xcut {
