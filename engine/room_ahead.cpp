@@ -1,7 +1,5 @@
 #include "engine/room_ahead.h"
 
-#include <atomic>
-#include <cstdint>
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -14,28 +12,22 @@ namespace {
 constexpr int MADV_POPULATE_WRITE = 23;  // linux/mman.h, Linux 5.14
 #endif
 
-std::atomic<long> g_populated{0};
-
-/// Faults in the pages that hold [from, from + bytes); false where the kernel refuses.
-bool populate(const char* from, size_t bytes) {
-    const auto page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
-    const uintptr_t begin = reinterpret_cast<uintptr_t>(from) & ~(page - 1);
-    const uintptr_t end = (reinterpret_cast<uintptr_t>(from) + bytes + page - 1) & ~(page - 1);
-    if (end <= begin) return false;
-    const bool ok = madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE) == 0;
-    if (ok) g_populated += static_cast<long>((end - begin) / page);
-    return ok;
-}
-
 }  // namespace
+
+std::pair<uintptr_t, uintptr_t> pages_holding(const char* from, size_t bytes) {
+    const auto page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
+    const auto at = reinterpret_cast<uintptr_t>(from);
+    return {at & ~(page - 1), (at + bytes + page - 1) & ~(page - 1)};
+}
 
 void populate_in_background(std::vector<RoomStretch> stretches) {
     if (stretches.empty()) return;
     post_background_job([stretches = std::move(stretches)] {
-        for (const RoomStretch& s : stretches) populate(s.from, s.bytes);
+        for (const RoomStretch& s : stretches) {  // a refusal (an old kernel) leaves the first write to fault
+            const auto [begin, end] = pages_holding(s.from, s.bytes);
+            if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);
+        }
     });
 }
-
-long populated_pages() { return g_populated.load(); }
 
 }  // namespace xcut

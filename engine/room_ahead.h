@@ -12,6 +12,8 @@
 // write faults as before.
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace xcut {
@@ -34,7 +36,7 @@ void add_room_ahead(const V& v, size_t count, std::vector<RoomStretch>& out) {
 /// then finds mapped, neither changing a byte).
 void populate_in_background(std::vector<RoomStretch> stretches);
 
-/// The pages populate_in_background has been asked for and the kernel accepted, for tests [-].
-long populated_pages();
+/// The page-aligned addresses [first, second) of the pages that hold [from, from + bytes).
+std::pair<uintptr_t, uintptr_t> pages_holding(const char* from, size_t bytes);
 
 }  // namespace xcut

@@ -10,12 +10,30 @@
 #include "systems/cut/node_copies.h"
 #include "systems/cut/quadratic_enrichment.h"
 #include "systems/cut/recut.h"
-#include "engine/room_ahead.h"
 #include "engine/fragment_geometry.h"
+#include "engine/room_ahead.h"
 #include "systems/kernels/cut_geometry.h"
 #include "systems/xfem_queries.h"
 
 namespace xcut {
+
+namespace {
+
+/// Calls f(array, room) for each array a split appends to, room being the entries reserved for it
+/// (twice the mesh's elements or nodes): prepare_enrichment reserves them, fault_room_ahead makes
+/// the next stretch of each resident.
+template <class F>
+void each_split_array(World& w, F f) {
+    Elements& el = w.elements;
+    const size_t e = static_cast<size_t>(w.mesh_elements) * 2;
+    f(el.nodes, e), f(el.rest_volume, e), f(el.dm_inv, e), f(el.rotation, e), f(el.material, e), f(el.region, e);
+    f(el.body, e), f(el.weight, e), f(w.forces.element_buffer, e);
+    Nodes& n = w.nodes;
+    const size_t m = static_cast<size_t>(w.mesh_nodes) * 2;
+    f(n.rest, m), f(n.position, m), f(n.velocity, m), f(n.mass, m), f(n.fixed, m);
+}
+
+}  // namespace
 
 void prepare_enrichment(World& w) {
     EnrichedDofs& en = w.enriched;
@@ -28,16 +46,8 @@ void prepare_enrichment(World& w) {
     w.cuts.cut_of_element.assign(w.mesh_elements, -1);
     // Room for virtual elements and phantom nodes, so a split never copies the whole mesh arrays
     // (a reallocation of 50k tets costs ~8 ms). Reserved pages are not touched until used, so this
-    // costs address space, not resident memory.
-    Elements& el = w.elements;
-    const size_t e_cap = static_cast<size_t>(w.mesh_elements) * 2;
-    el.nodes.reserve(e_cap), el.rest_volume.reserve(e_cap), el.dm_inv.reserve(e_cap);
-    el.rotation.reserve(e_cap), el.material.reserve(e_cap), el.region.reserve(e_cap), el.body.reserve(e_cap), el.weight.reserve(e_cap);
-    w.forces.element_buffer.reserve(e_cap);
-    Nodes& n = w.nodes;
-    const size_t n_cap = static_cast<size_t>(w.mesh_nodes) * 2;
-    n.rest.reserve(n_cap), n.position.reserve(n_cap), n.velocity.reserve(n_cap);
-    n.mass.reserve(n_cap), n.fixed.reserve(n_cap);
+    // costs address space, not resident memory (fault_room_ahead makes the next stretch resident).
+    each_split_array(w, [](auto& v, size_t room) { v.reserve(room); });
     fault_room_ahead(w);
 }
 
@@ -47,16 +57,7 @@ void fault_room_ahead(World& w) {
     if (elements + kRoomAhead / 2 <= ce.room_elements && nodes + kRoomAhead / 2 <= ce.room_nodes) return;
     ce.room_elements = elements + kRoomAhead, ce.room_nodes = nodes + kRoomAhead;
     std::vector<RoomStretch> room;
-    const Elements& el = w.elements;
-    add_room_ahead(el.nodes, kRoomAhead, room), add_room_ahead(el.rest_volume, kRoomAhead, room);
-    add_room_ahead(el.dm_inv, kRoomAhead, room), add_room_ahead(el.rotation, kRoomAhead, room);
-    add_room_ahead(el.material, kRoomAhead, room), add_room_ahead(el.region, kRoomAhead, room);
-    add_room_ahead(el.body, kRoomAhead, room), add_room_ahead(el.weight, kRoomAhead, room);
-    add_room_ahead(w.forces.element_buffer, kRoomAhead, room);
-    const Nodes& n = w.nodes;
-    add_room_ahead(n.rest, kRoomAhead, room), add_room_ahead(n.position, kRoomAhead, room);
-    add_room_ahead(n.velocity, kRoomAhead, room), add_room_ahead(n.mass, kRoomAhead, room);
-    add_room_ahead(n.fixed, kRoomAhead, room);
+    each_split_array(w, [&](const auto& v, size_t) { add_room_ahead(v, kRoomAhead, room); });
     populate_in_background(std::move(room));
 }
 

@@ -445,17 +445,22 @@ bool record_recut_3d(World& w, const CutEvent& ev, int c) {
             parts.push_back({});
             continue;
         }
-        const uint32_t with = mask | bound_by(k);
+        const uint32_t with = mask | bound_by(k), above = with | (1u << k), below = with & ~(1u << k);
+        double above_volume = 0.0;
         if (ev.bounded) {  // a stem: only a fragment whose section lies ahead of its start (stem_3d.h)
+            const std::vector<FragmentFace> faces = fragment_faces(X, planes.data(), n, above);
             std::vector<Vec3> section;
-            for (const FragmentFace& f : fragment_faces(X, planes.data(), n, with | (1u << k)))
+            for (const FragmentFace& f : faces)
                 if (f.plane == k) section.insert(section.end(), f.polygon.begin(), f.polygon.end());
             if (!stem_covers(ev, section, longest_edge(X))) {
                 parts.push_back({});
                 continue;
             }
+            above_volume = polyhedron_volume(faces);  // fragment_volume's bits, its faces made already
+        } else {
+            above_volume = fragment_volume(X, planes.data(), n, above);
         }
-        parts.push_back({fragment_volume(X, planes.data(), n, with | (1u << k)), fragment_volume(X, planes.data(), n, with & ~(1u << k))});
+        parts.push_back({above_volume, fragment_volume(X, planes.data(), n, below)});
     }
     const double volume = std::abs((X[1] - X[0]).cross(X[2] - X[0]).dot(X[3] - X[0])) / 6.0;
     std::array<double, 6> edge_t;  // the event's own crossings of the edges

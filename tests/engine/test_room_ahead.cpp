@@ -18,8 +18,7 @@ namespace {
 /// How many of the pages that hold [from, from + bytes) are resident.
 long resident_pages(const char* from, size_t bytes) {
     const auto page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
-    const uintptr_t begin = reinterpret_cast<uintptr_t>(from) & ~(page - 1);
-    const uintptr_t end = (reinterpret_cast<uintptr_t>(from) + bytes + page - 1) & ~(page - 1);
+    const auto [begin, end] = pages_holding(from, bytes);
     std::vector<unsigned char> map((end - begin) / page);
     if (mincore(reinterpret_cast<void*>(begin), end - begin, map.data()) != 0) return -1;
     long resident = 0;
@@ -53,11 +52,9 @@ TEST(RoomAhead, TheRoomPastAnArraysEndIsMadeResidentOnTheBackgroundThread) {
     const long pages = static_cast<long>((room[0].bytes + 2 * page - 1) / page);
     ASSERT_GE(stretch_before, 0);
     ASSERT_LT(stretch_before, pages / 2) << "the room was resident before it was asked for";
-    const long asked = populated_pages();
     populate_in_background(room);
     drain_background();
     EXPECT_GE(resident_pages(room[0].from, room[0].bytes), pages - 1) << "before: " << stretch_before;
-    EXPECT_GT(populated_pages(), asked);
     EXPECT_EQ(resident_pages(far, page), far_before);  // only the stretch asked for
     // The elements in use are unchanged, and so is the room's content when written after.
     for (double x : v) ASSERT_EQ(x, 1.0);
