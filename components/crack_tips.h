@@ -49,6 +49,9 @@ struct CrackTips {
     std::vector<Vec3> blade_world;   ///< per tool: its blade point in the world then [m]
     std::vector<Vec3> blade_heading_from;  ///< per tool: the rest point its crack's direction was last taken from [m]
     std::vector<uint8_t> blade_seen; ///< per tool: blade_point holds one
+    /// per tool (3D): steps its edge lay in the tissue but carried no front, as it ended inside the
+    /// tissue or crossed it more than once (systems/cut/blade_front.h); the end of the run says so
+    std::vector<int> blade_not_through;
     int cuts_seen = 0;               ///< cut elements when the zones were last built
     int phantoms_seen = 0;           ///< phantoms then: later ones take the tips' field (transfer)
     int version = 0;                 ///< counts the zones built (a factor knows which it was made for)

@@ -483,15 +483,16 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
     return scene;
 }
 
-/// A quadratic material on a 2D mesh (6-node triangles) with crack tips, which they do not carry yet
+/// A quadratic material with crack tips (2D) or fronts (3D), which they do not carry yet
 /// (docs/elements.md). Both cutters cut quadratic elements, 2D and 3D.
 void refuse_quadratic_where_unsupported(const World& world, const Scene& scene, int dim) {
-    if (dim == 3 || scene.tip_radius < 0.0) return;
+    if (scene.tip_radius < 0.0) return;
     for (const Material& m : world.materials.list)
         if (m.quadratic)
             throw InputError(scene.file, "material.element",
-                             fmt::format("material \"{}\" asks for quadratic elements on a 2D mesh (6-node triangles), "
-                                         "which carry no crack tips yet (use \"linear\" with \"cutter.tip\")", m.name));
+                             fmt::format("material \"{}\" asks for quadratic elements ({}), which carry no crack {} yet "
+                                         "(use \"linear\" with \"cutter.tip\")", m.name,
+                                         dim == 3 ? "10-node tetrahedra" : "6-node triangles", dim == 3 ? "fronts" : "tips"));
 }
 
 }  // namespace
@@ -552,8 +553,6 @@ World build_world(const Scene& scene) {
     world.cut_state.progressive = scene.cut_front == "progressive";
     world.cut_state.recut = static_cast<int8_t>(scene.recut);
     world.snap.enabled = scene.cutter == "snap";
-    if (scene.tip_radius >= 0.0 && mesh.dim != 2)
-        throw InputError(scene.file, "cutter.tip", "crack-tip enrichment is 2D only: the mesh is 3D (a 3D front is not enriched yet)");
     world.tips.follow_radius = scene.tip_radius;
     world.snap.threshold = scene.snap_threshold;
     world.snap.visual_subdivisions = scene.visual_subdivisions;

@@ -239,6 +239,13 @@ std::vector<std::string> end_of_run_notes(const World& w) {
         for (int i = 0; i < static_cast<int>(count.size()) && i < w.tools.count(); ++i)
             if (count[i] > 0) out.push_back(line(w.tools.name[i], count[i], count[i] == 1 ? "" : "s"));
     };
+    // A 3D blade carries a front only where its edge crosses the tissue whole (straight fronts).
+    per_tool(w.tips.blade_not_through, [&](const std::string& tool, int n, const char* s) {
+        return fmt::format("tool \"{}\" carried no crack front in {} step{}: its edge ended inside the tissue (or "
+                           "crossed it more than once), and xcut enriches a straight front through the tissue whole, not "
+                           "one with an end or a corner inside it (docs/xfem.md); its cut ran there without one",
+                           tool, n, s);
+    });
     // A cut across an earlier wound where this world does not cut an element again.
     constexpr const char* kRecutLimits =
         "xcut cuts an element again with linear elements, the XFEM cutter and no crack tips, up to 4 cuts per "

@@ -10,9 +10,11 @@
 
 #include "engine/error.h"
 #include "engine/parallel.h"
+#include "systems/cut/blade_front.h"
 #include "systems/kernels/block_sums.h"
 #include "systems/kernels/branch_enrichment.h"
 #include "systems/kernels/corotational_kernel.h"
+#include "systems/kernels/front_enrichment.h"
 #include "systems/xfem_queries.h"
 
 namespace xcut {
@@ -441,12 +443,42 @@ void transfer_to_phantoms(World& w) {
         for (int pair = 0; pair < static_cast<int>(ct.node.size()); ++pair) {
             if (ct.node[pair] != node) continue;
             const int tip = ct.tip[pair];
+            if (w.elements.dim == 3) {
+                const FrontFrame f{ct.point[tip], ct.direction[tip], ct.tangent[tip]};
+                const int lip = crack_node_lip(w, f.point, f.direction, f.normal(), node);
+                const FrontValues F = front_functions(f, w.nodes.rest[node], lip);
+                for (int l = 0; l < 4; ++l) shift -= 2.0 * F.f[l] * b.segment<3>(3 * (4 * pair + l));
+                continue;
+            }
             const TipFrame f{xy(ct.point[tip]), xy(ct.direction[tip])};
             const BranchValues F = branch_functions(f, xy(w.nodes.rest[node]), node_lip(w, f, node));
             for (int l = 0; l < 4; ++l) shift.head<2>() -= 2.0 * F.f[l] * b.segment<2>(2 * (4 * pair + l));
         }
         w.nodes.position[w.mesh_nodes + p] = w.nodes.position[node] + shift;
     }
+}
+
+/// The blades' tips (2D) or fronts (3D) built anew at `wanted` (rest point, direction, tangent),
+/// keeping what follows the blades (CrackTips' per-tool state).
+void build_blade_zones(World& w, const std::vector<std::array<Vec3, 3>>& wanted) {
+    CrackTips& ct = w.tips;
+    CrackTips fresh;
+    fresh.version = ct.version;
+    fresh.follow_radius = ct.follow_radius;
+    fresh.blade_point = ct.blade_point;
+    fresh.blade_seen = ct.blade_seen;
+    fresh.blade_world = ct.blade_world;
+    fresh.blade_heading_from = ct.blade_heading_from;
+    fresh.blade_not_through = ct.blade_not_through;
+    ct = std::move(fresh);
+    for (const auto& [T, dir, tangent] : wanted) {
+        if (w.elements.dim == 3)
+            enrich_crack_front(w, T, dir, tangent, TipZone{ct.follow_radius, kBladeFrontRuleOrder, kBladeFrontSlabOrder});
+        else
+            enrich_crack_tip(w, T, dir, TipZone{ct.follow_radius});
+    }
+    ct.cuts_seen = w.cuts.count();
+    ct.phantoms_seen = w.enriched.count();
 }
 
 }  // namespace
@@ -458,14 +490,27 @@ bool follow_blades(World& w) {
     ct.blade_seen.resize(tb.count(), 0);
     ct.blade_world.resize(tb.count(), Vec3::Zero());
     ct.blade_heading_from.resize(tb.count(), Vec3::Zero());
+    ct.blade_not_through.resize(tb.count(), 0);
+    const bool space = w.elements.dim == 3;
     const double follow = kTipFollowFraction * w.cut_state.mean_edge, turn = kTipTurnFraction * w.cut_state.mean_edge;
-    std::vector<std::array<Vec3, 2>> wanted;  // point, direction (rest)
+    std::vector<std::array<Vec3, 3>> wanted;  // point, direction, tangent (rest)
     for (int t = 0; t < tb.count(); ++t) {
-        Vec3 T;
-        if (!tb.has_blade[t] || !blade_rest_point(w, t, T)) {
+        // 2D: the blade's point, the front's tangent z; 3D: the edge through the tissue.
+        Vec3 T, tangent = Vec3::UnitZ();
+        const BladeFront held = !tb.has_blade[t] ? BladeFront::kNone
+                                : space          ? blade_rest_front(w, t, T, tangent)
+                                : blade_rest_point(w, t, T) ? BladeFront::kFront : BladeFront::kNone;
+        ct.blade_not_through[t] += held == BladeFront::kNotThrough;
+        if (held != BladeFront::kFront) {
             ct.blade_seen[t] = 0;
             continue;
         }
+        // The crack's direction lies across the front (2D: in the plane).
+        const auto across = [&](Vec3 v) {
+            if (space) return Vec3(v - v.dot(tangent) * tangent);
+            v.z() = 0.0;
+            return v;
+        };
         // The crack runs behind the tip along the blade's travel through the rest configuration
         // since the tip was put; one just entering takes its velocity's direction. A blade that
         // has not moved `follow` in the world since (the tissue drifting under a blade that
@@ -477,20 +522,18 @@ bool follow_blades(World& w) {
             int own = -1;
             for (int k = 0; k < ct.count(); ++k)
                 if ((ct.point[k] - ct.blade_point[t]).norm() <= 1e-12) own = k;
-            dir = T - ct.blade_point[t];
-            dir.z() = 0.0;
+            dir = across(T - ct.blade_point[t]);
             const bool stands = (P - ct.blade_world[t]).norm() <= follow || dir.norm() <= follow;
             if (stands || (own >= 0 && dir.dot(ct.direction[own]) < 0.0)) {
-                if (own >= 0) wanted.push_back({ct.point[own], ct.direction[own]});
+                if (own >= 0) wanted.push_back({ct.point[own], ct.direction[own], ct.tangent[own]});
                 continue;
             }
             // The crack turns with the blade once it has run `turn` in its new direction: a
             // shorter stretch is the crack's own (a tip turned by a blade creeping sideways puts the
             // branch functions' discontinuity across uncut material, beside the crack).
-            Vec3 heading = T - ct.blade_heading_from[t];
-            heading.z() = 0.0;
+            const Vec3 heading = across(T - ct.blade_heading_from[t]);
             if (own >= 0 && heading.norm() < turn) {
-                dir = ct.direction[own];
+                dir = across(ct.direction[own]);
             } else {
                 dir = heading.norm() > 0.0 ? heading : dir;
                 ct.blade_heading_from[t] = T;
@@ -501,32 +544,23 @@ bool follow_blades(World& w) {
             if (dir.norm() == 0.0) dir = tb.velocity[t];
             ct.blade_heading_from[t] = T;
         }
-        dir.z() = 0.0;
+        dir = across(dir);
         ct.blade_point[t] = T, ct.blade_world[t] = P, ct.blade_seen[t] = 1;
-        if (dir.norm() > 1e-12) wanted.push_back({T, dir.normalized()});  // else from its next move
+        if (dir.norm() > 1e-12) wanted.push_back({T, dir.normalized(), tangent});  // else from its next move
     }
     bool same = static_cast<int>(wanted.size()) == ct.count() && w.cuts.count() == ct.cuts_seen;
     for (int k = 0; same && k < ct.count(); ++k)
-        same = (wanted[k][0] - ct.point[k]).norm() <= 1e-12 && (wanted[k][1] - ct.direction[k]).norm() <= 1e-9;
+        same = (wanted[k][0] - ct.point[k]).norm() <= 1e-12 && (wanted[k][1] - ct.direction[k]).norm() <= 1e-9 &&
+               (wanted[k][2] - ct.tangent[k]).norm() <= 1e-9;
     if (same) return false;
     transfer_to_phantoms(w);
-    CrackTips fresh;
-    fresh.version = ct.version;
-    fresh.follow_radius = ct.follow_radius;
-    fresh.blade_point = ct.blade_point;
-    fresh.blade_seen = ct.blade_seen;
-    fresh.blade_world = ct.blade_world;
-    fresh.blade_heading_from = ct.blade_heading_from;
-    ct = std::move(fresh);
-    for (const auto& [T, dir] : wanted) enrich_crack_tip(w, T, dir, TipZone{ct.follow_radius});
-    ct.cuts_seen = w.cuts.count();
-    ct.phantoms_seen = w.enriched.count();
+    build_blade_zones(w, wanted);
     return true;
 }
 
 SystemDesc crack_tip_system() {
     SystemDesc s{"CrackTipSystem", kNodes | kElements | kTools | kCutEvents, kNodes | kXfem,
-                 [](World& w) { follow_blades(w); }, "crack tips at the blades (2D)"};
+                 [](World& w) { follow_blades(w); }, "crack tips (2D) and fronts (3D) at the blades"};
     return s.also_reads(kXfem);
 }
 

@@ -51,18 +51,8 @@ std::string block_scene(const std::vector<Vec3>& polygon, const std::string& fro
     return block_scene(polygon, o);
 }
 
-/// The probes' displacements (the fronts' functions added, as the accuracy suite takes them) at
-/// the static equilibrium of world w with the block's ends pulled.
-std::vector<Vec3> pulled_displacements(World& w) {
-    const CutBlockSpec b;
-    pull_block_ends(w, b);
-    EXPECT_TRUE(solve_equilibrium(w).converged);
-    const Eigen::VectorXd amplitudes = crack_tip_amplitudes(w);
-    std::vector<Vec3> u;
-    for (const Probe& p : locate_points(w, cut_block_samples(b)))
-        u.push_back(probe_displacement(w, p) + front_enrichment_at(w, amplitudes, p.element, p.rest, p.bary));
-    return u;
-}
+/// The probes' displacements at the static equilibrium of world w with the block's ends pulled.
+std::vector<Vec3> pulled_displacements(World& w) { return pulled_block_displacements(w, CutBlockSpec{}); }
 
 std::string load_error(const std::string& text) {
     try {

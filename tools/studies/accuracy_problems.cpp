@@ -8,6 +8,7 @@
 
 #include "engine/io/generators.h"
 #include "engine/setup.h"
+#include "systems/cut/crack_tip_system.h"
 #include "systems/cut/enrichment_system.h"
 #include "systems/surface/mapping_system.h"
 #include "systems/pipeline.h"
@@ -178,6 +179,18 @@ void pull_block_ends(World& w, const CutBlockSpec& s) {
         w.nodes.fixed[i] = 7;
         w.nodes.position[i] = w.nodes.rest[i] + Vec3(x < 0.5 * s.size.x() ? -s.pull : s.pull, 0.0, 0.0);
     }
+}
+
+std::vector<Vec3> pulled_block_displacements(World& w, const CutBlockSpec& spec) {
+    pull_block_ends(w, spec);
+    if (!solve_equilibrium(w).converged) throw std::runtime_error("the pulled block's static solve did not converge");
+    const Eigen::VectorXd amplitudes = w.tips.count() > 0 ? crack_tip_amplitudes(w) : Eigen::VectorXd();
+    std::vector<Vec3> u;
+    for (const Probe& p : locate_points(w, cut_block_samples(spec))) {
+        u.push_back(probe_displacement(w, p));
+        if (w.tips.count() > 0) u.back() += front_enrichment_at(w, amplitudes, p.element, p.rest, p.bary);
+    }
+    return u;
 }
 
 std::vector<Vec3> cut_block_samples(const CutBlockSpec& s) {

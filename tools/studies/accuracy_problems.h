@@ -96,6 +96,10 @@ void pull_block_ends(World& world, const CutBlockSpec& spec);
 /// The sample points: a lattice of 8 x 2 x 8 cell centres over the block, and 4 pairs on the crack
 /// lips (x = cut_x -/+ 1e-6 L, y = B / 2, through the cut depth).
 std::vector<Vec3> cut_block_samples(const CutBlockSpec& spec);
+/// The samples' displacements at the static equilibrium of `world` (the block, cut) with its ends
+/// pulled, the fronts' functions added where it has any (crack_tip_amplitudes, front_enrichment_at:
+/// as the suite's xfem_tip row takes them) [m]. Throws std::runtime_error if the solve fails.
+std::vector<Vec3> pulled_block_displacements(World& world, const CutBlockSpec& spec);
 
 // ---- Problem 6: single edge notched tension (2D, plane stress) -------------------------------------
 

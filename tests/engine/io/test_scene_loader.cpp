@@ -118,7 +118,10 @@ std::vector<BadScene> bad_scenes() {
          "!{ \"mesh\": { \"generator\": \"plate\", \"size\": [0.01, 0.01, 0], \"cells\": [2, 2, 1] }, \"gravity\": [0, 0, 0], "
          "\"cutter\": { \"front\": \"progressive\", \"tip\": {} } }",
          "cutter.tip", "use \"front\": \"semi\""},
-        {"crack tip in 3D", "cutter.tip={\"radius\": 0.001}", "cutter.tip", "2D only"},
+        {"10-node tetrahedra with crack fronts",
+         "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
+         "\"material\": { \"element\": \"quadratic\" }, \"cutter\": { \"tip\": {} } }",
+         "material.element", "carry no crack fronts yet"},
         {"cutting again with snapping",
          "!{ \"mesh\": { \"generator\": \"box\", \"size\": [0.01, 0.01, 0.01], \"cells\": [2, 2, 2] }, "
          "\"cutter\": { \"type\": \"snap\", \"recut\": true } }",
