@@ -21,6 +21,9 @@ Command add_stress_command(CLI::App& app) {
         ->check(CLI::Range(1, 4));
     cmd->add_flag("--tip", o->tip, "Problem 8 in 2D with crack tips at the blades (a skin patch, random trajectories "
                                    "and tip radii; --front and --blades do not apply)");
+    cmd->add_flag("--fronts", o->fronts, "Problem 8 in 3D with crack fronts at the blades (the slab's random "
+                                         "trajectories, some blades deeper than the slab, and random zone radii; "
+                                         "--front, --blades, --element and --recut do not apply)");
     cmd->add_flag("--loops", o->loops, "Problem 8 as closed loops in 2D: a scalpel round a random ellipse in a skin "
                                        "patch, a cross-cut through its lens in two of three; the pieces freed are "
                                        "checked against the regions the paths enclose (--front and --blades do not apply)");
@@ -43,6 +46,12 @@ Command add_stress_command(CLI::App& app) {
                 if (o->tip && o->element != "linear")
                     throw CLI::ValidationError("--tip", "crack tips are 2D: the linear triangle, without --element");
                 if (!o->csv_given && o->tip) o->csv = "results/bench_stress_tip.csv";
+                if (o->fronts && (o->tip || o->loops || o->front != "semi" || o->blades > 1 || o->element != "linear" ||
+                                  o->recut))
+                    throw CLI::ValidationError("--fronts", "crack fronts follow the semi-progressive front's single blade "
+                                                           "on linear tetrahedra: without --tip, --loops, --front, "
+                                                           "--blades, --element and --recut");
+                if (!o->csv_given && o->fronts) o->csv = "results/bench_stress_fronts.csv";
                 if (o->loops && (o->tip || o->front != "semi" || o->blades > 1 || o->element != "linear" || o->recut))
                     throw CLI::ValidationError("--loops", "closed loops are drawn in 2D by the semi front's scalpels: "
                                                           "without --tip, --front, --blades, --element and --recut");

@@ -48,6 +48,17 @@ bool clip(const std::array<Vec3, 4>& x, const Vec3& A, const Vec3& B, Stretch& s
     return s.to > s.from;
 }
 
+/// A front's line through `point` along unit `tangent` (its crack's direction any normal to it).
+FrontFrame line_through(const Vec3& point, const Vec3& tangent) {
+    const Vec3 any = std::abs(tangent.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+    return FrontFrame{point, tangent.cross(any).normalized(), tangent};
+}
+
+std::array<Vec3, 4> rest_tet(const World& w, int e) {
+    const auto& n = w.elements.nodes[e];
+    return {w.nodes.rest[n[0]], w.nodes.rest[n[1]], w.nodes.rest[n[2]], w.nodes.rest[n[3]]};
+}
+
 Vec3 rest_at(const World& w, const Stretch& s, double at) {
     const auto& n = w.elements.nodes[s.e];
     Vec3 X = Vec3::Zero();
@@ -107,16 +118,22 @@ BladeFront blade_rest_front(const World& w, int t, Vec3& point, Vec3& tangent) {
     // edge is not in (a fold, a second layer), beyond a mean edge of rounding and drift.
     const double pad = std::max(w.cut_state.mean_edge, kEdgeTolerance * d.norm());
     const double first_at = (rest_at(w, *first, from) - point).dot(tangent), last_at = (rest_at(w, *last, to) - point).dot(tangent);
-    const Vec3 any = std::abs(tangent.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-    const FrontFrame line{point, tangent.cross(any).normalized(), tangent};
+    const FrontFrame line = line_through(point, tangent);
     for (int e = 0; e < w.mesh_elements; ++e) {
-        if (w.elements.weight[e] <= 0.0) continue;
-        const auto& n = w.elements.nodes[e];
-        const std::array<Vec3, 4> X{w.nodes.rest[n[0]], w.nodes.rest[n[1]], w.nodes.rest[n[2]], w.nodes.rest[n[3]]};
         double f = 0.0, g = 0.0;
-        if (front_in_tet(X, line, f, g) && (g < first_at - pad || f > last_at + pad)) return BladeFront::kNotThrough;
+        if (w.elements.weight[e] > 0.0 && front_in_tet(rest_tet(w, e), line, f, g) && (g < first_at - pad || f > last_at + pad))
+            return BladeFront::kNotThrough;
     }
     return BladeFront::kFront;
+}
+
+bool front_in_uncut_tissue(const World& w, const Vec3& point, const Vec3& tangent) {
+    const FrontFrame line = line_through(point, tangent);
+    for (int e = 0; e < w.mesh_elements; ++e) {
+        double f = 0.0, g = 0.0;
+        if (w.elements.weight[e] > 0.0 && front_in_tet(rest_tet(w, e), line, f, g)) return true;
+    }
+    return false;
 }
 
 }  // namespace xcut

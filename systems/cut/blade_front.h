@@ -20,4 +20,9 @@ enum class BladeFront { kNone, kFront, kNotThrough };
 /// enters to where it leaves (each end mapped through its own element) [m, -].
 BladeFront blade_rest_front(const World& world, int t, Vec3& point, Vec3& tangent);
 
+/// Whether the rest line through `point` along unit `tangent` runs through a live mesh element (one
+/// not yet split): a front a blade keeps while it stands lies in tissue the cut has since split
+/// when the split caught up with it.
+bool front_in_uncut_tissue(const World& world, const Vec3& point, const Vec3& tangent);
+
 }  // namespace xcut

@@ -524,7 +524,10 @@ bool follow_blades(World& w) {
                 if ((ct.point[k] - ct.blade_point[t]).norm() <= 1e-12) own = k;
             dir = across(T - ct.blade_point[t]);
             const bool stands = (P - ct.blade_world[t]).norm() <= follow || dir.norm() <= follow;
-            if (stands || (own >= 0 && dir.dot(ct.direction[own]) < 0.0)) {
+            // (3D: while the front it keeps still runs through uncut tissue; a split that caught up
+            // with it hands the front to where the edge is now.)
+            const bool kept = own < 0 || !space || front_in_uncut_tissue(w, ct.point[own], ct.tangent[own]);
+            if (kept && (stands || (own >= 0 && dir.dot(ct.direction[own]) < 0.0))) {
                 if (own >= 0) wanted.push_back({ct.point[own], ct.direction[own], ct.tangent[own]});
                 continue;
             }

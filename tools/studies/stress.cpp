@@ -21,6 +21,7 @@ namespace {
 struct CaseResult {
     std::string problem, name;
     int steps = 0, max_cg = 0, nan = 0, lost = 0, open_edges = 0, pinched_edges = 0, zero_area = 0, cuts = 0;
+    int tip_steps = 0;  ///< steps that ended with a crack tip or front enriched
     BridgeTally bridges{};  ///< elements the blades crossed through, those left bridged (tools/studies/bridges.h)
     LoopTally loops{};      ///< a loop trajectory's pieces against its regions (tools/studies/stress_loops.h)
     double energy_ratio = 0.0;  ///< max (kinetic + elastic) / work put in
@@ -66,6 +67,7 @@ void run_steps(Simulation& sim, int steps, Work work, CaseResult& r) {
         bridges.before_step(w);
         step_simulation(sim);
         ++r.steps;
+        r.tip_steps += w.tips.count() > 0;
         const StepMetrics& m = w.metrics.current;
         r.max_cg = std::max(r.max_cg, (m.cg_iterations + m.newton_iterations - 1) / m.newton_iterations);  // per solve
         bool finite = true;
@@ -202,6 +204,13 @@ Scene random_tip_scene(std::mt19937_64& rng) {
     return s;
 }
 
+Scene random_front_scene(std::mt19937_64& rng) {
+    Scene s = random_cut_scene(rng, "semi");
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    s.tip_radius = 0.002 * std::floor(3.0 * u(rng));  // 0 (the front's elements), 2 or 4 mm
+    return s;
+}
+
 namespace {
 
 std::vector<Vec3> square(const Vec3& centre, const Vec3& normal) {
@@ -238,6 +247,7 @@ std::vector<CaseResult> slivers() {
 /// Problem 8's scene for the next trajectory of `rng`, as the options ask.
 Scene random_scene(std::mt19937_64& rng, const StressOptions& o) {
     if (o.tip) return random_tip_scene(rng);
+    if (o.fronts) return random_front_scene(rng);
     if (o.loops) return random_loop_scene(rng);
     Scene s = o.blades > 1 ? random_blades_scene(rng, o.front, o.blades) : random_cut_scene(rng, o.front);
     s.material.quadratic = o.element == "quadratic";
@@ -247,7 +257,7 @@ Scene random_scene(std::mt19937_64& rng, const StressOptions& o) {
 
 /// Problem 8's name in the summary, as the options ask.
 std::string random_problem(const StressOptions& o) {
-    std::string name = o.tip ? "8 crack tips" : o.loops ? "8 closed loops" : o.blades > 1 ? "8 many blades" : "8 many cuts";
+    std::string name = o.tip ? "8 crack tips" : o.fronts ? "8 crack fronts" : o.loops ? "8 closed loops" : o.blades > 1 ? "8 many blades" : "8 many cuts";
     if (o.recut) name += ", cut again";
     return o.element == "quadratic" ? name + ", quadratic" : name;
 }
@@ -345,15 +355,16 @@ void tally(StressSummary& s, const CaseResult& r) {
 std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     std::string rows = "problem,case,steps,cuts,max_cg,nan,energy_ratio,energy_bound,lost_vertices,open_edges,"
                        "pinched_edges,zero_area_triangles,crossed_through,bridged,left_out,pieces,expected_pieces,strips,"
-                       "pieces_mismatch,piece_offset_mm,loop_gap_mm\n";
+                       "pieces_mismatch,piece_offset_mm,loop_gap_mm,tip_steps\n";
     std::map<std::string, StressSummary> by_problem;
     auto record = [&](const CaseResult& r) {
         tally(by_problem[r.problem], r);
         // Problem and case names hold commas: quoted.
-        rows += fmt::format("\"{}\",\"{}\",{},{},{},{},{:.6g},{:g},{},{},{},{},{},{},{},{},{},{},{},{:.4g},{:.4g}\n", r.problem, r.name,
+        rows += fmt::format("\"{}\",\"{}\",{},{},{},{},{:.6g},{:g},{},{},{},{},{},{},{},{},{},{},{},{:.4g},{:.4g},{}\n", r.problem, r.name,
                             r.steps, r.cuts, r.max_cg, r.nan, r.energy_ratio, r.energy_bound, r.lost, r.open_edges,
                             r.pinched_edges, r.zero_area, r.bridges.crossed, r.bridges.bridged, r.bridges.left_out,
-                            r.loops.pieces, r.loops.expected, r.loops.strips, r.loops.mismatch, r.loops.offset * 1e3, r.loops.gap * 1e3);
+                            r.loops.pieces, r.loops.expected, r.loops.strips, r.loops.mismatch, r.loops.offset * 1e3, r.loops.gap * 1e3,
+                            r.tip_steps);
     };
     std::mt19937_64 rng(o.seed);
     if (o.only < 0) {

@@ -49,6 +49,10 @@ Scene random_blades_scene(std::mt19937_64& rng, const std::string& front, int bl
 /// the patch: it enters and leaves), its tip enriched within a random radius (0: the tip's element,
 /// 2 or 4 mm); a quarter of the blades stop 0.1 mm past their second waypoint and stand.
 Scene random_tip_scene(std::mt19937_64& rng);
+/// Problem 8 in 3D with crack fronts: random_cut_scene's slab and scalpel (some deeper than the
+/// slab's 4 mm: their edges cross it whole and carry a front), cutter.tip within a random radius
+/// (0: the front's elements, 2 or 4 mm).
+Scene random_front_scene(std::mt19937_64& rng);
 
 struct StressOptions {
     int count = 200;          ///< random trajectories of problem 8
@@ -59,6 +63,10 @@ struct StressOptions {
     std::string front = "semi";  ///< problem 8's cutter.front
     int blades = 1;           ///< problem 8's scalpels per trajectory: 1, or 2 to this many (random_blades_scene)
     bool tip = false;         ///< problem 8 on the 2D patch with crack tips (random_tip_scene)
+    /// problem 8 in 3D with crack fronts at the blades: random_cut_scene (one scalpel, the semi
+    /// front) with cutter.tip at a random radius (0, 2 or 4 mm); a blade deeper than the slab
+    /// carries a front, a shallower one none (random_front_scene)
+    bool fronts = false;
     /// problem 8 as closed loops: a scalpel round a random ellipse in a 2D skin patch, a cross-cut
     /// through its lens in two of three (tools/studies/stress_loops.h); the pieces checked
     bool loops = false;
