@@ -323,6 +323,9 @@ AccuracyBenchOptions AccuracyBenchOptions::tiny() {
     o.stop_level = 16;
     o.stops = 3;
     o.stop_reference_levels = {10, 20, 40};
+    o.block_stop_level = 8;
+    o.block_stops = 2;
+    o.block_stop_reference_levels = {4, 8, 16};
     o.plots = false;
     o.progress = false;
     return o;
@@ -361,6 +364,7 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o, std::
             for (const char* c : kCutters)
                 rows.push_back(median_if_short([&] { return cut_block_run(CutBlockSpec{}, n, c, reference); })), bar.update(++done);
         if (ext.available) refuse_weak_reference(rows, 5, ext.error_estimate, notes);
+        if (o.block_stops > 0) block_stop_sweep(o, cache, notes);
     }
     if (wants(o, 6)) {
         const ExternalReference ref = external_reference(6, o.plate_reference_levels, cache, notes);

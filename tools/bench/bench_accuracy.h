@@ -45,6 +45,10 @@ struct AccuracyBenchOptions {
     /// `stop_level`: each cutter's error against a reference for the crack the blade made (0: none).
     int stop_level = 80, stops = 10;
     std::vector<int> stop_reference_levels{10, 20, 40, 80};  ///< their references' levels
+    /// Problem 5 with the blade stopped at `block_stops` depths inside the cell below the grid plane
+    /// 10 mm down, at level `block_stop_level` (0 stops: none), each against its own reference.
+    int block_stop_level = 16, block_stops = 5;
+    std::vector<int> block_stop_reference_levels{8, 16, 32};
     std::string csv = "results/bench_accuracy.csv";      ///< PNGs beside it: accuracy_problem<k>.png
     std::string cache_dir;                               ///< default: $XDG_CACHE_HOME/xcut/accuracy (~/.cache/xcut/accuracy)
     /// One thread by default: the suite compares methods, not parallel scaling, and single-thread
@@ -128,6 +132,12 @@ AccuracyRow median_if_short(Run&& run) {
 /// Problem 5 on `spec` with n cells along L, cut by `cutter` (xfem or snap) and solved: its error is
 /// the relative L2 norm of the displacement at cut_block_samples(spec) against `reference` there.
 AccuracyRow cut_block_run(const CutBlockSpec& spec, int n, const char* cutter, const std::vector<Vec3>& reference);
+/// Problem 5 with the blade stopped at o.block_stops depths inside the cell below the front's grid
+/// plane (d = 10 mm + (k + 1/2) h / stops, level o.block_stop_level), each cutter (xfem: the semi
+/// front's crack, which ends where the last fully crossed elements end; xfem_tip: a front where the
+/// blade stopped, as a blade carries it; snap) against CalculiX's reference for that depth: one
+/// line per cutter in `notes` with its errors and their spread (tools/bench/bench_accuracy_stops.cpp).
+void block_stop_sweep(const AccuracyBenchOptions& o, const std::string& cache, std::vector<ReferenceNote>& notes);
 /// Problem 5's parameters as tools/reference/calculix_reference.py reads them (the sample points included).
 nlohmann::json cut_block_parameters(const CutBlockSpec& spec);
 /// Problem 5's reference displacements, one point per three values [m].

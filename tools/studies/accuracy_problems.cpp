@@ -151,7 +151,7 @@ Eigen::Vector3i cut_block_cells(const CutBlockSpec& s, int n) {
     const Eigen::Vector3i c(n, std::max(1, static_cast<int>(std::lround(n * s.size.y() / s.size.x()))),
                             std::max(1, static_cast<int>(std::lround(n * s.size.z() / s.size.x()))));
     const double front = (s.size.z() - s.depth) / s.size.z() * c.z();
-    if (std::abs(front - std::round(front)) > 1e-9)
+    if (!s.front_in_cell && std::abs(front - std::round(front)) > 1e-9)
         throw std::invalid_argument("cut block: the crack front must lie on a grid plane of the mesh");
     return c;
 }

@@ -77,6 +77,9 @@ struct CutBlockSpec {
     double pull = 2e-5;                    ///< end displacement [m] (strain 1e-3: small deformation)
     double young = 1e4, poisson = 0.3, density = 1000.0;  ///< skin (docs/scene-format.md, material) [Pa, -, kg/m^3]
     bool quadratic = false;  ///< the mesh's element (not a parameter of the reference): 10-node tetrahedra
+    /// the front may lie inside a cell (the blade-stop sweep; not a parameter of the reference):
+    /// else a depth off the mesh's grid planes is refused
+    bool front_in_cell = false;
     bool mean_dilatation = false;  ///< with a constant pressure each ("quadratic-p0"; not a reference parameter)
     /// The CalculiX reference's grid crowds toward the crack front as (i / k)^g (1: uniform;
     /// tools/reference/calculix_reference.py says why the accuracy suite takes 2 and the locking
