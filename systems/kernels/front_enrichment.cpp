@@ -195,6 +195,12 @@ FrontRule split_conical_rule(const std::array<Vec3d, 4>& X, const HalfSpace& kee
 }  // namespace
 
 bool front_in_tet(const std::array<Vec3d, 4>& X, const FrontFrame& front, double& from, double& to) {
+    // A line farther from the corners' centroid than the farthest corner (and a margin far beyond
+    // the 1e-9 of the tetrahedron below) misses it: most of a mesh, at a few flops each.
+    const Vec3d c = 0.25 * (X[0] + X[1] + X[2] + X[3]), v = c - front.point;
+    double reach = 0.0;
+    for (const Vec3d& x : X) reach = std::max(reach, (x - c).squaredNorm());
+    if ((v - v.dot(front.tangent) * front.tangent).squaredNorm() > reach * (1.0 + 1e-6)) return false;
     Mat3d D;
     D << X[1] - X[0], X[2] - X[0], X[3] - X[0];
     const Mat3d Dinv = D.inverse();
