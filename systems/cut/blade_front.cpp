@@ -76,14 +76,17 @@ BladeFront blade_rest_front(const World& w, int t, Vec3& point, Vec3& tangent) {
     const std::vector<int>& cut_of = w.cuts.cut_of_element;
     std::vector<Stretch> in;
     for (int e = 0; e < w.mesh_elements; ++e) {
-        if (w.elements.weight[e] <= 0.0) continue;
+        // The tissue: the live elements and the cut ones (by their mesh nodes: the wound's
+        // elements, where an edge partly in its own wound also is).
+        const bool cut = e < static_cast<int>(cut_of.size()) && cut_of[e] >= 0;
+        if (w.elements.weight[e] <= 0.0 && !cut) continue;
         const auto& n = w.elements.nodes[e];
         const std::array<Vec3, 4> x{w.nodes.position[n[0]], w.nodes.position[n[1]], w.nodes.position[n[2]],
                                     w.nodes.position[n[3]]};
         Vec3 box_lo = x[0], box_hi = x[0];
         for (int k = 1; k < 4; ++k) box_lo = box_lo.cwiseMin(x[k]), box_hi = box_hi.cwiseMax(x[k]);
         if ((hi.array() < box_lo.array()).any() || (lo.array() > box_hi.array()).any()) continue;
-        Stretch s{e, e < static_cast<int>(cut_of.size()) && cut_of[e] >= 0, 0.0, 0.0, {}, {}};
+        Stretch s{e, cut, 0.0, 0.0, {}, {}};
         if (clip(x, A, B, s)) in.push_back(s);
     }
     if (in.empty()) return BladeFront::kNone;
@@ -108,16 +111,23 @@ BladeFront blade_rest_front(const World& w, int t, Vec3& point, Vec3& tangent) {
     };
     const double middle = 0.5 * (from + to);
     const Stretch* m = holding(middle, true);
-    const Stretch *first = holding(from, false), *last = holding(to, false);
-    if (!m || !first || !last) return BladeFront::kNone;  // in its own wound
-    const Vec3 d = rest_at(w, *last, to) - rest_at(w, *first, from);
+    if (!m) return BladeFront::kNone;  // in its own wound
+    // The tangent from the first to the last point in uncut tissue (a cut element's mesh nodes
+    // place one of its sides only).
+    const Stretch *first = m, *last = m;
+    for (const Stretch& s : sorted)
+        if (!s.cut) first = s.from < first->from ? &s : first, last = s.to > last->to ? &s : last;
+    const Vec3 d = rest_at(w, *last, last->to) - rest_at(w, *first, first->from);
     if (!(d.norm() > 0.0)) return BladeFront::kNone;
     point = rest_at(w, *m, middle);
     tangent = d.normalized();
     // The front is the whole line (enrich_crack_front): it must not run on through tissue the
     // edge is not in (a fold, a second layer), beyond a mean edge of rounding and drift.
     const double pad = std::max(w.cut_state.mean_edge, kEdgeTolerance * d.norm());
-    const double first_at = (rest_at(w, *first, from) - point).dot(tangent), last_at = (rest_at(w, *last, to) - point).dot(tangent);
+    const double first_at = std::min((rest_at(w, *first, first->from) - point).dot(tangent),
+                                     (rest_at(w, *holding(from, false), from) - point).dot(tangent));
+    const double last_at = std::max((rest_at(w, *last, last->to) - point).dot(tangent),
+                                    (rest_at(w, *holding(to, false), to) - point).dot(tangent));
     const FrontFrame line = line_through(point, tangent);
     for (int e = 0; e < w.mesh_elements; ++e) {
         double f = 0.0, g = 0.0;

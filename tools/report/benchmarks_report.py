@@ -388,6 +388,7 @@ SUITES = {"perf": perf_section, "cut": cut_section, "accuracy": accuracy_section
           "stress_progressive": lambda d, plt, plots: stress_section(d, plt, plots, "bench_stress_progressive.csv"),
           "stress_blades": lambda d, plt, plots: stress_section(d, plt, plots, "bench_stress_blades.csv"),
           "stress_tip": lambda d, plt, plots: stress_section(d, plt, plots, "bench_stress_tip.csv"),
+          "stress_fronts": lambda d, plt, plots: stress_section(d, plt, plots, "bench_stress_fronts.csv"),
           "solver": solver_section}
 
 
