@@ -76,7 +76,7 @@ void enrich_crack_front(World& w, const Vec3& point, const Vec3& direction, cons
     if (!(ahead.norm() > 1e-9 * direction.norm()))
         throw std::invalid_argument("crack-front enrichment: the crack's direction is zero or along the front");
     if (!(zone.radius >= 0.0)) throw std::invalid_argument("crack-front enrichment: the zone's radius must be >= 0 m");
-    if (zone.front_rule_order < 1 || zone.front_slab_order < 1)
+    if (zone.front_rule_order < 1 || zone.front_slab_order < 1 || zone.front_conical_order < 1)
         throw std::invalid_argument("crack-front enrichment: the rule's orders must be >= 1");
     const FrontFrame f{point, ahead.normalized(), t};
     std::vector<int> nodes;
@@ -109,7 +109,8 @@ void enrich_crack_front(World& w, const Vec3& point, const Vec3& direction, cons
         const Job& job = jobs[j];
         const std::array<Vec3, 4> X = front_rest_tet(w, job.e);
         integrals[j] = front_integrals(X, job.slots, job.lip, f, job.part.lip,
-                                       front_tet_rule(X, job.part.keep, f, zone.front_rule_order, zone.front_slab_order));
+                                       front_tet_rule(X, job.part.keep, f, zone.front_rule_order, zone.front_slab_order,
+                                                      zone.front_conical_order));
     });
     for (size_t j = 0; j < jobs.size(); ++j)
         add_zone_element(w, jobs[j].e, jobs[j].part.element, jobs[j].part.lip, jobs[j].slots, pair_of, integrals[j].G,

@@ -473,7 +473,7 @@ void build_blade_zones(World& w, const std::vector<std::array<Vec3, 3>>& wanted)
     ct = std::move(fresh);
     for (const auto& [T, dir, tangent] : wanted) {
         if (w.elements.dim == 3)
-            enrich_crack_front(w, T, dir, tangent, TipZone{ct.follow_radius, kBladeFrontRuleOrder, kBladeFrontSlabOrder});
+            enrich_crack_front(w, T, dir, tangent, TipZone{ct.follow_radius, kBladeFrontRuleOrder, kBladeFrontSlabOrder, kBladeFrontConicalOrder});
         else
             enrich_crack_tip(w, T, dir, TipZone{ct.follow_radius});
     }
@@ -526,8 +526,8 @@ bool follow_blades(World& w) {
             const bool stands = (P - ct.blade_world[t]).norm() <= follow || dir.norm() <= follow;
             // (3D: while the front it keeps still runs through uncut tissue; a split that caught up
             // with it hands the front to where the edge is now.)
-            const bool kept = own < 0 || !space || front_in_uncut_tissue(w, ct.point[own], ct.tangent[own]);
-            if (kept && (stands || (own >= 0 && dir.dot(ct.direction[own]) < 0.0))) {
+            const bool keeps = stands || (own >= 0 && dir.dot(ct.direction[own]) < 0.0);
+            if (keeps && (own < 0 || !space || front_in_uncut_tissue(w, ct.point[own], ct.tangent[own]))) {
                 if (own >= 0) wanted.push_back({ct.point[own], ct.direction[own], ct.tangent[own]});
                 continue;
             }

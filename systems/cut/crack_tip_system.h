@@ -20,6 +20,7 @@
 
 #include "engine/scheduler.h"
 #include "engine/world.h"
+#include "systems/kernels/front_enrichment.h"
 #include "systems/step_term.h"
 
 namespace xcut {
@@ -33,13 +34,17 @@ struct TipZone {
     /// triangles, and per slab along the front (graded toward where the front enters or leaves a
     /// part). Problem 5's errors move by at most 0.01 points of percent from 6 x 6 and 6.
     int front_rule_order = 4, front_slab_order = 5;
+    /// Points per direction of the conical rule of its parts away from the front (front_tet_rule).
+    int front_conical_order = kConicalOrder;
 };
 
 /// The rule of a front a blade carries (follow_blades, 3D), whose zone is built again at every
-/// step the blade moves: 3 x 3 and 3, 0.42 of the points on the default skin. Problem 5's errors
-/// (the accuracy suite's enriched front) move by at most 0.13, 0.06, 0.03, 0.011 points of percent
-/// from 4 x 4 and 5 at 8, 16, 24, 32 cells (docs/xfem.md, Blades that carry fronts).
-constexpr int kBladeFrontRuleOrder = 3, kBladeFrontSlabOrder = 3;
+/// step the blade moves: 2 x 2 per Duffy triangle (3 x 3 where the section's fan is signed:
+/// front_tet_rule), 3 per slab and 3³ conical points (4 x 4, 5 and 4³ in TipZone), 0.28 of the
+/// points on the default skin. Problem 5's errors (the accuracy suite's enriched front so taken)
+/// move by at most 0.17, 0.10, 0.08, 0.03, 0.013 points of percent at 8, 12, 16, 24, 32 cells
+/// (docs/xfem.md, Blades that carry fronts).
+constexpr int kBladeFrontRuleOrder = 2, kBladeFrontSlabOrder = 3, kBladeFrontConicalOrder = 3;
 
 /// Gauss points per direction of a zone's Duffy rule (tip_polygon_rule): 5 x 5 per fan triangle of
 /// at most 45 degrees. ∫ 1/r over a triangle with the tip at a corner comes out within 2e-8 of its

@@ -62,17 +62,32 @@ std::vector<Vec2> section(const std::array<Vec3d, 4>& L, double s) {
     return p;
 }
 
+/// Gauss-Legendre points and weights on [0, 1].
+struct GaussRule {
+    std::vector<double> x, w;
+};
+
+/// Gauss points per direction of a section's Duffy triangles at least, where the front's point lies
+/// outside the section: its fan's triangles are signed, and a rule's error in their cancellation
+/// can make the branch functions' stiffness indefinite (2 x 2 points did, on the stress suite's
+/// fronts: a pivot -0.04 of the largest; 3 x 3 held over 10,000 trajectories).
+constexpr int kSignedFanOrder = 3;
+
 /// Adds the rule of convex polygon `p` (counter-clockwise, in the front's plane: the front's point at
 /// the origin) as the signed fan of triangles from the origin over its edges, each by Duffy's collapse
 /// onto the origin, its weights negated where its edge faces the origin (the origin outside `p`):
 /// the rule is exact in r at the front's point wherever that lies, inside, on or beside the polygon.
-void signed_fan(const std::vector<Vec2>& p, const std::vector<double>& gx, const std::vector<double>& gw, double min_area,
+/// Rule `positive` where every weight is (the origin inside or on `p`), `signed_rule` where not.
+void signed_fan(const std::vector<Vec2>& p, const GaussRule& positive, const GaussRule& signed_rule, double min_area,
                 std::vector<QuadraturePoint>& out) {
     const int n = static_cast<int>(p.size());
+    bool outside = false;
+    for (int i = 0; i < n; ++i) outside |= cross2(p[i], p[(i + 1) % n]) < -min_area;
+    const GaussRule& r = outside ? signed_rule : positive;
     for (int i = 0; i < n; ++i) {
         const Vec2 &b = p[i], &c = p[(i + 1) % n];
         const size_t first = out.size();
-        add_duffy(Vec2::Zero(), b, c, gx, gw, min_area, out);
+        add_duffy(Vec2::Zero(), b, c, r.x, r.w, min_area, out);
         if (cross2(b, c) < 0.0)
             for (size_t k = first; k < out.size(); ++k) out[k].weight = -out[k].weight;
     }
@@ -107,10 +122,6 @@ std::vector<double> slab_ends(const std::vector<Vec3d>& a, const std::vector<dou
     std::sort(ends.begin(), ends.end());
     return ends;
 }
-
-/// Points per direction of the conical product rule: 4³ = 64 (within 9.1e-5 of the slab rule on
-/// 1/r with the front a tenth of the tetrahedron's size away: tests/systems/test_crack_front.cpp).
-constexpr int kConicalOrder = 4;
 
 /// The conical product rule of tetrahedron X (Stroud, Approximate Calculation of Multiple Integrals,
 /// 1971, §2.7): the unit cube's n x n x n Gauss-Legendre points mapped by X0 + u (X1 - X0) + u v (X2 -
@@ -174,7 +185,8 @@ void clip_tet(const std::array<Vec3d, 4>& X, const Vec3d& point, const Vec3d& no
 
 /// The conical rule over the part of X in `keep`, split by the crack's plane (each side's points
 /// carry it), for a part away from the front (line_distance): smooth on each side.
-FrontRule split_conical_rule(const std::array<Vec3d, 4>& X, const HalfSpace& keep, const FrontFrame& front, double h) {
+FrontRule split_conical_rule(const std::array<Vec3d, 4>& X, const HalfSpace& keep, const FrontFrame& front, double h,
+                             int conical_order) {
     std::vector<std::array<Vec3d, 4>> kept, sided;
     if (keep.normal.squaredNorm() > 0.0) clip_tet(X, keep.point, keep.normal, kept);
     else kept.push_back(X);
@@ -184,7 +196,7 @@ FrontRule split_conical_rule(const std::array<Vec3d, 4>& X, const HalfSpace& kee
         for (const auto& T : kept) clip_tet(T, front.point, side * front.normal(), sided);
         for (const auto& T : sided) {
             if (std::abs((T[1] - T[0]).dot((T[2] - T[0]).cross(T[3] - T[0]))) <= 1e-12 * h * h * h) continue;
-            const FrontRule r = conical_rule(T, kConicalOrder, side);
+            const FrontRule r = conical_rule(T, conical_order, side);
             out.points.insert(out.points.end(), r.points.begin(), r.points.end());
             out.side.insert(out.side.end(), r.side.begin(), r.side.end());
         }
@@ -224,7 +236,7 @@ bool front_in_tet(const std::array<Vec3d, 4>& X, const FrontFrame& front, double
 }
 
 FrontRule front_tet_rule(const std::array<Vec3d, 4>& X, const HalfSpace& keep, const FrontFrame& front, int order,
-                         int slab_order) {
+                         int slab_order, int conical_order) {
     const Vec3d d = front.direction, n = front.normal(), t = front.tangent;
     const auto local = [&](const Vec3d& p) { return Vec3d((p - front.point).dot(d), (p - front.point).dot(n), (p - front.point).dot(t)); };
     std::array<Vec3d, 4> L;
@@ -235,8 +247,8 @@ FrontRule front_tet_rule(const std::array<Vec3d, 4>& X, const HalfSpace& keep, c
     // crack: its integrands are smooth there, and the conical product rule takes them.
     const bool above = std::all_of(L.begin(), L.end(), [](const Vec3d& l) { return l.y() > 0.0; });
     const bool below = std::all_of(L.begin(), L.end(), [](const Vec3d& l) { return l.y() < 0.0; });
-    if (!clipped && (above || below)) return conical_rule(X, kConicalOrder, above ? 1 : -1);
-    if (line_distance(L) >= kSmoothDistance * h) return split_conical_rule(X, keep, front, h);
+    if (!clipped && (above || below)) return conical_rule(X, conical_order, above ? 1 : -1);
+    if (line_distance(L) >= kSmoothDistance * h) return split_conical_rule(X, keep, front, h, conical_order);
     // The part's half-spaces in the front's coordinates, a . x + c >= 0: the tetrahedron's faces
     // (each toward its opposite corner), the kept half-space, and (last) the crack's plane's side.
     std::vector<Vec3d> a;
@@ -251,9 +263,12 @@ FrontRule front_tet_rule(const std::array<Vec3d, 4>& X, const HalfSpace& keep, c
     const double kc = (front.point - keep.point).dot(keep.normal);
     if (clipped) a.push_back(kn), c.push_back(kc);
     a.push_back(Vec3d::Zero()), c.push_back(0.0);
-    thread_local std::vector<double> sx, sw, gx, gw;
+    thread_local std::vector<double> sx, sw;
+    thread_local GaussRule plane, signed_plane;
     if (static_cast<int>(sx.size()) != slab_order) gauss_legendre_unit(slab_order, sx, sw);
-    if (static_cast<int>(gx.size()) != order) gauss_legendre_unit(order, gx, gw);
+    if (static_cast<int>(plane.x.size()) != order) gauss_legendre_unit(order, plane.x, plane.w);
+    if (static_cast<int>(signed_plane.x.size()) != std::max(order, kSignedFanOrder))
+        gauss_legendre_unit(std::max(order, kSignedFanOrder), signed_plane.x, signed_plane.w);
     std::vector<QuadraturePoint> plane_rule;
     FrontRule out;
     for (int side : {1, -1}) {
@@ -281,7 +296,7 @@ FrontRule front_tet_rule(const std::array<Vec3d, 4>& X, const HalfSpace& keep, c
                 if (!poly.empty()) poly = clip_polygon(poly, 0.0, side, 0.0);
                 if (poly.empty()) continue;
                 plane_rule.clear();
-                signed_fan(poly, gx, gw, 1e-14 * h * h, plane_rule);
+                signed_fan(poly, plane, signed_plane, 1e-14 * h * h, plane_rule);
                 for (const QuadraturePoint& q : plane_rule) {
                     out.points.push_back({front.point + q.X.x() * d + q.X.y() * n + s * t, q.weight * ws});
                     out.side.push_back(side);

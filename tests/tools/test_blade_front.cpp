@@ -79,11 +79,12 @@ TEST(BladeFront, ABladeLoweredThroughTheBlockCarriesTheEnrichedFrontOfItsCut) {
     for (Vec3& p : polygon) p.z() = std::max(p.z(), kStop);
     cut_with_polygon(api, polygon);
     enrich_crack_front(api, Vec3(b.cut_x, 0, kStop), Vec3(0, 0, -1), Vec3(0, 1, 0),
-                       TipZone{2 * h, kBladeFrontRuleOrder, kBladeFrontSlabOrder});
+                       TipZone{2 * h, kBladeFrontRuleOrder, kBladeFrontSlabOrder, kBladeFrontConicalOrder});
     // The same elements split, and the same zone: its integrals the same to the rule's accuracy
-    // (measured: 4.5e-5 of an integral at most; the slab rule's ends lie where the front and the
-    // cut's points are, which the blade and the polygon put each by its own rounding). The blade
-    // splits from the top down, the polygon in element order, so the lists run in other orders.
+    // (measured: 9.1e-4 of an integral at most with the blade's 2 x 2 and 3 points; the slab rule's
+    // ends lie where the front and the cut's points are, which the blade and the polygon put each by
+    // its own rounding). The blade splits from the top down, the polygon in element order, so the
+    // lists run in other orders.
     ASSERT_EQ(api.cuts.count(), w.cuts.count());
     for (int e = 0; e < w.mesh_elements; ++e)
         ASSERT_EQ(api.cuts.cut_of_element[e] >= 0, w.cuts.cut_of_element[e] >= 0) << "element " << e;
@@ -99,8 +100,8 @@ TEST(BladeFront, ABladeLoweredThroughTheBlockCarriesTheEnrichedFrontOfItsCut) {
     double worst = 0.0;
     for (size_t k = 0; k < api_g.size(); ++k) worst = std::max(worst, std::abs(blade_g[k] - api_g[k]) / api_g[k]);
     std::printf("the zones' integrals: %.3g apart at most (relative)\n", worst);
-    for (size_t k = 0; k < api_g.size(); ++k) EXPECT_NEAR(blade_g[k], api_g[k], 5e-4 * api_g[k]) << k;
-    // Under the pull the two give the same opening (measured: 1.0e-6 of the largest displacement
+    for (size_t k = 0; k < api_g.size(); ++k) EXPECT_NEAR(blade_g[k], api_g[k], 2e-3 * api_g[k]) << k;
+    // Under the pull the two give the same opening (measured: 5.4e-7 of the largest displacement
     // apart; the front itself moves the lips by 2 % and more, test_scripted_front.cpp).
     const std::vector<Vec3> blade_u = pulled_displacements(w), api_u = pulled_displacements(api);
     double largest = 0.0, apart = 0.0;
