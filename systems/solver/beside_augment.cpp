@@ -49,7 +49,7 @@ void solve_rows(const LowerFactor& lf, const std::vector<int>& rows, bool same_f
     }
     const std::vector<int> old_start = std::move(b.x_start), old_row = std::move(b.x_row);
     const std::vector<double> old_value = std::move(b.x_value);
-    const Eigen::MatrixXd old_G = std::move(b.G);
+    const Eigen::MatrixXd old_G = std::move(b.G), old_F = std::move(b.F);
     b.s_rows = rows;
     b.x_start.assign(1, 0), b.x_row.clear(), b.x_value.clear();
     const auto append = [&](const std::vector<int>& start, const std::vector<int>& row, const std::vector<double>& value, int q) {
@@ -67,22 +67,47 @@ void solve_rows(const LowerFactor& lf, const std::vector<int>& rows, bool same_f
             b.G(c, d) = b.G(d, c) = was[c] >= 0 && was[d] >= 0 ? old_G(was[c], was[d]) : column_dot(b, d, w);
         for (int p = b.x_start[c]; p < b.x_start[c + 1]; ++p) w[b.x_row[p]] = 0.0;
     }
-    b.f_columns = -1;
+    // F's columns of the kept rows stay (the phantoms' columns of Y_g are kept as they were made
+    // while the factor stays: extend_augment); the new rows' columns are left to phantom_products.
+    b.f_fresh.clear();
+    if (same_factor && b.f_columns > 0) {
+        b.F.resize(b.f_columns, n);
+        for (int c = 0; c < n; ++c) {
+            if (was[c] >= 0) b.F.col(c) = old_F.col(was[c]);
+            else b.f_fresh.push_back(c);
+        }
+    } else {
+        b.f_columns = -1;
+    }
     ++b.s_builds;
     b.s_solved += static_cast<int>(fresh.size());
 }
 
-/// F = Y_g^T X_S for the phantoms' block g.
+/// F = Y_g^T X_S for the phantoms' block g: in full, or (F made before over the same factor) its
+/// columns of the rows new in S (f_fresh) and its rows of the phantom columns new since. Each entry
+/// is the same dot product whenever it is taken: the same bits as in full.
 void phantom_products(const FactorAugment& g, int base, BesideAugment& b) {
     const int n = static_cast<int>(b.s_rows.size()), m = g.columns();
+    std::vector<int> columns;  // F's columns to take for its kept rows [0, from)
+    int from = b.f_columns;
+    if (from < 0 || from > m) {
+        from = 0;
+        b.F.resize(m, n);
+    } else {
+        columns = b.f_fresh;
+        b.F.conservativeResize(m, n);
+    }
     Eigen::VectorXd w = Eigen::VectorXd::Zero(base);
-    b.F.resize(m, n);
+    std::vector<char> fresh(n, 0);
+    for (int c : columns) fresh[c] = 1;
     for (int c = 0; c < n; ++c) {
+        if (!fresh[c] && from == m) continue;
         for (int p = b.x_start[c]; p < b.x_start[c + 1]; ++p) w[b.x_row[p]] = b.x_value[p];
-        for (int q = 0; q < m; ++q) b.F(q, c) = g.column_dot(q, w);
+        for (int q = fresh[c] ? 0 : from; q < m; ++q) b.F(q, c) = g.column_dot(q, w);
         for (int p = b.x_start[c]; p < b.x_start[c + 1]; ++p) w[b.x_row[p]] = 0.0;
     }
     b.f_columns = m;
+    b.f_fresh.clear();
 }
 
 }  // namespace
@@ -147,7 +172,7 @@ bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, uint64_t
     for (int i = 0; i < k; ++i) D(i, i) += diagonal[i] != 0.0 ? stiff_scale * kBesideRegularization * diagonal[i] : 1.0;
     D.noalias() -= b.E.transpose() * (b.G * b.E);
     if (m > 0) {
-        if (b.f_columns != m) phantom_products(*g, base, b);
+        if (b.f_columns != m || !b.f_fresh.empty()) phantom_products(*g, base, b);
         Z.noalias() -= b.F * b.E;
         b.V = g->schur.matrixL().solve(Z);
         D.noalias() -= b.V.transpose() * b.V;

@@ -18,11 +18,14 @@
 // whole system's Schur complement A_kept - s C^T H'^-1 C, for one solve with the kept factor and
 // products with sparse X_S, Y_g and small dense blocks.
 //
-// What is kept: X_S (sparse forward solves, 8 columns side by side), G = X_S^T X_S and
-// F = Y_g^T X_S stay while the factor and S stay: a tip moving inside one cell changes E_S's values,
-// not S, so most moving steps pay only the small dense products (E^T G E, F E, V, S_E's Cholesky).
-// When S changes over the same factor, the columns of the rows it keeps stay with their entries
-// of G (the same bits as solved again), and only the new rows are solved.
+// What is kept: X_S (sparse forward solves, 8 columns side by side), G = X_S^T X_S and F = Y_g^T X_S stay
+// while the factor and S stay: a tip moving inside one cell changes E_S's values, not S, so most moving
+// steps pay only the small dense products (E^T G E, F E, V, S_E's Cholesky). When S changes over the same
+// factor, the columns of the rows it keeps stay with their entries of G and their columns of F (the same
+// bits as made again), and only the new rows are solved; when a split adds phantoms, only F's rows of the
+// new ones are made (extend_augment keeps the columns of Y_g it held). On the default skin with a blade's
+// front, F made in full at every such change took 0.24 ms of a 0.7 ms build at the median (timers put in
+// for one run, 2026-12-06).
 // Solving the amplitudes' columns every step instead took 0.3-0.44 ms a step on the face skin and
 // saved nothing (docs/xfem.md, Solvers).
 //
@@ -56,7 +59,8 @@ struct BesideAugment {
     std::vector<int> x_start{0}, x_row;
     std::vector<double> x_value;
     Eigen::MatrixXd G, F;
-    int f_columns = -1;
+    int f_columns = -1;            ///< F's rows made (-1: none)
+    std::vector<int> f_fresh;      ///< F's columns still to make for those rows (rows new in S)
     // Per block: E_b restricted to S (|S| x amplitudes), so Y_E = X_S E_S.
     Eigen::MatrixXd E;
     Eigen::MatrixXd V;             ///< L_g^-1 Z (phantom columns x amplitudes)

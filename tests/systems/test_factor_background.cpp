@@ -155,9 +155,10 @@ BesideBlock random_block(int k, int n, int first, int stride, std::mt19937& rng,
     return block;
 }
 
-/// Three blocks in turn over one factor, as a moving tip gives them: new DOFs, then the same DOFs
-/// with new values (X_S kept), then a subset of them (X_S's columns kept, none solved); each solve
-/// exact, X_S and G the bits of a build from nothing.
+/// Four blocks in turn over one factor, as a moving tip gives them: new DOFs, then the same DOFs
+/// with new values (X_S kept), then a subset of them (X_S's columns kept, none solved), then rows
+/// partly new (only those solved); each solve exact, X_S, G and F = Y_g^T X_S (its kept columns
+/// with the rows they belong to, the new ones made) the bits of a build from nothing.
 void expect_beside_exact(int old_nodes, const std::vector<int>& parent_node, const Eigen::VectorXd& mask) {
     const int nodes = old_nodes + static_cast<int>(parent_node.size()), n = 3 * nodes, k = 7;
     const Eigen::MatrixXd M = dense_spd(nodes, mask);
@@ -173,7 +174,7 @@ void expect_beside_exact(int old_nodes, const std::vector<int>& parent_node, con
     const FactorAugment* phantoms = parent_node.empty() ? nullptr : &g;
     BesideAugment b;
     int kept = 0;
-    for (const auto& [first, stride] : {std::pair{0, 2}, std::pair{0, 2}, std::pair{1, 4}}) {
+    for (const auto& [first, stride] : {std::pair{0, 2}, std::pair{0, 2}, std::pair{1, 4}, std::pair{2, 3}}) {
         Eigen::MatrixXd C, H;
         const BesideBlock block = random_block(k, n, first, stride, rng, C, H);
         const int builds = b.s_builds, solved = b.s_solved;
@@ -187,21 +188,28 @@ void expect_beside_exact(int old_nodes, const std::vector<int>& parent_node, con
         if (b.s_builds != builds) {
             EXPECT_EQ(b.s_solved - solved, new_rows);
         }
+        if (first == 2) {
+            EXPECT_GT(new_rows, 0) << "the last block's rows are partly new";
+            EXPECT_LT(new_rows, static_cast<int>(b.s_rows.size())) << "and partly kept";
+        }
         BesideAugment fresh;
         ASSERT_TRUE(build_beside_augment(A, jf.lf, 1, phantoms, block, s, mask, fresh));
         EXPECT_EQ(fresh.x_start, b.x_start);
         EXPECT_EQ(fresh.x_row, b.x_row);
         EXPECT_EQ(fresh.x_value, b.x_value) << "bit for bit";
         EXPECT_EQ(fresh.G, b.G) << "bit for bit";
+        EXPECT_EQ(fresh.F, b.F) << "bit for bit";
         for (int d = 0; d < n; ++d)
             if (mask[d] == 0.0) C.col(d).setZero();
         H.diagonal() *= 1.0 + kBesideRegularization;
         const Eigen::MatrixXd K = M - s * C.transpose() * H.llt().solve(C);
-        const Eigen::VectorXd r = Eigen::VectorXd::Random(n).cwiseProduct(mask);
+        std::uniform_real_distribution<double> u(-1.0, 1.0);  // the test's own draws, not rand()'s
+        Eigen::VectorXd r(n);
+        for (int d = 0; d < n; ++d) r[d] = u(rng) * mask[d];
         Eigen::VectorXd z;
         apply_augmented(jf.lf, phantoms, &b, r, z);
         const Eigen::VectorXd expected = K.llt().solve(r);
-        EXPECT_GT((expected - M.llt().solve(r)).norm(), 1e-3 * expected.norm()) << "the block changes the solve";
+        EXPECT_GT((expected - M.llt().solve(r)).norm(), 1e-4 * expected.norm()) << "the block changes the solve";
         EXPECT_LE((z - expected).norm(), 1e-10 * expected.norm()) << "largest difference " << (z - expected).cwiseAbs().maxCoeff();
     }
     EXPECT_EQ(kept, 1) << "the second block's DOFs were the first's: X_S kept once";
