@@ -62,6 +62,10 @@ struct SurfaceMesh {
     std::vector<std::array<int, 3>> tip_saved_triangles;
     std::vector<int> tip_saved_owner;
     std::vector<uint8_t> tip_saved_cut_face;
+    /// 3D fronts (systems/surface/surface_fronts.cpp): elements slit at the last overlay, and the
+    /// overlays since the surface was built at which a front was not slit, its slit leaving the
+    /// surface open (the front's field still places every vertex).
+    int front_slit_elements = 0, front_slits_refused = 0;
     /// Where wounds touch along a line or coincide, laid over the surface after each cut and taken
     /// off before the next (systems/surface/surface_manifold.h): the first copy of a vertex (-1:
     /// nothing laid), the vertex each copy was made of, and the triangles as the cut made them.

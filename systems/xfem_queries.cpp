@@ -89,7 +89,7 @@ Vec3 tip_enrichment(const World& w, const Eigen::VectorXd& b, int z, const Vec2&
     return u;
 }
 
-Vec3 front_enrichment(const World& w, const Eigen::VectorXd& b, int z, const Vec3& X, const Eigen::Vector4d& bary) {
+Vec3 front_enrichment(const World& w, const Eigen::VectorXd& b, int z, const Vec3& X, const Eigen::Vector4d& bary, int lip_in) {
     const CrackTips& ct = w.tips;
     Vec3 u = Vec3::Zero();
     if (w.elements.dim != 3 || ct.first[z + 1] == ct.first[z]) return u;
@@ -97,7 +97,7 @@ Vec3 front_enrichment(const World& w, const Eigen::VectorXd& b, int z, const Vec
     for (int k = 0; k < 4; ++k) corner[k] = mesh_node(w, w.elements.nodes[ct.element[z]][k]);  // a virtual element's may be phantoms
     const int tip = ct.tip[ct.function[ct.first[z]] / 4];  // a zone element's functions are one front's
     const FrontFrame f{ct.point[tip], ct.direction[tip], ct.tangent[tip]};
-    const int lip = ct.lip[z] != 0 ? ct.lip[z] : ((X - f.point).dot(f.normal()) >= 0.0 ? 1 : -1);
+    const int lip = lip_in != 0 ? lip_in : ct.lip[z] != 0 ? ct.lip[z] : ((X - f.point).dot(f.normal()) >= 0.0 ? 1 : -1);
     const FrontValues F = front_functions(f, X, lip);
     for (int a = ct.first[z]; a < ct.first[z + 1]; a += 4) {  // (slot, l): four functions a slot
         const int pair = ct.function[a] / 4, node = ct.node[pair];

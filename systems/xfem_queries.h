@@ -39,9 +39,12 @@ Vec3 tip_enrichment(const World& world, const Eigen::VectorXd& amplitudes, int z
 
 /// A straight crack front's enrichment (3D, systems/kernels/front_enrichment.h) of zone element z
 /// at its rest point X with barycentric `bary`: Σ_k N_k Σ_l (F_l(X) - F_l(X_k)) b_kl on z's lip
-/// (CrackTips::lip; 0: X's side of the crack's plane), b 3 per function, world frame [m]. The
-/// displacement the surface, the probes and the volume output add to the linear interpolation.
-Vec3 front_enrichment(const World& world, const Eigen::VectorXd& amplitudes, int z, const Vec3& X, const Eigen::Vector4d& bary);
+/// (CrackTips::lip; 0: X's side of the crack's plane), or on lip `lip` where it is not 0 (a point on
+/// the crack's plane behind the front, shown once per lip: systems/surface/surface_fronts.cpp),
+/// b 3 per function, world frame [m]. The displacement the surface, the probes and the volume
+/// output add to the linear interpolation.
+Vec3 front_enrichment(const World& world, const Eigen::VectorXd& amplitudes, int z, const Vec3& X, const Eigen::Vector4d& bary,
+                      int lip = 0);
 
 /// The enriched position at rest point X of force element fe (barycentric L over its corners): its
 /// linear interpolation plus tip_enrichment over the zone elements that are fe, on lip `lip` for

@@ -4,7 +4,8 @@
 //  - surface_rim.cpp: the cut's plane and trace in an element, and its rim ordered around the cut;
 //  - surface_cut_faces.cpp: the cut-face polygons that close the wound;
 //  - surface_cut.cpp: the skin subdivided along the cut, and the regeneration of an element's pieces;
-//  - surface_tips.cpp: the crack tips' opening laid over the surface (2D);
+//  - surface_tips.cpp: the crack tips' opening laid over the surface;
+//  - surface_fronts.cpp: the surface slit inside the elements a 3D front runs through;
 //  - surface_fragments.cpp: the pieces of elements cut more than once;
 //  - surface_traces.cpp: where cuts cross the mesh's edges and faces (elements cut again, 3D).
 // Internal to those files; nothing else includes it.
@@ -114,6 +115,19 @@ void split_at_further_points(World& w, SurfaceMesh& s, int c, const CutPlaneInfo
 /// Where the further lines of the cut elements around whole element e cross its edges, as its
 /// front points.
 std::vector<FrontPoint> further_front_points(World& w, SurfaceMesh& s, int e);
+
+// --- surface_fronts.cpp ---
+/// The zone elements (CrackTips indices) of each force element: z for `element`[z], chained.
+struct ZoneIndex {
+    std::vector<int> head, next;
+    explicit ZoneIndex(const World& w) : head(w.elements.count(), -1), next(w.tips.zone(), -1) {
+        for (int z = w.tips.zone() - 1; z >= 0; --z) next[z] = head[w.tips.element[z]], head[w.tips.element[z]] = z;
+    }
+};
+/// Slits the surface inside the whole elements the crack behind each front runs through (3D; the
+/// overlay's saved triangles set, `hidden` flagging the saved pieces taken off): new vertices and
+/// triangles appended, the pieces they replace flagged in `hidden`. Returns the elements slit.
+int slit_fronts(World& w, SurfaceMesh& s, const ZoneIndex& zi, std::vector<uint8_t>& hidden);
 
 // --- surface_rim.cpp ---
 double crossing_param(const World& w, const CutPlaneInfo& cp, int e, const Eigen::Vector4d& ba,

@@ -13,14 +13,6 @@ namespace {
 
 using namespace surface_cut_detail;
 
-/// The zone elements (CrackTips indices) of each force element: z for `element`[z], chained.
-struct ZoneIndex {
-    std::vector<int> head, next;
-    ZoneIndex(const World& w) : head(w.elements.count(), -1), next(w.tips.zone(), -1) {
-        for (int z = w.tips.zone() - 1; z >= 0; --z) next[z] = head[w.tips.element[z]], head[w.tips.element[z]] = z;
-    }
-};
-
 /// Barycentric coordinates of rest point X in mesh element e (a triangle).
 Vec3 triangle_bary(const World& w, int e, const Vec2& X) { return tip_triangles::barycentric(tip_triangles::rest_triangle(w, e), X); }
 
@@ -232,13 +224,19 @@ void open_tips_on_surface(World& w, SurfaceMesh& s) {
     if (ct.zone() == 0 || s.vertex_count() == 0 || ct.amplitude_step != w.step || ct.amplitude_version != ct.version)
         return;
     const ZoneIndex zi(w);
-    if (w.elements.dim == 3) {  // the fronts' field on every vertex of the zone's elements; no slit laid
+    if (w.elements.dim == 3) {  // the fronts' field on every vertex of the zone's elements, then the slits
         parallel_for(s.vertex_count(), [&](int v) {
             const int fe = s.element[v];
             if (zi.head[fe] < 0) return;
             const Vec3 X = vertex_rest(w, s, v);
             for (int z = zi.head[fe]; z >= 0; z = zi.next[z]) s.position[v] += front_enrichment(w, ct.amplitude, z, X, s.bary[v]);
         });
+        s.tip_first_vertex = s.vertex_count();
+        s.tip_saved_triangles = s.triangles, s.tip_saved_owner = s.triangle_owner, s.tip_saved_cut_face = s.cut_face;
+        std::vector<uint8_t> hidden(s.triangles.size(), 0);
+        s.front_slit_elements = slit_fronts(w, s, zi, hidden);
+        drop_triangles(s, hidden);
+
         return;
     }
     if (ct.shown_step != w.step) return;

@@ -22,15 +22,15 @@
 // through (within 1e-6 of its edge) is not slit for that tip.
 // 3D (straight fronts, systems/kernels/front_enrichment.h): every vertex bound to a zone element is
 // placed by the enriched field of its lip, x(X) + Σ_k N_k Σ_l (F_l(X) - F_l(X_k)) b_kl, so the
-// lips of the split elements near the front open as the √r field says, not linearly; nothing is
-// slit inside an element the front runs through (where the front lies on the split elements' faces,
-// as a scripted cut's front on a grid, there is none).
+// lips of the split elements near the front open as the √r field says, not linearly; and the whole
+// elements the crack behind a front runs through are slit (systems/surface/surface_fronts.cpp).
 #include "engine/world.h"
 
 namespace xcut {
 
 /// Lays the tips' opening over `surface` (needs CrackTips::amplitude of this step, and 2D's
 /// CrackTips::shown_*); takes off the one laid before first. Nothing when the world has no tips.
+/// In 3D, SurfaceMesh::front_slit_elements says how many elements it slit.
 void open_tips_on_surface(World& world, SurfaceMesh& surface);
 
 /// Takes the overlay off: the surface's triangles and vertices as they were before it.

@@ -63,7 +63,7 @@ void hundred_trajectories(unsigned seed, const std::string& front, int blades = 
     EXPECT_EQ(header,
               "problem,case,steps,cuts,max_cg,nan,energy_ratio,energy_bound,lost_vertices,open_edges,pinched_edges,"
               "zero_area_triangles,crossed_through,bridged,left_out,pieces,expected_pieces,strips,pieces_mismatch,"
-              "piece_offset_mm,loop_gap_mm,tip_steps");
+              "piece_offset_mm,loop_gap_mm,tip_steps,slit_steps");
     int rows = 0;
     for (std::string line; std::getline(csv, line);) ++rows;
     EXPECT_EQ(rows, all.cases);

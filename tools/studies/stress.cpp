@@ -22,6 +22,7 @@ struct CaseResult {
     std::string problem, name;
     int steps = 0, max_cg = 0, nan = 0, lost = 0, open_edges = 0, pinched_edges = 0, zero_area = 0, cuts = 0;
     int tip_steps = 0;  ///< steps that ended with a crack tip or front enriched
+    int slit_steps = 0; ///< of those (3D), steps whose visual surface showed a front's slit (surface_fronts.cpp)
     BridgeTally bridges{};  ///< elements the blades crossed through, those left bridged (tools/studies/bridges.h)
     LoopTally loops{};      ///< a loop trajectory's pieces against its regions (tools/studies/stress_loops.h)
     double energy_ratio = 0.0;  ///< max (kinetic + elastic) / work put in
@@ -68,6 +69,11 @@ void run_steps(Simulation& sim, int steps, Work work, CaseResult& r) {
         step_simulation(sim);
         ++r.steps;
         r.tip_steps += w.tips.count() > 0;
+        if (w.elements.dim == 3 && w.tips.count() > 0) {  // the fronts' slit, laid at every step (surface_fronts.cpp)
+            const SurfaceDefects d = surface_defects(w.visual, true);
+            r.open_edges += d.open, r.pinched_edges += d.pinched, r.zero_area += d.zero_area;
+            r.slit_steps += w.visual.front_slit_elements > 0;
+        }
         const StepMetrics& m = w.metrics.current;
         r.max_cg = std::max(r.max_cg, (m.cg_iterations + m.newton_iterations - 1) / m.newton_iterations);  // per solve
         bool finite = true;
@@ -355,16 +361,16 @@ void tally(StressSummary& s, const CaseResult& r) {
 std::map<std::string, StressSummary> run_stress(const StressOptions& o) {
     std::string rows = "problem,case,steps,cuts,max_cg,nan,energy_ratio,energy_bound,lost_vertices,open_edges,"
                        "pinched_edges,zero_area_triangles,crossed_through,bridged,left_out,pieces,expected_pieces,strips,"
-                       "pieces_mismatch,piece_offset_mm,loop_gap_mm,tip_steps\n";
+                       "pieces_mismatch,piece_offset_mm,loop_gap_mm,tip_steps,slit_steps\n";
     std::map<std::string, StressSummary> by_problem;
     auto record = [&](const CaseResult& r) {
         tally(by_problem[r.problem], r);
         // Problem and case names hold commas: quoted.
-        rows += fmt::format("\"{}\",\"{}\",{},{},{},{},{:.6g},{:g},{},{},{},{},{},{},{},{},{},{},{},{:.4g},{:.4g},{}\n", r.problem, r.name,
+        rows += fmt::format("\"{}\",\"{}\",{},{},{},{},{:.6g},{:g},{},{},{},{},{},{},{},{},{},{},{},{:.4g},{:.4g},{},{}\n", r.problem, r.name,
                             r.steps, r.cuts, r.max_cg, r.nan, r.energy_ratio, r.energy_bound, r.lost, r.open_edges,
                             r.pinched_edges, r.zero_area, r.bridges.crossed, r.bridges.bridged, r.bridges.left_out,
                             r.loops.pieces, r.loops.expected, r.loops.strips, r.loops.mismatch, r.loops.offset * 1e3, r.loops.gap * 1e3,
-                            r.tip_steps);
+                            r.tip_steps, r.slit_steps);
     };
     std::mt19937_64 rng(o.seed);
     if (o.only < 0) {
