@@ -141,7 +141,8 @@ void run_cut_system(World& w, ElementBvh& bvh) {
     cs.quads_built = cs.elements_tested = cs.crossings_found = cs.elements_split = 0;
     cs.update_ms = 0.0;
     if (cs.mean_edge == 0.0) cs.mean_edge = mean_edge_length(w.elements, w.nodes.rest, w.mesh_elements);
-    const double threshold = cs.threshold > 0.0 ? cs.threshold : cs.mean_edge;
+    const bool fronts = w.elements.dim == 3 && w.tips.follow_radius >= 0.0;
+    const double threshold = cs.threshold > 0.0 ? cs.threshold : fronts ? kFrontQuadFraction * cs.mean_edge : cs.mean_edge;
     const ToolBodies& tb = w.tools;
     cs.anchored.resize(tb.count(), 0);
     cs.anchor_tip.resize(tb.count());

@@ -2,7 +2,8 @@
 // CutSystem: the paper's semi-progressive cut (§3.3, Fig. 14).
 //  - The blade's cutting edge sweeps a *collision quad* from where it was when the last quad was
 //    made (the anchor) to where it is now; a new quad is made only once the blade has moved more
-//    than a threshold (default: the mean edge length).
+//    than a threshold (default: the mean edge length; a quarter of it where blades carry crack
+//    fronts in 3D, kFrontQuadFraction).
 //  - Candidates: on first contact, an Embree query over element boxes around the quad; afterwards
 //    the elements sharing a vertex with the last crossed ones, as many levels deep as the quad is
 //    long in elements (a fast blade skips no element).
@@ -28,6 +29,14 @@
 #include "engine/world.h"
 
 namespace xcut {
+
+/// The default quad threshold where blades carry crack fronts (3D `cutter.tip`), as a fraction of
+/// the mean edge. The front's functions reach the elements round the blade's edge (radius 0); the
+/// crossed elements behind it open only once split, and at a whole mean edge a quad registers
+/// their crossings up to an edge behind the blade: on the default skin the lips met over about a
+/// millimetre between the wound and the front's opening (docs/xfem.md, The slit inside the front's
+/// elements). At a quarter the wound reaches the front's elements.
+inline constexpr double kFrontQuadFraction = 0.25;
 
 /// Processes one quad of bladed tool `tool` (corners: tip0, heel0, heel1, tip1; 2D uses tip0 ->
 /// tip1) against that tool's own lists and front, and with `face` the blade's face where the quad
