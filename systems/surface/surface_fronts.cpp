@@ -8,18 +8,20 @@
 //    convex polygon over where the crack crosses its edges and where the front's line enters and
 //    leaves it, once per lip as a wall facing the other lip (the lips meet on the front's line);
 //  - its skin faces the crack crosses, fanned from where the front's line pierces them (one vertex
-//    for both lips) or from the middle of the crack's chord across them (one per lip), each
-//    triangle on the lip its centroid lies on.
+//    for both lips) or from the middle of the crack's chord across them (one per lip, shared with
+//    the walls), each triangle on the side of the crack's ray it lies on, counted round the fan.
 // The points on the edges are the crack's own where a split element round the edge has one (its
 // skin's and its walls' vertex there, held by the whole element until now, is replaced by the two
-// lips' vertices in the triangles beside it, each by its lip), else where the front's plane crosses
-// the edge. An edge crossing is made once per lip where every element round the edge is split or
+// lips' vertices in the triangles beside it, each by the side of its split element), else where
+// the front's plane crosses the edge. An edge crossing is made once per lip where every element round the edge is split or
 // slit, else once (the lips meet there: the zone's end, as in 2D). The slit elements are found from
 // those the front's line runs through, across the faces their sections cross, to the split
 // elements behind or the zone's end. Every point is placed by the enriched field of its lip
 // (front_enrichment). A front whose slit would leave the surface open (an edge of a new vertex not
-// used once each way, a section touching a corner or an edge of its element) is not slit, and
-// counted (SurfaceMesh::front_slits_refused).
+// used once each way, a wall's edge the surface has already, a triangle without area), or whose
+// section touches a corner or an edge of its element or crosses a face once or three times (the
+// wound's points and the straight front disagree), is not slit that step, and is counted
+// (SurfaceMesh::front_slits_refused): its vertices keep the field, the surface its pieces.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
