@@ -516,7 +516,8 @@ private:
             const auto range = std::equal_range(uses.begin(), uses.end(), back);
             if ((k + 1 < uses.size() && uses[k + 1] == uses[k]) || range.second - range.first != 1) return false;
         }
-        for (const auto& [a, b] : old_wall_edges) {  // a piece using it lies in an element round a's mesh edge
+        for (const auto& edge : old_wall_edges) {  // a piece using it lies in an element round a's mesh edge
+            const int a = edge.first, b = edge.second;
             const auto at = std::find_if(edges_.begin(), edges_.end(), [&](const EdgePoint& p) { return p.lip[0] == a || p.lip[0] == b; });
             if (at == edges_.end()) return false;
             bool used = false;
