@@ -1,7 +1,7 @@
 #pragma once
 // Pages of reserved room made resident before the step writes them. A split appends its virtual
 // elements and phantoms into room reserved at load (prepare_enrichment), and the first write to a
-// fresh page faults. With malloc's transparent huge pages (tools/xcut.cpp) that fault is a 2 MiB
+// fresh page faults. With malloc's transparent huge pages (engine/startup_environment.h) that fault is a 2 MiB
 // page, and under the kernel's `defrag` setting `madvise` it may wait for the kernel to compact
 // memory first: in 11 of 24 full runs of the cut benchmark one step of the 200k-tet rows took
 // 2.5-23 ms, their other steps 0.6-1.4 ms (docs/BENCHMARKS.md, Cut update). So ahead of the splits

@@ -3,17 +3,14 @@
 // xcut_schedule.cpp).
 #include <fmt/format.h>
 
-#include <unistd.h>
-
-#include <cstdlib>
 #include <exception>
-#include <fstream>
 #include <string>
 
 #ifdef XCUT_HAS_IGTL
 #include "engine/devices/igtl/igtl_device.h"
 #endif
 #include "engine/error.h"
+#include "engine/startup_environment.h"
 #include "tools/xcut_commands.h"
 
 namespace xcut {
@@ -35,40 +32,6 @@ void add_scene_options(CLI::App& cmd, SceneOptions& o) {
         ->check(CLI::IsMember({"xfem", "snap"}));
     cmd.add_option("--allow", o.allow,
                    "Silence a plausibility warning: units, young, density, poisson, tool_reach, dt (repeatable)");
-}
-
-/// Whether the kernel gives transparent huge pages only to memory that asks for them
-/// (/sys/kernel/mm/transparent_hugepage/enabled reads "always madvise never" with [madvise]).
-bool huge_pages_on_request() {
-    std::ifstream in("/sys/kernel/mm/transparent_hugepage/enabled");
-    std::string mode;
-    std::getline(in, mode);
-    return mode.find("[madvise]") != std::string::npos;
-}
-
-/// What the runtimes read once, when they load, before main: xcut sets them (unless the user chose)
-/// and starts itself again, once.
-///  - Waiting OpenMP threads spin a core by default (libgomp: about 300,000 spins before they
-///    sleep). Beside a renderer, a haptic thread or another process, that core is taken from them,
-///    and every parallel region then waits for a descheduled thread: 2 threads ran 6-16x slower
-///    than 1 under load. So OMP_WAIT_POLICY=passive.
-///  - The first touch of a fresh 4 KiB page costs a virtual machine of this project's kind a
-///    trap to the hypervisor; a multigrid setup at 53k tets spent most of its time there
-///    (770-910 ms against 180-270 ms with huge pages, docs/BENCHMARKS.md). Where the kernel gives
-///    transparent huge pages on request, glibc.malloc.hugetlb=1 makes malloc ask (2 MiB at a
-///    time; peak memory about 6 % higher at 53k tets). GLIBC_TUNABLES with a hugetlb setting of
-///    the user's own (glibc.malloc.hugetlb=0: off) is left as it is.
-void ensure_startup_environment(char** argv) {
-    bool changed = false;
-    if (std::getenv("OMP_WAIT_POLICY") == nullptr) setenv("OMP_WAIT_POLICY", "passive", 1), changed = true;
-    const char* tunables = std::getenv("GLIBC_TUNABLES");
-    const std::string current = tunables ? tunables : "";
-    if (current.find("glibc.malloc.hugetlb") == std::string::npos && huge_pages_on_request()) {
-        const std::string with_huge = (current.empty() ? current : current + ":") + "glibc.malloc.hugetlb=1";
-        setenv("GLIBC_TUNABLES", with_huge.c_str(), 1);
-        changed = true;
-    }
-    if (changed) execv("/proc/self/exe", argv);  // returns only on failure: run on as started
 }
 
 }  // namespace xcut

@@ -56,7 +56,7 @@ int run_scene(const RunOptions& o, RunSummary& summary) {
     sim->world.verbose = true;
     const World& w = sim->world;
     const char* wait = std::getenv("OMP_WAIT_POLICY");
-    const char* tunables = std::getenv("GLIBC_TUNABLES");  // tools/xcut.cpp: ensure_startup_environment
+    const char* tunables = std::getenv("GLIBC_TUNABLES");  // engine/startup_environment.h
     const bool huge = tunables && std::string(tunables).find("glibc.malloc.hugetlb=0") == std::string::npos &&
                       std::string(tunables).find("glibc.malloc.hugetlb=") != std::string::npos;
     fmt::print("scene {} ({}): {} nodes, {} {}, {} threads (OpenMP wait {}; malloc huge pages {}), dt {} s ({}), {} "

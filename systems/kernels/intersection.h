@@ -80,15 +80,15 @@ inline std::optional<double> quadratic_edge_triangle(const Vec3& p0, const Vec3&
     return s;
 }
 
-inline double cross2(const Vec3& a, const Vec3& b) { return a.x() * b.y() - a.y() * b.x(); }
+inline double cross_xy(const Vec3& a, const Vec3& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 /// 2D (xy): segment p0-p1 against segment a-b; t along p0-p1 of the crossing, or nothing.
 /// Touching counts; collinear overlap does not cross.
 inline std::optional<double> segment_segment_2d(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b) {
     const Vec3 r = p1 - p0, s = b - a;
-    const double den = cross2(r, s);
+    const double den = cross_xy(r, s);
     if (den == 0.0) return std::nullopt;
-    const double t = cross2(a - p0, s) / den, u = cross2(a - p0, r) / den;
+    const double t = cross_xy(a - p0, s) / den, u = cross_xy(a - p0, r) / den;
     if (t < 0.0 || t > 1.0 || u < 0.0 || u > 1.0) return std::nullopt;
     return t;
 }

@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <map>
 
+#include "engine/fragment_geometry.h"
 #include "systems/kernels/front_enrichment.h"
 #include "systems/surface/surface_arrays.h"
 #include "systems/surface/surface_cut_parts.h"
@@ -307,7 +308,7 @@ private:
     /// A vertex at rest point X of whole element e, placed by the enriched field on lip `lip` (0:
     /// on the front's line, where the lips meet).
     int place(int e, const Vec3& X, int lip) {
-        Eigen::Vector4d L = barycentric(e, X);
+        const Eigen::Vector4d L = tet_barycentric(rest_corners(w_, e), X);
         Vec3 x = Vec3::Zero();
         for (int a = 0; a < 4; ++a) x += L[a] * w_.nodes.position[w_.elements.nodes[e][a]];
         for (int z = zi_.head[e]; z >= 0; z = zi_.next[z]) x += front_enrichment(w_, w_.tips.amplitude, z, X, L, tip_of(z) == tip_ ? lip : 0);
@@ -316,12 +317,6 @@ private:
         s_.bary.push_back(L);
         s_.side.push_back(0);
         return s_.vertex_count() - 1;
-    }
-    Eigen::Vector4d barycentric(int e, const Vec3& X) const {
-        Mat3 M;
-        for (int a = 1; a < 4; ++a) M.col(a - 1) = corner(e, a) - corner(e, 0);
-        const Vec3 l = M.inverse() * (X - corner(e, 0));
-        return Eigen::Vector4d(1.0 - l.sum(), l[0], l[1], l[2]);
     }
 
     /// The section's two walls: the + lip's facing -n (toward the other lip), the - lip's facing n,
@@ -364,18 +359,18 @@ private:
         Vec3 normal = Vec3::Zero();
         for (int t : s_.pieces_of[e]) {
             const auto& tri = s_.tip_saved_triangles[t];
+            std::array<Eigen::Vector4d, 3> L;
             bool on = true;
-            for (int v : tri) on = on && std::abs(local_bary(w_, s_, e, v)[o]) < 1e-9;
+            for (int k = 0; k < 3; ++k) {
+                L[k] = local_bary(w_, s_, e, tri[k]);
+                on = on && std::abs(L[k][o]) < 1e-9;
+            }
             if (!on) continue;
             pieces.push_back(t);
             const Vec3 a = vertex_rest(w_, s_, tri[0]);
             normal += (vertex_rest(w_, s_, tri[1]) - a).cross(vertex_rest(w_, s_, tri[2]) - a);
-            for (int v : tri) {
-                const Eigen::Vector4d L = local_bary(w_, s_, e, v);
-                int zeros = 0;
-                for (int a2 = 0; a2 < 4; ++a2) zeros += std::abs(L[a2]) < 1e-9;
-                if (zeros >= 2) rim.push_back(v);
-            }
+            for (int k = 0; k < 3; ++k)
+                if ((L[k].array().abs() < 1e-9).count() >= 2) rim.push_back(tri[k]);
         }
         if (pieces.empty()) return true;  // no skin drawn there
         std::sort(rim.begin(), rim.end());

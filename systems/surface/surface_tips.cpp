@@ -236,7 +236,6 @@ void open_tips_on_surface(World& w, SurfaceMesh& s) {
         std::vector<uint8_t> hidden(s.triangles.size(), 0);
         s.front_slit_elements = slit_fronts(w, s, zi, hidden);
         drop_triangles(s, hidden);
-
         return;
     }
     if (ct.shown_step != w.step) return;

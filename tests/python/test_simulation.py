@@ -219,3 +219,19 @@ def test_notes_say_what_the_runs_end_would(skin_scene_dict, skin_scene_path):
     cuts.step(130)
     assert cuts.cut_state["elements_split"] > 0
     assert not any("cut nothing" in n for n in cuts.notes), cuts.notes
+
+
+@pytest.mark.parametrize("chosen, spin", [(None, "0"), ("active", "30000000000")])
+def test_openmp_threads_wait_passively_unless_the_user_chose(chosen, spin):
+    """OpenMP (libgomp) prints what it read at load with OMP_DISPLAY_ENV=verbose: importing xcut
+    makes its threads sleep at once when they wait (spin count 0; the default spins 300,000 times
+    first), and keeps a policy the user set (active: spin for good)."""
+    import subprocess
+    import sys
+    env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
+    env["OMP_DISPLAY_ENV"] = "verbose"
+    if chosen is not None:
+        env["OMP_WAIT_POLICY"] = chosen
+    r = subprocess.run([sys.executable, "-c", "import xcut"], env=env, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert f"GOMP_SPINCOUNT = '{spin}'" in r.stderr, r.stderr

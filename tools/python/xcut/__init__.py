@@ -19,9 +19,15 @@ import time as _time
 import warnings as _warnings
 from typing import Any, Dict, Iterable, Mapping, Optional, Sequence, Tuple, Union
 
-import numpy as np
+# OpenMP reads its wait policy once, when its library loads (with the engine's, or numpy's BLAS):
+# threads spinning while they wait take a core from the work beside them (a renderer, other
+# workers, a test beside this one). The xcut program sets the same for itself; a policy the user
+# chose is kept.
+os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
-from . import _xcut
+import numpy as np  # noqa: E402  (after the wait policy)
+
+from . import _xcut  # noqa: E402
 from ._xcut import InputError, NumericalError
 
 __all__ = ["Simulation", "InputError", "NumericalError", "XcutWarning", "set_threads", "threads", "overrides_list"]
