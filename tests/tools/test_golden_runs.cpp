@@ -41,6 +41,8 @@ std::vector<Case> cases() {
         out.push_back({fmt::format("skin_slab_{}", method), skin, {fmt::format("solver.linear=\"{}\"", method)}});
     out.push_back({"skin_slab_snap", skin, {"cutter.type=\"snap\""}});
     out.push_back({"skin_slab_progressive", skin, {"cutter.front=\"progressive\""}});
+    // The crack front at the blade, whose block rides on factors renewed off the step.
+    out.push_back({"skin_slab_front", skin, {"cutter.tip={}"}});
     out.push_back({"open_surgery_newton", std::string(XCUT_SOURCE_DIR) + "/scenes/open_surgery.json",
                    {"solver.newton={\"iterations\": 3}"}});
     return out;
