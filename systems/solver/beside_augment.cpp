@@ -112,6 +112,21 @@ void phantom_products(const FactorAugment& g, int base, BesideAugment& b) {
 
 }  // namespace
 
+void solve_beside_columns(const LowerFactor& lf, uint64_t factor, const std::vector<int>& rows, BesideAugment& b) {
+    solve_rows(lf, rows, false, b);
+    b.factor = factor;
+}
+
+void take_beside_columns(BesideAugment&& made, BesideAugment& b) {
+    b.factor = made.factor;
+    b.s_seeded += static_cast<int>(made.s_rows.size());
+    b.s_rows = std::move(made.s_rows);
+    b.x_start = std::move(made.x_start), b.x_row = std::move(made.x_row), b.x_value = std::move(made.x_value);
+    b.G = std::move(made.G);
+    b.f_columns = -1, b.f_fresh.clear();  // F is of the factor's phantoms, made at the build
+    b.ok = false, b.unbuilt = true;
+}
+
 void append_block(BesideBlock& into, const BesideBlock& more, double h_sign) {
     for (const Eigen::Triplet<double>& t : more.coupling) into.coupling.emplace_back(into.rows + t.row(), t.col(), t.value());
     for (const Eigen::Triplet<double>& t : more.stiffness)
@@ -131,7 +146,7 @@ bool same_block(const BesideBlock& a, const BesideBlock& b) {
 bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, uint64_t factor, const FactorAugment* g,
                           const BesideBlock& block, double stiff_scale, const Eigen::VectorXd& mask, BesideAugment& b) {
     const int base = lf.rows(), m = g ? g->columns() : 0, k = block.rows;
-    b.ok = false;
+    b.ok = false, b.unbuilt = false;
     if (base + m != 3 * A.rows()) return false;
     // E = T^T (s C^T) by columns: its base rows (a phantom's entry also on its mesh node's row, the
     // jump basis) and its phantom rows.

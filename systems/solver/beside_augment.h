@@ -70,9 +70,11 @@ struct BesideAugment {
     bool with_term = false;        ///< it holds a moving term's block (else jumps only)
     BesideBlock jumps;             ///< the jumping terms' block now it was built for
     bool ok = false;
+    bool unbuilt = false;          ///< holds columns made off the step for a new factor, not yet the block
     int solves = 0;                ///< CG solves it preconditioned
     int s_builds = 0;              ///< times S changed (X_S was built)
-    int s_solved = 0;              ///< columns of X_S solved for (the others kept)
+    int s_solved = 0;              ///< columns of X_S solved for in the step (the others kept)
+    int s_seeded = 0;              ///< columns of X_S made off the step and taken (take_beside_columns)
 
     int amplitudes() const { return static_cast<int>(E.cols()); }
 };
@@ -88,6 +90,14 @@ bool same_block(const BesideBlock& a, const BesideBlock& b);
 /// keeps the factor with the term beside it.
 bool build_beside_augment(const LinearSystem& A, const LowerFactor& lf, uint64_t factor, const FactorAugment* g,
                           const BesideBlock& block, double stiff_scale, const Eigen::VectorXd& mask, BesideAugment& b);
+
+/// The columns of X_S and their G for `rows` (sorted) over the factor `lf` (LinearFactor::serial
+/// `factor`), into an empty b: what build_beside_augment would solve for them (the same bits), made
+/// off the step for a successor factor (systems/solver/factor_background.h).
+void solve_beside_columns(const LowerFactor& lf, uint64_t factor, const std::vector<int>& rows, BesideAugment& b);
+/// Gives b the columns `made` holds (solve_beside_columns), b's block to be built at its next use;
+/// that build keeps the columns of the rows its S shares with them.
+void take_beside_columns(BesideAugment&& made, BesideAugment& b);
 
 /// z = T M^-1 T^T r through the kept factor `lf`, its phantoms' block g (null: none) and the
 /// amplitudes' block b (null: none; else the first A-sized part of M^-1 [r; 0], see above); r and z

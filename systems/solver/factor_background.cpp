@@ -1,5 +1,8 @@
 #include "systems/solver/factor_background.h"
 
+#include <algorithm>
+#include <chrono>
+
 #include "engine/background_threads.h"
 #include "systems/solver/beside_augment.h"
 #include "systems/solver/linear_assembly.h"
@@ -16,6 +19,7 @@ std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, st
     f->jumps = std::move(jumps);
     auto pending = std::make_shared<PendingFactor>();
     pending->requested_step = requested_step, pending->due_step = due_step;
+    pending->computing = f, pending->nodes = A.rows();
     pending->result = run_in_background<std::shared_ptr<LinearFactor>>([f]() {
         try {
             copy_to_scalar(*f->snapshot, f->matrix, true);
@@ -26,6 +30,43 @@ std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, st
         return f;
     });
     return pending;
+}
+
+void start_successor_columns(const World& w, PendingFactor& p, const BesideAugment& b, const LinearFactor& in_use) {
+    if (p.beside.valid() || !b.ok || b.unbuilt || b.factor != in_use.serial || !in_use.lower ||
+        in_use.computed_step > p.requested_step)
+        return;
+    const int before = in_use.lower->rows() / 3;  // the nodes b's rows belong to
+    std::vector<char> held(before, 0);
+    std::vector<int> rows;
+    for (int r : b.s_rows)
+        if (r < 3 * p.nodes) rows.push_back(r), held[r / 3] = 1;
+    for (int j = before; j < p.nodes; ++j) {  // split since: b stands for them by the node they came from
+        int node = j;
+        while (node >= before) node = w.enriched.phantom_from[node - w.mesh_nodes];
+        if (held[node])
+            for (int c = 0; c < 3; ++c) rows.push_back(3 * j + c);
+    }
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    p.beside = run_in_background<std::shared_ptr<BesideAugment>>([f = p.computing, rows = std::move(rows)]() {
+        auto made = std::make_shared<BesideAugment>();
+        try {
+            if (f->ok && f->lower) solve_beside_columns(*f->lower, f->serial, rows, *made);
+        } catch (const std::exception&) {  // out of memory: the swap's block solves them
+            made = std::make_shared<BesideAugment>();
+        }
+        return made;
+    });
+}
+
+void take_successor_columns(PendingFactor& p, const LinearFactor& f, BesideAugment& b, double& wait_ms) {
+    wait_ms = 0.0;
+    if (!p.beside.valid()) return;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::shared_ptr<BesideAugment> made = p.beside.get();
+    wait_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (made->factor == f.serial && made->factor != 0) take_beside_columns(std::move(*made), b);
 }
 
 void retire_factor(std::shared_ptr<LinearFactor> f) {

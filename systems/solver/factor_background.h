@@ -24,18 +24,37 @@
 
 #include "engine/world.h"
 #include "systems/solver/background_result.h"
+#include "systems/solver/beside_augment.h"
 #include "systems/solver/cholesky_factor.h"
 
 namespace xcut {
 
 /// A factor being computed off the step (taken by take_when_due, systems/solver/background_result.h).
-struct PendingFactor : PendingResult<LinearFactor> {};
+struct PendingFactor : PendingResult<LinearFactor> {
+    std::shared_ptr<LinearFactor> computing;  ///< the factor the job makes (for jobs posted after it)
+    int nodes = 0;                            ///< A's DOF nodes when it was asked for (its rows / 3)
+    /// The columns of X_S a moving block will need over it (start_successor_columns), if asked for.
+    std::future<std::shared_ptr<BesideAugment>> beside;
+};
 
 /// Starts computing a factor of A, to be solved through views of its supernodes, due at `due_step`.
 /// A is copied into `snapshot` (storage handed on from factor to factor, or null): it changes from
 /// the next step on. `jumps`: the jumping terms' block A holds now (LinearFactor::jumps).
 std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<LinearSystem> snapshot,
                                                        BesideBlock jumps, int requested_step, int due_step);
+/// The steps before a successor is due at which the columns of X_S its moving block will need are
+/// asked for: the block's rows then, most of those it has at the swap (a front moves a few rows a
+/// step), so that the step that takes the factor solves only the rows new since.
+constexpr int kSuccessorColumnsLead = 2;
+/// Asks the background thread (after p's factor job) for the columns of X_S over p's factor for the
+/// rows of b (built over `in_use`, the factor p is to replace) and of the DOF nodes split, between
+/// the two factors' DOFs, from the nodes of those rows (which b's rows stand for). Once per p; not
+/// when b is not built over `in_use`. The swap's block keeps them (the same bits as solved there:
+/// systems/solver/beside_augment.h).
+void start_successor_columns(const World& w, PendingFactor& p, const BesideAugment& b, const LinearFactor& in_use);
+/// Gives b the columns made for f, the factor just taken from p (waiting for them: wait_ms [ms]).
+void take_successor_columns(PendingFactor& p, const LinearFactor& f, BesideAugment& b, double& wait_ms);
+
 /// Lets the background thread free a factor no longer in use (its pages given back off the step).
 void retire_factor(std::shared_ptr<LinearFactor> f);
 

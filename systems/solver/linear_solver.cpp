@@ -349,9 +349,10 @@ public:
             const FactorAugment* g = augmented ? &f->augment : nullptr;
             const uint64_t version = moving_term_ ? moving_term_->beside_version(w_) : 0;
             BesideAugment& t = A_.beside_factor->moving;
-            const bool same = t.factor == f->serial && t.version == version && t.with_term == (moving_term_ != nullptr) &&
-                              t.topology == A_.topology && t.phantom_columns == (g ? g->columns() : 0) &&
-                              t.stiff_scale == stiff_scale_ && same_block(t.jumps, jump ? built(now) : BesideBlock{});
+            const bool same = !t.unbuilt && t.factor == f->serial && t.version == version &&
+                              t.with_term == (moving_term_ != nullptr) && t.topology == A_.topology &&
+                              t.phantom_columns == (g ? g->columns() : 0) && t.stiff_scale == stiff_scale_ &&
+                              same_block(t.jumps, jump ? built(now) : BesideBlock{});
             if (!same) {
                 BesideBlock block;
                 if (moving_term_ && !moving_term_->beside_block(w_, block)) return;
@@ -380,6 +381,9 @@ public:
                       return factor_cg(*f, augmented, beside);
                   },
                   solved);
+        const bool columns_due = A_.pending_factor && w_.step + kSuccessorColumnsLead >= A_.pending_factor->due_step;
+        if (columns_due && A_.beside_factor && A_.factor)
+            start_successor_columns(w_, *A_.pending_factor, A_.beside_factor->moving, *A_.factor);
     }
 
     /// cholesky / direct beside a term that gives its block (the crack tips): CG preconditioned by
@@ -431,9 +435,9 @@ public:
     bool take_due_factor() {
         if (!A_.pending_factor || A_.pending_factor->due_step > w_.step) return false;
         double wait = 0.0;
-        std::shared_ptr<LinearFactor> f = take_when_due(*A_.pending_factor, wait);
-        const int requested = A_.pending_factor->requested_step;
-        A_.pending_factor.reset();
+        const std::shared_ptr<PendingFactor> pending = std::move(A_.pending_factor);
+        std::shared_ptr<LinearFactor> f = take_when_due(*pending, wait);
+        const int requested = pending->requested_step;
         record_wait(wait);
         if (!f->ok) return true;
         if (A_.factor && A_.factor->ok && A_.factor->computed_step > requested) {
@@ -442,6 +446,7 @@ public:
         }
         retire_factor(std::move(A_.factor));
         A_.factor = std::move(f);
+        if (A_.beside_factor) take_successor_columns(*pending, *A_.factor, A_.beside_factor->moving, wait), record_wait(wait);
         A_.factor_age = w_.step - requested;
         ++A_.factorizations, ++A_.symbolic_factorizations, ++A_.swaps;
         A_.factor_nonzeros = A_.factor->lnz;

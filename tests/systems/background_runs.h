@@ -22,10 +22,11 @@ struct SkinRun {
 };
 
 /// `steps` steps of the default skin on `threads` threads with the scene's solver settings as
-/// `set` leaves them.
-inline SkinRun run_default_skin(int threads, int steps, const std::function<void(SolverSettings&)>& set) {
+/// `set` leaves them (and the scene's `overrides`, as `xcut run --set` takes them).
+inline SkinRun run_default_skin(int threads, int steps, const std::function<void(SolverSettings&)>& set,
+                                const std::vector<std::string>& overrides = {}) {
     set_thread_count(threads);
-    Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json");
+    Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json", overrides);
     scene.visual_subdivisions = scene.collision_subdivisions = -1;
     set(scene.solver);
     auto sim = make_simulation(scene, false);

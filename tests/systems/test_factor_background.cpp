@@ -224,35 +224,75 @@ TEST(BesideAugment, ExactOverAFactorWithPhantomsAndHeldAxes) {
 
 TEST(BesideAugment, ExactOverAFactorAlone) { expect_beside_exact(9, {}, Eigen::VectorXd::Ones(27)); }
 
+/// A factor of nine nodes (serial 1, or 2 standing for its successor) and blocks of seven rows over
+/// it, as a tip moving through cells gives them.
+struct NineNodes {
+    Eigen::VectorXd mask = Eigen::VectorXd::Ones(27);
+    JumpFactor jf;
+    LinearSystem A;
+    std::mt19937 rng{5};
+    Eigen::MatrixXd C, H;
+    NineNodes() {
+        const Eigen::MatrixXd M = dense_spd(9, mask);
+        make_jump_factor(M, 9, {}, mask, jf);
+        A = block_system(M, 9);
+    }
+    BesideBlock block(int first, int stride) { return random_block(7, 27, first, stride, rng, C, H); }
+    bool build(const BesideBlock& block, uint64_t factor, BesideAugment& b) {
+        return build_beside_augment(A, jf.lf, factor, nullptr, block, 0.4, mask, b);
+    }
+    /// b was last built for `block` over `factor`, its rows partly in `before`: only the others
+    /// were solved since `solved`, and X_S and G are the bits of a build from nothing.
+    void expect_kept_rows(const BesideBlock& block, uint64_t factor, const std::vector<int>& before, int solved,
+                          const BesideAugment& b) {
+        int new_rows = 0;
+        for (int row : b.s_rows) new_rows += !std::binary_search(before.begin(), before.end(), row);
+        ASSERT_GT(new_rows, 0);
+        ASSERT_LT(new_rows, static_cast<int>(b.s_rows.size())) << "the two sets share rows";
+        EXPECT_EQ(b.s_solved - solved, new_rows) << "only the new rows solved";
+        BesideAugment fresh;
+        ASSERT_TRUE(build(block, factor, fresh));
+        EXPECT_EQ(fresh.s_solved, static_cast<int>(fresh.s_rows.size()));
+        EXPECT_EQ(fresh.x_start, b.x_start);
+        EXPECT_EQ(fresh.x_row, b.x_row);
+        EXPECT_EQ(fresh.x_value, b.x_value) << "bit for bit";
+        EXPECT_EQ(fresh.G, b.G) << "bit for bit";
+        EXPECT_EQ(fresh.E, b.E);
+    }
+};
+
 // A tip entering the next cell: S changes over the same factor, sharing some rows with the S
 // before. Only the new rows are solved; X_S and G are the bits of a build from nothing.
 TEST(BesideAugment, ANewSetOfRowsKeepsTheColumnsOfTheRowsItShares) {
-    const Eigen::VectorXd mask = Eigen::VectorXd::Ones(27);
-    const Eigen::MatrixXd M = dense_spd(9, mask);
-    JumpFactor jf;
-    make_jump_factor(M, 9, {}, mask, jf);
-    const LinearSystem A = block_system(M, 9);
-    std::mt19937 rng(5);
-    Eigen::MatrixXd C, H;
+    NineNodes t;
     BesideAugment b;
-    ASSERT_TRUE(build_beside_augment(A, jf.lf, 1, nullptr, random_block(7, 27, 0, 3, rng, C, H), 0.4, mask, b));
+    ASSERT_TRUE(t.build(t.block(0, 3), 1, b));
     const std::vector<int> before = b.s_rows;
     const int solved = b.s_solved;
-    const BesideBlock next = random_block(7, 27, 2, 2, rng, C, H);
-    ASSERT_TRUE(build_beside_augment(A, jf.lf, 1, nullptr, next, 0.4, mask, b));
-    int new_rows = 0;
-    for (int row : b.s_rows) new_rows += !std::binary_search(before.begin(), before.end(), row);
-    ASSERT_GT(new_rows, 0);
-    ASSERT_LT(new_rows, static_cast<int>(b.s_rows.size())) << "the two sets share rows";
+    const BesideBlock next = t.block(2, 2);
+    ASSERT_TRUE(t.build(next, 1, b));
     EXPECT_EQ(b.s_builds, 2);
-    EXPECT_EQ(b.s_solved - solved, new_rows) << "only the new rows solved";
-    BesideAugment fresh;
-    ASSERT_TRUE(build_beside_augment(A, jf.lf, 1, nullptr, next, 0.4, mask, fresh));
-    EXPECT_EQ(fresh.s_solved, static_cast<int>(fresh.s_rows.size()));
-    EXPECT_EQ(fresh.x_start, b.x_start);
-    EXPECT_EQ(fresh.x_row, b.x_row);
-    EXPECT_EQ(fresh.x_value, b.x_value) << "bit for bit";
-    EXPECT_EQ(fresh.G, b.G) << "bit for bit";
+    t.expect_kept_rows(next, 1, before, solved, b);
+}
+
+// The columns made off the step for a successor factor (solve_beside_columns, for the block's rows
+// two steps before the swap): the swap's build keeps those its S shares and solves only the rest;
+// X_S and G the bits of a build from nothing.
+TEST(BesideAugment, ColumnsMadeAheadAreKeptByTheNextBuild) {
+    NineNodes t;
+    BesideAugment b, ahead;
+    ASSERT_TRUE(t.build(t.block(0, 3), 1, b));
+    const std::vector<int> rows_ahead = b.s_rows;
+    solve_beside_columns(t.jf.lf, 2, rows_ahead, ahead);  // the same factor as serial 2: a successor
+    EXPECT_EQ(ahead.s_rows, rows_ahead);
+    const int solved = b.s_solved;
+    take_beside_columns(std::move(ahead), b);
+    EXPECT_TRUE(b.unbuilt) << "its block is built at its next use";
+    EXPECT_EQ(b.s_seeded, static_cast<int>(rows_ahead.size()));
+    const BesideBlock next = t.block(2, 2);
+    ASSERT_TRUE(t.build(next, 2, b));
+    EXPECT_FALSE(b.unbuilt);
+    t.expect_kept_rows(next, 2, rows_ahead, solved, b);
 }
 
 /// A grasp's block (GraspTerm::jump_block's form): one row per held point and axis, C = w^T (x)
@@ -388,6 +428,41 @@ TEST(FactorBackground, CloseToFactoringInTheStep) {
     EXPECT_EQ(in.augmented, 0);
     EXPECT_EQ(in.swaps, 0) << "factor_delay 0: nothing is computed off the step";
     expect_close_to_renewing_in_the_step(off, in);
+}
+
+// The default skin with the crack front at the blade: its block rides on each factor renewed off the
+// step, and the columns of X_S it needs over a successor are made off the step with it, so the
+// step that takes a factor solves only the rows the front reached since they were asked for
+// (their bits are those solved in the step: GoldenRuns' skin_slab_front).
+TEST(FactorBackground, AFrontsBlockTakesItsColumnsWithTheSuccessor) {
+    set_thread_count(2);
+    Scene scene = load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json", {"cutter.tip={}"});
+    scene.visual_subdivisions = scene.collision_subdivisions = -1;
+    scene.solver.linear = "cholesky";
+    auto sim = make_simulation(scene, false);
+    const LinearSystem& A = sim->world.linear;
+    int swaps_with_front = 0;
+    for (int i = 0; i < 110; ++i) {
+        const int swaps = A.swaps;
+        const int seeded = A.beside_factor ? A.beside_factor->moving.s_seeded : 0;
+        const int solved = A.beside_factor ? A.beside_factor->moving.s_solved : 0;
+        step_simulation(*sim);
+        EXPECT_LE(sim->world.metrics.current.cg_residual, 1e-6) << "step " << i + 1;
+        if (A.swaps == swaps || !A.beside_factor) continue;
+        const BesideAugment& b = A.beside_factor->moving;
+        if (!b.ok || b.factor != A.factor->serial) continue;  // no front's block over the factor taken
+        ++swaps_with_front;
+        EXPECT_GT(b.s_seeded, seeded) << "step " << i + 1 << ": the swap took columns made off the step";
+        EXPECT_LT(b.s_solved - solved, static_cast<int>(b.s_rows.size()) / 2)
+            << "step " << i + 1 << ": most of the block's columns were made off the step";
+    }
+    EXPECT_GE(swaps_with_front, 3) << "factors were taken while the front moved";
+}
+
+TEST(FactorBackground, AFrontsRunHasTheSameBitsForAnyThreadCountAndLoad) {
+    expect_same_bits_for_any_thread_count_and_load([](int threads) {
+        return run_default_skin(threads, 80, [](SolverSettings& s) { s.linear = "cholesky"; }, {"cutter.tip={}"});
+    });
 }
 
 // The step's copy of A for a preconditioner built off the step (copy_linear_system) is A, and after a
