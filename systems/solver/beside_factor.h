@@ -22,6 +22,12 @@
 // block beside it (systems/solver/beside_augment.h: sparse solves for the amplitudes' columns,
 // no factorization); the direct method, with A's factor and the term left to CG. A static solve's
 // block is built once.
+// In dynamic steps, cholesky with its factor renewed off the step (solver.factor_delay > 0, the
+// default) makes no M at all: the factor in use with the block beside it serves a standing block
+// too. M factored in the step stalled the step that needed it: a front's first step (the block
+// is new) 10-20 ms and the step where the blade stopped 8-9 ms, against a 5-6 ms median, on the
+// default skin with a front; a standing tip's steps cost about 0.5 ms more beside the factor than
+// with M (docs/xfem.md, Crack fronts in 3D). Static solves (M once) and factor_delay 0 keep M.
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 #include <cstdint>

@@ -388,11 +388,12 @@ public:
 
     /// cholesky / direct beside a term that gives its block (the crack tips): CG preconditioned by
     /// the factor of the whole sparse system (systems/solver/beside_factor.h), computed in the step
-    /// (not yet off it: docs/xfem.md, Crack fronts in 3D, says what that costs at a front's cut)
     /// and kept as A's own is: renewed when the block, A's pattern or the scales change, when it
     /// has preconditioned refactor_every solves, when CG needed more than refactor_iterations with
-    /// it, and every solve for direct. False if no term gives a block, or while the block moves
-    /// from step to step (systems/solver/beside_factor.h says why).
+    /// it, and every solve for direct. False if no term gives a block, while the block moves from
+    /// step to step, and in dynamic steps of cholesky with its factor renewed off the step, whose
+    /// factor in use solves with the block beside it whether it moves or stands (beside_factor.h
+    /// says why).
     bool beside_cholesky(double mass_scale) {
         moving_term_ = nullptr;
         StepTerm* term = op_.block_term(w_);
@@ -403,6 +404,7 @@ public:
         const uint64_t version = term->beside_version(w_);
         if (version != f->seen_version) f->changed_before = f->changed_step, f->changed_step = w_.step, f->seen_version = version;
         if (f->changed_step == w_.step && w_.step - f->changed_before <= 2) return moving_term_ = term, false;  // a moving block
+        if (mass_scale > 0.0 && off_step_factors(w_)) return moving_term_ = term, false;  // no step factors M
         const double ratio = mass_scale > 0.0 ? stiff_scale_ / mass_scale : -stiff_scale_;  // static solves: -s
         const uint64_t jumps = op_.jump_version(w_);  // M holds A's grasps as they were: made again as they jump
         const bool stale = !f->ok || f->version != version || f->jumps != jumps || f->topology != A_.topology ||

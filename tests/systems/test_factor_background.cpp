@@ -459,10 +459,30 @@ TEST(FactorBackground, AFrontsBlockTakesItsColumnsWithTheSuccessor) {
     EXPECT_GE(swaps_with_front, 3) << "factors were taken while the front moved";
 }
 
+/// The default skin with a crack front at the blade, cholesky, through the blade's stop (step 122)
+/// and some steps after it.
+SkinRun run_skin_front(int threads, int steps, int factor_delay) {
+    return run_default_skin(threads, steps, [&](SolverSettings& s) {
+        s.linear = "cholesky";
+        s.factor_delay = factor_delay;
+    }, {"cutter.tip={}"});
+}
+
 TEST(FactorBackground, AFrontsRunHasTheSameBitsForAnyThreadCountAndLoad) {
-    expect_same_bits_for_any_thread_count_and_load([](int threads) {
-        return run_default_skin(threads, 80, [](SolverSettings& s) { s.linear = "cholesky"; }, {"cutter.tip={}"});
-    });
+    expect_same_bits_for_any_thread_count_and_load([](int threads) { return run_skin_front(threads, 80, 10); });
+}
+
+// The front's block beside the factor in use from its first step to well after the blade stopped
+// (no step factors the whole system: systems/solver/beside_factor.h), against that system's factor
+// made in the step: the same cut, positions within the tolerance's effect.
+TEST(FactorBackground, AFrontBesideTheFactorInUseIsCloseToFactoringTheWholeSystem) {
+    const SkinRun off = run_skin_front(2, 150, 10), in = run_skin_front(2, 150, 0);
+    for (size_t i = 1; i < off.state.size(); ++i) {
+        EXPECT_NE(off.state[i], 3) << "step " << i + 1 << " factored in the step";
+        EXPECT_LE(off.residual[i], 1e-6) << "step " << i + 1;
+    }
+    EXPECT_GT(std::count(in.state.begin() + 1, in.state.end(), 3), 2) << "the front's first step and the stop factor M";
+    expect_close_to_renewing_in_the_step(off, in);
 }
 
 // The step's copy of A for a preconditioner built off the step (copy_linear_system) is A, and after a
