@@ -9,6 +9,16 @@
 #include "systems/kernels/solver/block_sparse.h"
 
 namespace xcut {
+namespace {
+
+/// The DOF node below `base` (a factor's nodes) that DOF node j was split from, through the
+/// phantoms' chain of copies (j itself if it is below `base`).
+int node_in_factor(const World& w, int j, int base) {
+    while (j >= base) j = w.enriched.phantom_from[j - w.mesh_nodes];
+    return j;
+}
+
+}  // namespace
 
 std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<LinearSystem> snapshot,
                                                        BesideBlock jumps, int requested_step, int due_step) {
@@ -42,9 +52,7 @@ void start_successor_columns(const World& w, PendingFactor& p, const BesideAugme
     for (int r : b.s_rows)
         if (r < 3 * p.nodes) rows.push_back(r), held[r / 3] = 1;
     for (int j = before; j < p.nodes; ++j) {  // split since: b stands for them by the node they came from
-        int node = j;
-        while (node >= before) node = w.enriched.phantom_from[node - w.mesh_nodes];
-        if (held[node])
+        if (held[node_in_factor(w, j, before)])
             for (int c = 0; c < 3; ++c) rows.push_back(3 * j + c);
     }
     std::sort(rows.begin(), rows.end());
@@ -83,8 +91,7 @@ bool augment_for_grown_system(const World& w, LinearFactor& f, const Eigen::Vect
     for (int j = base_nodes; j < A.rows(); ++j) {
         const int phantom = j - w.mesh_nodes;
         if (phantom >= w.enriched.count()) return false;
-        int node = w.enriched.phantom_from[phantom];  // the copy it split from, in the old block
-        while (node >= base_nodes) node = w.enriched.phantom_from[node - w.mesh_nodes];
+        const int node = node_in_factor(w, j, base_nodes);  // the copy it split from, in the old block
         for (int c = 0; c < 3; ++c)
             parent.push_back(mask[3 * node + c] != 0.0 && mask[3 * j + c] != 0.0 ? 3 * node + c : -1);
     }

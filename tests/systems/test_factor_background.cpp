@@ -389,12 +389,13 @@ TEST(FactorBackground, AFailedFactorIsReported) {
     EXPECT_GE(wait, 0.0);
 }
 
-/// The default skin with cholesky through its incision (110 steps: the blade cuts from step 20).
-SkinRun run_skin(int threads, int factor_delay) {
-    return run_default_skin(threads, 110, [&](SolverSettings& s) {
+/// The default skin with cholesky through its incision (110 steps: the blade cuts from step 20;
+/// with `overrides`, as `xcut run --set` takes them).
+SkinRun run_skin(int threads, int factor_delay, int steps = 110, const std::vector<std::string>& overrides = {}) {
+    return run_default_skin(threads, steps, [&](SolverSettings& s) {
         s.linear = "cholesky";
         s.factor_delay = factor_delay;
-    });
+    }, overrides);
 }
 
 TEST(FactorBackground, NoStepFactorsThroughTheCut) {
@@ -459,14 +460,9 @@ TEST(FactorBackground, AFrontsBlockTakesItsColumnsWithTheSuccessor) {
     EXPECT_GE(swaps_with_front, 3) << "factors were taken while the front moved";
 }
 
-/// The default skin with a crack front at the blade, cholesky, through the blade's stop (step 122)
-/// and some steps after it.
-SkinRun run_skin_front(int threads, int steps, int factor_delay) {
-    return run_default_skin(threads, steps, [&](SolverSettings& s) {
-        s.linear = "cholesky";
-        s.factor_delay = factor_delay;
-    }, {"cutter.tip={}"});
-}
+/// The default skin with a crack front at the blade, cholesky (through the blade's stop at step 122
+/// and some steps after it when `steps` reaches past it).
+SkinRun run_skin_front(int threads, int steps, int factor_delay) { return run_skin(threads, factor_delay, steps, {"cutter.tip={}"}); }
 
 TEST(FactorBackground, AFrontsRunHasTheSameBitsForAnyThreadCountAndLoad) {
     expect_same_bits_for_any_thread_count_and_load([](int threads) { return run_skin_front(threads, 80, 10); });

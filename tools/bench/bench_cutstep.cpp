@@ -99,9 +99,14 @@ std::vector<CutStepBenchRow> run_cutstep_bench(const CutStepBenchOptions& o) {
     std::vector<Case> all = cases(o.tiny);
     if (!o.cases.empty())
         std::erase_if(all, [&](const Case& c) { return std::find(o.cases.begin(), o.cases.end(), c.name) == o.cases.end(); });
-    if (all.empty()) throw InputError("--cases", "", "no such case in this configuration (skin_2mm, skin_2mm_factor_in_step, skin_2mm_front, skin_1mm, "
-                                      "skin_1mm_renew_in_step, skin_0.7mm, skin_0.7mm_renew_in_step, block_20k, block_53k, block_200k; --tiny: "
-                                      "skin_2mm, block_5k)");
+    if (all.empty()) {
+        const auto names = [](bool tiny) {
+            std::string list;
+            for (const Case& c : cases(tiny)) list += (list.empty() ? "" : ", ") + c.name;
+            return list;
+        };
+        throw InputError("--cases", "", fmt::format("no such case in this configuration ({}; --tiny: {})", names(false), names(true)));
+    }
     std::vector<CutStepBenchRow> rows;
     for (const Case& c : all) {
         rows.push_back(run_case(c, "quiet"));
