@@ -80,6 +80,9 @@ struct SolverSettings {
     /// the grown system through an augmented block; an aged one goes on as it is), taking the new
     /// one this many steps after asking (systems/solver/factor_background.h); 0: in the step [steps]
     int factor_delay = 10;
+    /// "factor_precision": "auto" (a factor renewed off the step solves in single precision from
+    /// 1 M non-zeros of L on, systems/solver/cholesky_factor.cpp), "double", "single"
+    std::string factor_precision = "auto";
     /// "guess_history": the step's solve starts from the Galerkin projection onto the solutions of
     /// this many earlier steps (systems/kernels/solver/projected_guess.h); 0: from the previous step's [-]
     int guess_history = 6;

@@ -393,7 +393,7 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
 
     const JsonFields sol = top.object("solver");
     sol.allow_only({"dt", "mode", "cg_tolerance", "cg_max_iterations", "dt_min", "dt_max", "damping", "newton",
-                    "linear", "refactor_iterations", "refactor_every", "renew_delay", "factor_delay", "max_substeps",
+                    "linear", "refactor_iterations", "refactor_every", "renew_delay", "factor_delay", "factor_precision", "max_substeps",
                     "energy_factor", "guess_history"});
     SolverSettings& s = scene.solver;
     s.dt = sol.number("dt", 1e-2, 1e-9, 10.0);
@@ -415,6 +415,7 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
     s.refactor_every = sol.integer("refactor_every", 200, 1, 1000000);
     s.renew_delay = sol.integer("renew_delay", 6, 0, 1000);
     s.factor_delay = sol.integer("factor_delay", 10, 0, 1000);
+    s.factor_precision = sol.choice("factor_precision", "auto", {"auto", "double", "single"});
     s.max_substeps = sol.integer("max_substeps", 16, 1, 1024);
     s.guess_history = sol.integer("guess_history", 6, 0, 64);
     s.energy_factor = sol.number("energy_factor", 100.0, 1.0);

@@ -1,6 +1,7 @@
 #include "systems/solver/cholesky_factor.h"
 
 #include <atomic>
+#include <limits>
 
 #include "systems/solver/cholmod_pages.h"
 
@@ -18,7 +19,20 @@ namespace {
 /// (4.1M) 1.36x the solver's time; the 2k-tet block (164k) 0.93x (one run each of the solver suite).
 constexpr int kSolveBins = 2;
 constexpr double kSplitNonzeros = 250e3;
+/// solver.factor_precision "auto": a viewed factor's solves run in single precision
+/// (make_single, systems/solver/lower_factor.h) when L has at least this many non-zeros (8 MB in
+/// double, beyond what the caches keep between solves on the machines measured). Measured (2
+/// threads, alternated runs, the same CG counts both ways): the skin at 1 mm with cholesky (4.1 M
+/// non-zeros) 1.35-1.45x the solver's median time; hand_dorsum (1.0 M) 1.0-1.3x; the default skin
+/// (315 k) within noise, so it keeps double (and its bits).
+constexpr double kSingleNonzeros = 1e6;
 }  // namespace
+
+double single_precision_from(const std::string& precision) {
+    if (precision == "single") return 0.0;
+    if (precision == "double") return std::numeric_limits<double>::infinity();
+    return kSingleNonzeros;
+}
 
 std::mutex& cholmod_blas_lock() {
     static std::mutex lock;
@@ -49,6 +63,7 @@ bool compute_factor(LinearFactor& f, bool analyse) {
                     static_cast<const int*>(L->pi), static_cast<const int*>(L->px), static_cast<const int*>(L->s),
                     static_cast<const double*>(L->x), static_cast<const int*>(L->Perm), *f.lower);
     split_solves(*f.lower, kSolveBins, kSplitNonzeros);
+    if (f.lnz >= f.single_from) make_single(*f.lower);
     return f.ok;
 }
 

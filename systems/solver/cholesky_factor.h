@@ -9,8 +9,10 @@
 // solving through an augmented block (systems/solver/factor_augment.h).
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
+#include <limits>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <omp.h>
 
 #include "systems/solver/factor_augment.h"
@@ -64,6 +66,8 @@ struct LinearFactor {
     /// block built on the factor is keyed by (systems/solver/beside_augment.h).
     uint64_t serial = 0;
 
+    /// make_single from this many non-zeros of L on (single_precision_from), when is_viewed.
+    double single_from = std::numeric_limits<double>::infinity();
     /// Views of L's supernodes (systems/solver/lower_factor.h) when is_viewed: the step's solves
     /// and the augmented block use them.
     std::unique_ptr<LowerFactor> lower;
@@ -84,6 +88,10 @@ struct LinearFactor {
     /// holds with_cholmod_blas).
     void solve(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
 };
+
+/// The non-zeros of L from which a viewed factor's solves run in single precision, for
+/// solver.factor_precision ("auto", "double", "single").
+double single_precision_from(const std::string& precision);
 
 /// Analyses `f.matrix` (when `analyse`) and factors it on the calling thread, under
 /// with_cholmod_blas, and makes f.lower when f.is_viewed. Returns f.ok.

@@ -21,11 +21,11 @@ int node_in_factor(const World& w, int j, int base) {
 }  // namespace
 
 std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<LinearSystem> snapshot,
-                                                       BesideBlock jumps, int requested_step, int due_step) {
+                                                       BesideBlock jumps, int requested_step, int due_step, double single_from) {
     if (!snapshot) snapshot = std::make_shared<LinearSystem>();
     copy_linear_system(A, *snapshot);
     auto f = std::make_shared<LinearFactor>(true);
-    f->topology = A.topology, f->computed_step = requested_step, f->snapshot = snapshot;
+    f->topology = A.topology, f->computed_step = requested_step, f->snapshot = snapshot, f->single_from = single_from;
     f->jumps = std::move(jumps);
     auto pending = std::make_shared<PendingFactor>();
     pending->requested_step = requested_step, pending->due_step = due_step;

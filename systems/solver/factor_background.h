@@ -41,7 +41,7 @@ struct PendingFactor : PendingResult<LinearFactor> {
 /// A is copied into `snapshot` (storage handed on from factor to factor, or null): it changes from
 /// the next step on. `jumps`: the jumping terms' block A holds now (LinearFactor::jumps).
 std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<LinearSystem> snapshot,
-                                                       BesideBlock jumps, int requested_step, int due_step);
+                                                       BesideBlock jumps, int requested_step, int due_step, double single_from);
 /// The steps before a successor is due at which the columns of X_S its moving block will need are
 /// asked for: the block's rows then, most of those it has at the swap (a front moves a few rows a
 /// step), so that the step that takes the factor solves only the rows new since.

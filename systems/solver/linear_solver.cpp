@@ -33,6 +33,7 @@ bool factorize(World& w) {
     const bool viewed = off_step_factors(w);
     if (!A.factor || A.factor->is_viewed != viewed) A.factor = std::make_shared<LinearFactor>(viewed);
     LinearFactor& f = *A.factor;
+    f.single_from = single_precision_from(w.solver.factor_precision);
     const bool fresh_pattern = f.topology != A.topology || f.matrix.rows() != 3 * A.rows();
     copy_to_scalar(A, f.matrix, fresh_pattern);
     compute_factor(f, fresh_pattern);
@@ -295,7 +296,7 @@ public:
         const auto solve_in_team = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
             if (beside || augmented)
                 return apply_augmented_in_team(*f.lower, augmented ? &f.augment : nullptr, beside, r, z, scratch);
-            f.lower->solve_in_team(r, z, scratch.lower, [] {});
+            f.lower->solve_in_team(r, z, scratch.lower, LowerFactor::NoBetween{});
         };
         const auto solve_by_cholmod = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
             with_cholmod_blas([&] { f.solve(r, z); });
@@ -326,7 +327,8 @@ public:
         const bool aging = f && f->last_iterations > kFactorEarlyFraction * s.refactor_iterations;
         const bool augment_grew = augmented && f->augment.columns() > kFactorAugmentLimit;
         if (off_step && f && f->ok && (augment_grew || aged || aging || jumped) && !A_.pending_factor && !failed_off_step) {
-            A_.pending_factor = start_background_factor(A_, f->snapshot, built(now), w_.step, w_.step + s.factor_delay);
+            A_.pending_factor = start_background_factor(A_, f->snapshot, built(now), w_.step, w_.step + s.factor_delay,
+                                                        single_precision_from(s.factor_precision));
             ++A_.background_builds;
         }
         // Renewed in the step all the same when its successor would come too late: CG needed more

@@ -6,7 +6,17 @@
 namespace xcut {
 namespace {
 
-using Block = Eigen::Map<const Eigen::MatrixXd>;
+template <class Real>
+using Vector = Eigen::Matrix<Real, Eigen::Dynamic, 1>;
+template <class Real>
+using Block = Eigen::Map<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>>;
+
+template <class Real>
+const Real* entries(const LowerFactor::Supernode& s);
+template <>
+const double* entries<double>(const LowerFactor::Supernode& s) { return s.value; }
+template <>
+const float* entries<float>(const LowerFactor::Supernode& s) { return s.value32; }
 
 void index_columns(LowerFactor& out) {
     out.supernode_of.assign(out.n, 0);
@@ -24,47 +34,50 @@ int first_column(const LowerFactor& f, int a) { return f.supernodes[a].first; }
 int end_column(const LowerFactor& f, int b) { return f.supernodes[b - 1].first + f.supernodes[b - 1].cols; }
 
 /// Supernode s of the forward solve: its columns solved, below = L21 x_s.
-Eigen::Map<Eigen::VectorXd> eliminate(const LowerFactor::Supernode& s, Eigen::VectorXd& x, Eigen::VectorXd& buffer) {
-    const Block L(s.value, s.rows, s.cols);
+template <class Real>
+Eigen::Map<Vector<Real>> eliminate(const LowerFactor::Supernode& s, Vector<Real>& x, Vector<Real>& buffer) {
+    const Block<Real> L(entries<Real>(s), s.rows, s.cols);
     auto xs = x.segment(s.first, s.cols);
-    L.topRows(s.cols).triangularView<Eigen::Lower>().solveInPlace(xs);
-    Eigen::Map<Eigen::VectorXd> below(buffer.data(), s.rows - s.cols);
+    L.topRows(s.cols).template triangularView<Eigen::Lower>().solveInPlace(xs);
+    Eigen::Map<Vector<Real>> below(buffer.data(), s.rows - s.cols);
     if (s.rows > s.cols) below.noalias() = L.bottomRows(s.rows - s.cols) * xs;
     return below;
 }
 
 /// Supernode s of the backward solve, its columns scattered to dst if given.
-void back_substitute(const LowerFactor::Supernode& s, const int* perm, Eigen::VectorXd& x, Eigen::VectorXd& buffer,
+template <class Real>
+void back_substitute(const LowerFactor::Supernode& s, const int* perm, Vector<Real>& x, Vector<Real>& buffer,
                      Eigen::VectorXd* dst) {
-    const Block L(s.value, s.rows, s.cols);
+    const Block<Real> L(entries<Real>(s), s.rows, s.cols);
     auto xs = x.segment(s.first, s.cols);
     if (s.rows > s.cols) {
-        Eigen::Map<Eigen::VectorXd> below(buffer.data(), s.rows - s.cols);
+        Eigen::Map<Vector<Real>> below(buffer.data(), s.rows - s.cols);
         for (int i = 0; i < s.rows - s.cols; ++i) below[i] = x[s.row[s.cols + i]];
         xs.noalias() -= L.bottomRows(s.rows - s.cols).transpose() * below;
     }
-    L.topRows(s.cols).triangularView<Eigen::Lower>().transpose().solveInPlace(xs);
+    L.topRows(s.cols).template triangularView<Eigen::Lower>().transpose().solveInPlace(xs);
     if (dst)
         for (int k = s.first; k < s.first + s.cols; ++k) (*dst)[perm[k]] = x[k];
 }
 
-void gather(const LowerFactor& f, const Eigen::VectorXd* src, int lo, int hi, Eigen::VectorXd& t) {
+template <class Real>
+void gather(const LowerFactor& f, const Eigen::VectorXd* src, int lo, int hi, Vector<Real>& t) {
     if (src)
-        for (int k = lo; k < hi; ++k) t[k] = (*src)[f.perm[k]];
+        for (int k = lo; k < hi; ++k) t[k] = static_cast<Real>((*src)[f.perm[k]]);
 }
 
-}  // namespace
-
-void LowerFactor::forward_bin(int b, const Eigen::VectorXd* src, Eigen::VectorXd& t, double* record) const {
-    Eigen::VectorXd buffer(max_below);
+template <class Real>
+void forward_bin_of(const LowerFactor& f, int b, const Eigen::VectorXd* src, Vector<Real>& t, Real* record) {
+    Vector<Real> buffer(f.max_below);
+    const LowerFactor::Split& split = f.split;
     for (size_t k = 0; k < split.range.size(); ++k) {
         if (split.bin_of[k] != b) continue;
         const auto [lo, hi] = split.range[k];
-        const int top = end_column(*this, hi);  // rows from here on are above the subtree
-        gather(*this, src, first_column(*this, lo), top, t);
-        double* rec = record + split.record_start[k];
+        const int top = end_column(f, hi);  // rows from here on are above the subtree
+        gather(f, src, first_column(f, lo), top, t);
+        Real* rec = record + split.record_start[k];
         for (int s = lo; s < hi; ++s) {
-            const Supernode& sn = supernodes[s];
+            const LowerFactor::Supernode& sn = f.supernodes[s];
             const auto below = eliminate(sn, t, buffer);
             for (int i = 0; i < sn.rows - sn.cols; ++i) {
                 const int row = sn.row[sn.cols + i];
@@ -75,63 +88,102 @@ void LowerFactor::forward_bin(int b, const Eigen::VectorXd* src, Eigen::VectorXd
     }
 }
 
-void LowerFactor::forward_top(const Eigen::VectorXd* src, Eigen::VectorXd& t, const double* record, bool whole) const {
-    const int count = static_cast<int>(supernodes.size());
+template <class Real>
+void forward_top_of(const LowerFactor& f, const Eigen::VectorXd* src, Vector<Real>& t, const Real* record, bool whole) {
+    const int count = static_cast<int>(f.supernodes.size());
+    const LowerFactor::Split& split = f.split;
     if (whole) {
-        gather(*this, src, 0, n, t);
+        gather(f, src, 0, f.n, t);
     } else {
         for (int s = 0; s < count; ++s)
-            if (split.range_of[s] < 0) gather(*this, src, supernodes[s].first, supernodes[s].first + supernodes[s].cols, t);
+            if (split.range_of[s] < 0) gather(f, src, f.supernodes[s].first, f.supernodes[s].first + f.supernodes[s].cols, t);
     }
-    Eigen::VectorXd buffer(max_below);
+    Vector<Real> buffer(f.max_below);
     for (int s = 0; s < count; ++s) {
         const int k = whole ? -1 : split.range_of[s];
         if (k >= 0) {  // a subtree: its updates above it, in the order it made them
             const auto [lo, hi] = split.range[k];
-            const int top = end_column(*this, hi);
-            const double* rec = record + split.record_start[k];
+            const int top = end_column(f, hi);
+            const Real* rec = record + split.record_start[k];
             for (int q = lo; q < hi; ++q) {
-                const Supernode& sn = supernodes[q];
+                const LowerFactor::Supernode& sn = f.supernodes[q];
                 for (int i = sn.cols; i < sn.rows; ++i)
                     if (sn.row[i] >= top) t[sn.row[i]] -= *rec++;
             }
             s = hi - 1;
             continue;
         }
-        const Supernode& sn = supernodes[s];
+        const LowerFactor::Supernode& sn = f.supernodes[s];
         const auto below = eliminate(sn, t, buffer);
         for (int i = 0; i < sn.rows - sn.cols; ++i) t[sn.row[sn.cols + i]] -= below[i];
     }
 }
 
-void LowerFactor::backward_top(Eigen::VectorXd& t, Eigen::VectorXd* dst, bool whole) const {
-    Eigen::VectorXd buffer(max_below);
-    for (int s = static_cast<int>(supernodes.size()) - 1; s >= 0; --s)
-        if (whole || split.range_of[s] < 0) back_substitute(supernodes[s], perm, t, buffer, dst);
+template <class Real>
+void backward_top_of(const LowerFactor& f, Vector<Real>& t, Eigen::VectorXd* dst, bool whole) {
+    Vector<Real> buffer(f.max_below);
+    for (int s = static_cast<int>(f.supernodes.size()) - 1; s >= 0; --s)
+        if (whole || f.split.range_of[s] < 0) back_substitute(f.supernodes[s], f.perm, t, buffer, dst);
 }
 
-void LowerFactor::backward_bin(int b, Eigen::VectorXd& t, Eigen::VectorXd* dst) const {
-    Eigen::VectorXd buffer(max_below);
+template <class Real>
+void backward_bin_of(const LowerFactor& f, int b, Vector<Real>& t, Eigen::VectorXd* dst) {
+    Vector<Real> buffer(f.max_below);
+    const LowerFactor::Split& split = f.split;
     for (int k = static_cast<int>(split.range.size()) - 1; k >= 0; --k) {
         if (split.bin_of[k] != b) continue;
-        for (int s = split.range[k][1] - 1; s >= split.range[k][0]; --s) back_substitute(supernodes[s], perm, t, buffer, dst);
+        for (int s = split.range[k][1] - 1; s >= split.range[k][0]; --s) back_substitute(f.supernodes[s], f.perm, t, buffer, dst);
     }
 }
 
-void LowerFactor::prepare(Scratch& sh) const {
-    sh.t.resize(n);
-    sh.record.resize(split.record_start.empty() ? 0 : split.record_start.back());
+}  // namespace
+
+void LowerFactor::forward_bin(int b, const Eigen::VectorXd* src, Scratch& sh) const {
+    if (is_single()) forward_bin_of(*this, b, src, sh.t32, sh.record32.data());
+    else forward_bin_of(*this, b, src, sh.t, sh.record.data());
 }
 
-void LowerFactor::forward(Eigen::VectorXd& x) const { forward_top(nullptr, x, nullptr, true); }
+void LowerFactor::forward_top(const Eigen::VectorXd* src, Scratch& sh, bool whole) const {
+    if (is_single()) forward_top_of(*this, src, sh.t32, sh.record32.data(), whole);
+    else forward_top_of(*this, src, sh.t, sh.record.data(), whole);
+}
 
-void LowerFactor::backward(Eigen::VectorXd& x) const { backward_top(x, nullptr, true); }
+void LowerFactor::backward_top(Scratch& sh, Eigen::VectorXd* dst, bool whole) const {
+    if (is_single()) backward_top_of(*this, sh.t32, dst, whole);
+    else backward_top_of(*this, sh.t, dst, whole);
+}
+
+void LowerFactor::backward_bin(int b, Scratch& sh, Eigen::VectorXd* dst) const {
+    if (is_single()) backward_bin_of(*this, b, sh.t32, dst);
+    else backward_bin_of(*this, b, sh.t, dst);
+}
+
+void LowerFactor::prepare(Scratch& sh) const {
+    const size_t records = split.record_start.empty() ? 0 : split.record_start.back();
+    sh.t.resize(n);
+    if (is_single()) sh.t32.resize(n), sh.record32.resize(records);
+    else sh.record.resize(records);
+}
 
 void LowerFactor::solve(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
-    Eigen::VectorXd t(n);
+    Scratch sh;
+    prepare(sh);
     z.resize(n);
-    forward_top(&r, t, nullptr, true);
-    backward_top(t, &z, true);
+    forward_top(&r, sh, true);
+    backward_top(sh, &z, true);
+}
+
+void make_single(LowerFactor& f) {
+    size_t total = 0;
+    for (const LowerFactor::Supernode& s : f.supernodes) total += static_cast<size_t>(s.rows) * s.cols;
+    f.single.resize(total);
+    size_t at = 0;
+    for (LowerFactor::Supernode& s : f.supernodes) {
+        const size_t size = static_cast<size_t>(s.rows) * s.cols;
+        for (size_t k = 0; k < size; ++k) f.single[at + k] = static_cast<float>(s.value[k]);
+        s.value32 = f.single.data() + at;
+        at += size;
+    }
 }
 
 void split_solves(LowerFactor& f, int bins, double min_nonzeros) {

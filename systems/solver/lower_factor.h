@@ -24,6 +24,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <type_traits>
 #include <vector>
 
 namespace xcut {
@@ -33,12 +34,18 @@ struct LowerFactor {
         int first = 0, cols = 0, rows = 0;
         const int* row = nullptr;       ///< its row list (rows entries)
         const double* value = nullptr;  ///< rows x cols, column-major
+        const float* value32 = nullptr; ///< the same rounded to single precision, when the solves use it
     };
     int n = 0;
     const int* perm = nullptr;
     std::vector<Supernode> supernodes;
     std::vector<int> supernode_of;  ///< per column
     int max_below = 0;              ///< the most rows any supernode has below its own columns
+    /// L's entries rounded to single precision, supernode after supernode (make_single), when the
+    /// step's solves read them: half the bytes of a solve, which is bound by memory on a large
+    /// factor. Empty: the solves read `value`. See make_single for what it costs in precision.
+    std::vector<float> single;
+    bool is_single() const { return !single.empty(); }
 
     /// The solves' split (see above): bins of subtrees, one bin a thread; 0 bins: all top.
     struct Split {
@@ -50,8 +57,14 @@ struct LowerFactor {
     } split;
     /// What a team's threads share in a split solve (sized by the solve).
     struct Scratch {
-        Eigen::VectorXd t;            ///< the permuted vector being solved
+        Eigen::VectorXd t;            ///< the permuted vector being solved (L^-1 P src between the solves)
         std::vector<double> record;   ///< the subtrees' updates to the rows above them, in order
+        Eigen::VectorXf t32;          ///< t and record as a single-precision factor's solves keep them
+        std::vector<float> record32;
+    };
+    /// What solve_in_team runs between the solves when there is nothing to run.
+    struct NoBetween {
+        void operator()() const {}
     };
 
     int rows() const { return n; }
@@ -66,44 +79,31 @@ struct LowerFactor {
     template <int width>
     void eliminate_column(int j, double* x) const {
         const Supernode& s = supernodes[supernode_of[j]];
-        const int k = j - s.first, len = s.rows - k;
-        const int* row = s.row + k;
-        const double* v = s.value + static_cast<size_t>(k) * s.rows + k;
-        double xj[width];
-        for (int c = 0; c < width; ++c) xj[c] = x[width * j + c] /= v[0];
-        for (int p = 1; p < len; ++p)
-            for (int c = 0; c < width; ++c) x[width * row[p] + c] -= v[p] * xj[c];
+        const int k = j - s.first;
+        const size_t at = static_cast<size_t>(k) * s.rows + k;
+        if (s.value32) eliminate_entries<width>(s.row + k, s.value32 + at, s.rows - k, j, x);
+        else eliminate_entries<width>(s.row + k, s.value + at, s.rows - k, j, x);
     }
-    /// Solves L x = b in place (x holds b).
-    void forward(Eigen::VectorXd& x) const;
-    /// Solves L^T x = b in place.
-    void backward(Eigen::VectorXd& x) const;
     /// z = A^-1 r = P^T L^-T L^-1 P r.
     void solve(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
 
-    /// The split solve's parts. forward_bin: bin b's subtrees of L t = P src (their columns of t
-    /// gathered from src first when src is given), their updates above them recorded;
-    /// forward_top: the rest (the top's columns gathered first), replaying the records.
-    /// backward_top, backward_bin: L^T t = t for the top, then bin b's subtrees, each column
-    /// scattered to dst (dst[perm[k]] = t[k]) when dst is given.
-    void forward_bin(int b, const Eigen::VectorXd* src, Eigen::VectorXd& t, double* record) const;
+    /// The split solve's parts, on sh.t (sh.t32 when single). forward_bin: bin b's subtrees of
+    /// L t = P src (their columns of t gathered from src first when src is given), their updates
+    /// above them recorded; forward_top: the rest (the top's columns gathered first), replaying
+    /// the records. backward_top, backward_bin: L^T t = t for the top, then bin b's subtrees, each
+    /// column scattered to dst (dst[perm[k]] = t[k]) when dst is given.
+    void forward_bin(int b, const Eigen::VectorXd* src, Scratch& sh) const;
     /// With `whole`, forward_top and backward_top solve every supernode: the serial solve, in the
     /// same order, without records.
-    void forward_top(const Eigen::VectorXd* src, Eigen::VectorXd& t, const double* record, bool whole = false) const;
-    void backward_top(Eigen::VectorXd& t, Eigen::VectorXd* dst, bool whole = false) const;
-    void backward_bin(int b, Eigen::VectorXd& t, Eigen::VectorXd* dst) const;
+    void forward_top(const Eigen::VectorXd* src, Scratch& sh, bool whole = false) const;
+    void backward_top(Scratch& sh, Eigen::VectorXd* dst, bool whole = false) const;
+    void backward_bin(int b, Scratch& sh, Eigen::VectorXd* dst) const;
     /// Sizes `sh` for a split solve.
     void prepare(Scratch& sh) const;
 
     /// dst = A^-1 src through sh.t, by every thread of a team (or outside any parallel region:
     /// never inside a single or a loop of one); `between()` runs on one thread between the forward
     /// and the backward solve (t = L^-1 P src then; it may change t); sh prepared, dst sized.
-    template <class Between>
-    void serial_in(const Eigen::VectorXd& src, Eigen::VectorXd& dst, Scratch& sh, Between& between) const {
-        forward_top(&src, sh.t, nullptr, true);
-        between();
-        backward_top(sh.t, &dst, true);
-    }
     template <class Between>
     void solve_in_team(const Eigen::VectorXd& src, Eigen::VectorXd& dst, Scratch& sh, Between&& between) const {
         if (omp_get_num_threads() == 1) {  // the serial order without the records: the same bits
@@ -116,15 +116,40 @@ struct LowerFactor {
             return;
         }
 #pragma omp for schedule(static, 1)
-        for (int b = 0; b < split.bins; ++b) forward_bin(b, &src, sh.t, sh.record.data());
+        for (int b = 0; b < split.bins; ++b) forward_bin(b, &src, sh);
 #pragma omp single
         {
-            forward_top(&src, sh.t, sh.record.data());
-            between();
-            backward_top(sh.t, &dst);
+            forward_top(&src, sh);
+            between_in_double(sh, between);
+            backward_top(sh, &dst);
         }
 #pragma omp for schedule(static, 1)
-        for (int b = 0; b < split.bins; ++b) backward_bin(b, sh.t, &dst);
+        for (int b = 0; b < split.bins; ++b) backward_bin(b, sh, &dst);
+    }
+
+private:
+    /// Column j of the forward solve over its entries (L_jj first, then the rows below it).
+    template <int width, class Real>
+    static void eliminate_entries(const int* row, const Real* v, int len, int j, double* x) {
+        double xj[width];
+        for (int c = 0; c < width; ++c) xj[c] = x[width * j + c] /= v[0];
+        for (int p = 1; p < len; ++p)
+            for (int c = 0; c < width; ++c) x[width * row[p] + c] -= v[p] * xj[c];
+    }
+    template <class Between>
+    void serial_in(const Eigen::VectorXd& src, Eigen::VectorXd& dst, Scratch& sh, Between& between) const {
+        forward_top(&src, sh, true);
+        between_in_double(sh, between);
+        backward_top(sh, &dst, true);
+    }
+    /// between() on sh.t in double precision: a single-precision solve's vector copied there and back.
+    template <class Between>
+    void between_in_double(Scratch& sh, Between& between) const {
+        if constexpr (std::is_same_v<std::decay_t<Between>, NoBetween>) return;
+        if (!is_single()) return between();
+        sh.t = sh.t32.cast<double>();
+        between();
+        sh.t32 = sh.t.cast<float>();
     }
 };
 
@@ -138,6 +163,16 @@ void split_solves(LowerFactor& f, int bins, double min_nonzeros);
 /// False if a column is not so.
 bool view_columns(int n, const int* outer, const int* count, const int* inner, const double* value, const int* perm,
                   LowerFactor& out);
+/// Rounds f's entries to single precision for its solves (LowerFactor::single). The solves then
+/// run in single precision too (the vector and the records; src and dst stay double): a solve's
+/// relative error grows from about 1e-16 to about 1e-7 times the condition of L, which CG meets as
+/// a slightly different preconditioner. What it preconditions, and the residual CG checks against
+/// its tolerance, stay double: the solution's tolerance is unchanged. Mixed-precision
+/// preconditioning of this kind: Arioli & Duff 2009 ("Using FGMRES to obtain backward stability in
+/// mixed precision"), Abdelfattah et al. 2021 ("A survey of numerical linear algebra methods
+/// utilizing mixed-precision arithmetic"). The sparse column solves (eliminate_column) read the
+/// rounded entries in double arithmetic.
+void make_single(LowerFactor& f);
 /// Views of a supernodal factor given as CHOLMOD stores it (super, pi, px: nsuper + 1 each).
 void view_supernodes(int n, int nsuper, const int* super, const int* pi, const int* px, const int* s,
                      const double* x, const int* perm, LowerFactor& out);

@@ -382,7 +382,7 @@ TEST(FactorBackground, SupernodeViewsSolveAsCholmodDoes) {
 TEST(FactorBackground, AFailedFactorIsReported) {
     Eigen::MatrixXd M = 2.0 * Eigen::MatrixXd::Identity(6, 6);
     M(3, 3) = -1.0;
-    auto pending = start_background_factor(block_system(M, 2), nullptr, {}, 0, 3);
+    auto pending = start_background_factor(block_system(M, 2), nullptr, {}, 0, 3, single_precision_from("auto"));
     double wait = -1.0;
     const std::shared_ptr<LinearFactor> f = take_when_due(*pending, wait);
     EXPECT_FALSE(f->ok);
@@ -429,6 +429,42 @@ TEST(FactorBackground, CloseToFactoringInTheStep) {
     EXPECT_EQ(in.augmented, 0);
     EXPECT_EQ(in.swaps, 0) << "factor_delay 0: nothing is computed off the step";
     expect_close_to_renewing_in_the_step(off, in);
+}
+
+/// run_skin with the factor's solves in `precision` (solver.factor_precision).
+SkinRun run_skin_in(const std::string& precision, int threads) {
+    return run_default_skin(threads, 110, [&](SolverSettings& s) {
+        s.linear = "cholesky";
+        s.factor_precision = precision;
+    });
+}
+
+// The factor's solves in single precision (solver.factor_precision "single"; "auto" makes them so
+// from 1 M non-zeros of L on, the default skin's 315 k keep double): only the preconditioner
+// changes, so every step still meets the CG tolerance, the positions stay within its effect of the
+// double run's, and the bits are the same on any thread count and load.
+TEST(FactorBackground, SinglePrecisionSolvesMeetTheToleranceOfDoubleOnes) {
+    const SkinRun single = run_skin_in("single", 2), twice = run_skin_in("double", 2), automatic = run_skin_in("auto", 2);
+    ASSERT_GT(single.cuts, 0) << "the blade cut during the run";
+    EXPECT_EQ(single.cuts, twice.cuts);
+    EXPECT_GT(single.swaps, 0) << "single-precision factors computed off the step were taken";
+    double max_u = 0.0, max_diff = 0.0;
+    int more = 0;
+    for (size_t i = 0; i < single.residual.size(); ++i) {
+        EXPECT_LE(single.residual[i], 1e-6) << "step " << i + 1;
+        more += single.iterations[i] - twice.iterations[i];
+    }
+    for (size_t i = 0; i < twice.position.size(); ++i) {
+        max_diff = std::max(max_diff, (single.position[i] - twice.position[i]).norm());
+        max_u = std::max(max_u, std::abs(twice.position[i].z()));
+        ASSERT_EQ(automatic.position[i], twice.position[i]) << "auto keeps double under 1 M non-zeros, node " << i;
+    }
+    std::printf("  single against double: positions differ by at most %.3g m (sag %.3g m); %d CG iterations more in all\n",
+                max_diff, max_u, more);
+    EXPECT_GT(max_diff, 0.0) << "the single-precision solves ran";
+    EXPECT_LT(max_diff, 1e-6 * std::max(max_u, 1e-3)) << "largest difference " << max_diff << " m";
+    EXPECT_LE(more, static_cast<int>(single.residual.size()) / 10) << "at most one CG iteration more in ten steps";
+    expect_same_bits_for_any_thread_count_and_load([](int threads) { return run_skin_in("single", threads); });
 }
 
 // The default skin with the crack front at the blade: its block rides on each factor renewed off the

@@ -1,7 +1,7 @@
 // The step's solves through a Cholesky factor's supernodes split over a team's threads by subtrees
 // of the elimination tree (systems/solver/lower_factor.h): the same bits as the serial solve on 1,
 // 2 and 3 threads and for 2 or 3 bins, and the solve CHOLMOD makes; the augmented solve of a grown
-// system the same (systems/solver/beside_augment.h).
+// system the same (systems/solver/beside_augment.h); all of it with the factor in single precision too.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -32,15 +32,21 @@ Eigen::MatrixXd grid_matrix(int g, int layers, int extra_nodes) {
     return M;
 }
 
-/// A viewed CHOLMOD factor of M, its solves split into `bins` bins.
-void factor_split(const Eigen::MatrixXd& M, int bins, LinearFactor& f) {
+/// A viewed CHOLMOD factor of M, its solves split into `bins` bins (in single precision if `single`).
+void factor_split(const Eigen::MatrixXd& M, int bins, LinearFactor& f, bool single = false) {
     f.matrix = M.sparseView();
+    if (single) f.single_from = 0.0;
     ASSERT_TRUE(compute_factor(f, true));
     ASSERT_TRUE(f.lower);
     split_solves(*f.lower, bins, 0.0);
     ASSERT_EQ(f.lower->split.bins, bins);
     ASSERT_GE(f.lower->split.range.size(), static_cast<size_t>(bins));
+    ASSERT_EQ(f.lower->is_single(), single);
 }
+
+/// How far a solve through the factor may be from an exact one, relative to its norm: round-off
+/// in double; in single, about 1e-7 times the condition of L (a few units for these grids).
+double solve_tolerance(bool single) { return single ? 1e-5 : 1e-12; }
 
 /// The split solve by a team of `threads`.
 Eigen::VectorXd team_solve(const LowerFactor& lf, const Eigen::VectorXd& r, int threads) {
@@ -48,7 +54,7 @@ Eigen::VectorXd team_solve(const LowerFactor& lf, const Eigen::VectorXd& r, int 
     LowerFactor::Scratch sh;
     lf.prepare(sh);
 #pragma omp parallel num_threads(threads)
-    lf.solve_in_team(r, z, sh, [] {});
+    lf.solve_in_team(r, z, sh, LowerFactor::NoBetween{});
     return z;
 }
 
@@ -56,10 +62,10 @@ bool same_bits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
     return a.size() == b.size() && std::equal(a.data(), a.data() + a.size(), b.data());
 }
 
-TEST(LowerFactorSplit, TeamSolvesHaveTheSerialSolvesBits) {
+void expect_team_solves_have_the_serial_solves_bits(bool single) {
     const Eigen::MatrixXd M = grid_matrix(24, 2, 0);  // a thin layer, as the skin
     LinearFactor f(true);
-    factor_split(M, 2, f);
+    factor_split(M, 2, f, single);
     // Both bins hold a share of the work, the top separators the rest.
     std::vector<double> work(3, 0.0);
     for (size_t s = 0; s < f.lower->supernodes.size(); ++s) {
@@ -73,21 +79,33 @@ TEST(LowerFactorSplit, TeamSolvesHaveTheSerialSolvesBits) {
     const Eigen::VectorXd r = Eigen::VectorXd::Random(M.rows());
     Eigen::VectorXd serial;
     f.lower->solve(r, serial);
-    EXPECT_LE((serial - f.llt.solve(r)).norm(), 1e-12 * serial.norm()) << "CHOLMOD's solve";
+    const double error = (serial - f.llt.solve(r)).norm() / serial.norm();
+    EXPECT_LE(error, solve_tolerance(single)) << "CHOLMOD's solve";
+    if (single) {
+        EXPECT_GT(error, 1e-12) << "the single-precision solve is not the double one";
+    }
     for (int threads : {1, 2, 3}) EXPECT_TRUE(same_bits(team_solve(*f.lower, r, threads), serial)) << threads << " threads";
     LinearFactor three(true);
-    factor_split(M, 3, three);
+    factor_split(M, 3, three, single);
     EXPECT_TRUE(same_bits(team_solve(*three.lower, r, 3), serial)) << "three bins";
     EXPECT_TRUE(same_bits(team_solve(*three.lower, r, 2), serial)) << "three bins, two threads";
     LinearFactor whole(true);
-    factor_split(M, 0, whole);  // not split: one thread of the team solves
+    factor_split(M, 0, whole, single);  // not split: one thread of the team solves
     for (int threads : {1, 2}) EXPECT_TRUE(same_bits(team_solve(*whole.lower, r, threads), serial)) << "unsplit, " << threads;
+}
+
+TEST(LowerFactorSplit, TeamSolvesHaveTheSerialSolvesBits) { expect_team_solves_have_the_serial_solves_bits(false); }
+
+// The same with the factor's entries and the solves in single precision (make_single): the bits
+// of its own serial solve on any team, within single precision's reach of CHOLMOD's solve.
+TEST(LowerFactorSplit, SinglePrecisionTeamSolvesHaveTheSerialSolvesBits) {
+    expect_team_solves_have_the_serial_solves_bits(true);
 }
 
 // A grown system (phantom copies of four nodes, A = M in the copies' own DOFs) solved through the
 // old block's factor in the jump basis and the augmented block: the team's bits are the serial
 // solve's, and both are the dense solve of M.
-TEST(LowerFactorSplit, AugmentedTeamSolveHasTheSerialSolvesBits) {
+void expect_augmented_team_solve_has_the_serial_solves_bits(bool single) {
     const int g = 8, old_nodes = g * g * g;
     const std::vector<int> parent_node = {37, 38, 100, 301};
     Eigen::MatrixXd M = grid_matrix(g, g, static_cast<int>(parent_node.size()));
@@ -105,7 +123,7 @@ TEST(LowerFactorSplit, AugmentedTeamSolveHasTheSerialSolvesBits) {
             T(base + q, 3 * parent_node[j] + c) = 1.0;
         }
     LinearFactor f(true);
-    factor_split((T.transpose() * M * T).topLeftCorner(base, base), 2, f);
+    factor_split((T.transpose() * M * T).topLeftCorner(base, base), 2, f, single);
     LinearSystem A;  // M as the assembled system stores it: every block
     A.row_offset.push_back(0);
     for (int i = 0; i < n / 3; ++i) {
@@ -123,7 +141,7 @@ TEST(LowerFactorSplit, AugmentedTeamSolveHasTheSerialSolvesBits) {
     const Eigen::VectorXd r = Eigen::VectorXd::Random(n);
     Eigen::VectorXd serial;
     apply_augmented(*f.lower, &aug, nullptr, r, serial);
-    EXPECT_LE((serial - M.llt().solve(r)).norm(), 1e-10 * serial.norm()) << "the dense solve";
+    EXPECT_LE((serial - M.llt().solve(r)).norm(), std::max(1e-10, solve_tolerance(single)) * serial.norm()) << "the dense solve";
     for (int threads : {1, 2}) {
         Eigen::VectorXd z(n);
         AugmentScratch sh;
@@ -132,6 +150,14 @@ TEST(LowerFactorSplit, AugmentedTeamSolveHasTheSerialSolvesBits) {
         apply_augmented_in_team(*f.lower, &aug, nullptr, r, z, sh);
         EXPECT_TRUE(same_bits(z, serial)) << threads << " threads";
     }
+}
+
+TEST(LowerFactorSplit, AugmentedTeamSolveHasTheSerialSolvesBits) { expect_augmented_team_solve_has_the_serial_solves_bits(false); }
+
+// The same over a single-precision factor: the augmented block's columns are solved with the
+// rounded entries too, so the block elimination stays consistent with the solves it corrects.
+TEST(LowerFactorSplit, SinglePrecisionAugmentedTeamSolveHasTheSerialSolvesBits) {
+    expect_augmented_team_solve_has_the_serial_solves_bits(true);
 }
 
 }  // namespace
