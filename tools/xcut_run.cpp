@@ -9,6 +9,7 @@
 #include "engine/io/scene_checks.h"
 #include "engine/parallel.h"
 #include "systems/pipeline.h"
+#include "systems/solver/cholesky_factor.h"
 #include "tools/xcut_commands.h"
 #include "tools/xcut_run_summary.h"
 
@@ -67,9 +68,14 @@ int run_scene(const RunOptions& o, RunSummary& summary) {
     warn_all(w.mesh_notes, summary.warnings);
     warn_all(plausibility_warnings(scene, w, steps), summary.warnings);
     fmt::print("{}", sim->scheduler.describe(w));
-    if (w.linear.load_setup_ms > 0.0)
-        fmt::print("linear solver: {} built at load in {:.0f} ms\n",
-                   w.linear.method == "amg" ? "the multigrid hierarchy" : "the Cholesky factor", w.linear.load_setup_ms);
+    if (w.linear.load_setup_ms > 0.0) {
+        const LinearFactor* f = w.linear.method == "amg" ? nullptr : w.linear.factor.get();
+        const std::string size = !f ? std::string()
+                                    : fmt::format(" (L {:.3g} M non-zeros, solved in {} precision)", f->lnz / 1e6,
+                                                  f->lower && f->lower->is_single() ? "single" : "double");
+        fmt::print("linear solver: {} built at load in {:.0f} ms{}\n",
+                   w.linear.method == "amg" ? "the multigrid hierarchy" : "the Cholesky factor", w.linear.load_setup_ms, size);
+    }
     const auto t0 = std::chrono::steady_clock::now();
     const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
     try {
