@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 #include <omp.h>
+#include <string>
 #include <vector>
 
 #include "systems/solver/beside_augment.h"
@@ -100,6 +102,46 @@ TEST(LowerFactorSplit, TeamSolvesHaveTheSerialSolvesBits) { expect_team_solves_h
 // of its own serial solve on any team, within single precision's reach of CHOLMOD's solve.
 TEST(LowerFactorSplit, SinglePrecisionTeamSolvesHaveTheSerialSolvesBits) {
     expect_team_solves_have_the_serial_solves_bits(true);
+}
+
+/// A thin layer of g x g x 2 nodes, 3 DOFs each, as grid_matrix builds it but sparse (a dense one
+/// of this size would not fit): the diagonal 6.5 I plus a small SPD coupling, neighbours -I.
+Eigen::SparseMatrix<double> sparse_layer(int g) {
+    const int grid = 2 * g * g;
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < grid; ++i) {
+        for (int c = 0; c < 3; ++c) t.emplace_back(3 * i + c, 3 * i + c, 6.5 + 0.1 * c);
+        for (int d : {1, g, g * g})
+            if (i + d < grid && (d != 1 || (i + 1) % g != 0) && (d != g || (i / g + 1) % g != 0))
+                for (int c = 0; c < 3; ++c) t.emplace_back(3 * i + c, 3 * (i + d) + c, -1.0), t.emplace_back(3 * (i + d) + c, 3 * i + c, -1.0);
+    }
+    Eigen::SparseMatrix<double> M(3 * grid, 3 * grid);
+    M.setFromTriplets(t.begin(), t.end());
+    return M;
+}
+
+/// Whether compute_factor made f's solves single precision for `precision` (solver.factor_precision).
+bool made_single(const Eigen::SparseMatrix<double>& M, const std::string& precision, double& nonzeros) {
+    LinearFactor f(true);
+    f.matrix = M;
+    f.single_from = single_precision_from(precision);
+    EXPECT_TRUE(compute_factor(f, true));
+    nonzeros = f.lnz;
+    return f.lower && f.lower->is_single();
+}
+
+// solver.factor_precision: "auto" solves in single precision from 1 M non-zeros of L on (a
+// factor that large is read from memory at every solve), in double below; "double" and "single"
+// whatever the size.
+TEST(LowerFactorSplit, AutoPrecisionIsSingleFromAMillionNonZeros) {
+    double small = 0.0, large = 0.0, unused = 0.0;
+    const Eigen::SparseMatrix<double> a = sparse_layer(24), b = sparse_layer(90);
+    EXPECT_FALSE(made_single(a, "auto", small));
+    EXPECT_TRUE(made_single(b, "auto", large));
+    EXPECT_LT(small, 1e6);
+    EXPECT_GE(large, 1e6);
+    EXPECT_TRUE(made_single(a, "single", unused));
+    EXPECT_FALSE(made_single(b, "double", unused));
 }
 
 // A grown system (phantom copies of four nodes, A = M in the copies' own DOFs) solved through the
