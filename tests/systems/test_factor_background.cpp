@@ -440,11 +440,12 @@ SkinRun run_skin_in(const std::string& precision, int threads) {
 }
 
 // The factor's solves in single precision (solver.factor_precision "single"; "auto" makes them so
-// from 1 M non-zeros of L on, the default skin's 315 k keep double): only the preconditioner
-// changes, so every step still meets the CG tolerance, the positions stay within its effect of the
-// double run's, and the bits are the same on any thread count and load.
+// from 1 M non-zeros of L on, the default skin's 315 k keep double: the golden runs and
+// LowerFactorSplit.AutoPrecisionIsSingleFromAMillionNonZeros): only the preconditioner changes, so
+// every step still meets the CG tolerance and the positions stay within its effect of the double
+// run's.
 TEST(FactorBackground, SinglePrecisionSolvesMeetTheToleranceOfDoubleOnes) {
-    const SkinRun single = run_skin_in("single", 2), twice = run_skin_in("double", 2), automatic = run_skin_in("auto", 2);
+    const SkinRun single = run_skin_in("single", 2), twice = run_skin_in("double", 2);
     ASSERT_GT(single.cuts, 0) << "the blade cut during the run";
     EXPECT_EQ(single.cuts, twice.cuts);
     EXPECT_GT(single.swaps, 0) << "single-precision factors computed off the step were taken";
@@ -457,13 +458,15 @@ TEST(FactorBackground, SinglePrecisionSolvesMeetTheToleranceOfDoubleOnes) {
     for (size_t i = 0; i < twice.position.size(); ++i) {
         max_diff = std::max(max_diff, (single.position[i] - twice.position[i]).norm());
         max_u = std::max(max_u, std::abs(twice.position[i].z()));
-        ASSERT_EQ(automatic.position[i], twice.position[i]) << "auto keeps double under 1 M non-zeros, node " << i;
     }
     std::printf("  single against double: positions differ by at most %.3g m (sag %.3g m); %d CG iterations more in all\n",
                 max_diff, max_u, more);
     EXPECT_GT(max_diff, 0.0) << "the single-precision solves ran";
     EXPECT_LT(max_diff, 1e-6 * std::max(max_u, 1e-3)) << "largest difference " << max_diff << " m";
     EXPECT_LE(more, static_cast<int>(single.residual.size()) / 10) << "at most one CG iteration more in ten steps";
+}
+
+TEST(FactorBackground, SinglePrecisionSolvesHaveTheSameBitsForAnyThreadCountAndLoad) {
     expect_same_bits_for_any_thread_count_and_load([](int threads) { return run_skin_in("single", threads); });
 }
 
