@@ -145,11 +145,12 @@ private:
     /// between() on sh.t in double precision: a single-precision solve's vector copied there and back.
     template <class Between>
     void between_in_double(Scratch& sh, Between& between) const {
-        if constexpr (std::is_same_v<std::decay_t<Between>, NoBetween>) return;
-        if (!is_single()) return between();
-        sh.t = sh.t32.cast<double>();
-        between();
-        sh.t32 = sh.t.cast<float>();
+        if constexpr (!std::is_same_v<std::decay_t<Between>, NoBetween>) {
+            if (!is_single()) return between();
+            sh.t = sh.t32.cast<double>();
+            between();
+            sh.t32 = sh.t.cast<float>();
+        }
     }
 };
 

@@ -433,10 +433,7 @@ TEST(FactorBackground, CloseToFactoringInTheStep) {
 
 /// run_skin with the factor's solves in `precision` (solver.factor_precision).
 SkinRun run_skin_in(const std::string& precision, int threads) {
-    return run_default_skin(threads, 110, [&](SolverSettings& s) {
-        s.linear = "cholesky";
-        s.factor_precision = precision;
-    });
+    return run_skin(threads, 10, 110, {"solver.factor_precision=" + precision});
 }
 
 // The factor's solves in single precision (solver.factor_precision "single"; "auto" makes them so
