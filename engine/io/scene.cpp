@@ -164,8 +164,9 @@ void read_tools(const JsonFields& top, const fs::path& scene_dir, Scene& scene) 
         cutter.fail("front", "\"progressive\" needs \"type\": \"xfem\": snapping splits an element only once it is fully crossed");
     if (cutter.has("tip")) {
         const JsonFields tip = cutter.object("tip");
-        tip.allow_only({"radius"});
+        tip.allow_only({"radius", "stride"});
         scene.tip_radius = tip.number("radius", 0.0, 0.0);
+        scene.tip_stride = tip.number("stride", kTipStrideFraction, 0.0, 1.0);
         if (scene.cutter == "snap") cutter.fail("tip", "crack-tip enrichment is XFEM's: it needs \"type\": \"xfem\"");
         if (scene.cut_front == "progressive")
             cutter.fail("tip", "a tip enriches the element the blade is in, which the \"progressive\" front splits: use "
@@ -555,6 +556,7 @@ World build_world(const Scene& scene) {
     world.cut_state.recut = static_cast<int8_t>(scene.recut);
     world.snap.enabled = scene.cutter == "snap";
     world.tips.follow_radius = scene.tip_radius;
+    world.tips.follow_stride = scene.tip_stride;
     world.snap.threshold = scene.snap_threshold;
     world.snap.visual_subdivisions = scene.visual_subdivisions;
     world.snap.collision_subdivisions = scene.collision_subdivisions;

@@ -86,6 +86,7 @@ struct Scene {
     int cut_min_depth = 1;           ///< "cutter.neighbourhood_depth"
     std::string cutter = "xfem";     ///< "cutter.type": "xfem" (enrichment) or "snap" (snapping and subdivision)
     double tip_radius = -1.0;        ///< "cutter.tip.radius" [m]: blades carry branch-enriched tips (2D) or fronts (3D); < 0: off
+    double tip_stride = kTipStrideFraction;  ///< "cutter.tip.stride" [-] of the mean edge: a moving blade's tip follows in such strides
     int recut = -1;                  ///< "cutter.recut": -1 unset (2D on, 3D off), 0 off, 1 on
     std::string cut_front = "semi";  ///< "cutter.front": "semi" (paper §3.3) or "progressive" (docs/xfem.md)
     double snap_threshold = 0.1;     ///< "cutter.snap_threshold": fraction of the crossed edge (components/snap_mesh.h)

@@ -458,6 +458,17 @@ void transfer_to_phantoms(World& w) {
     }
 }
 
+/// CrackTips' per-tool state sized for `tools` tools (a tool added since starts unseen).
+void size_blade_state(CrackTips& ct, int tools) {
+    ct.blade_point.resize(tools, Vec3::Zero());
+    ct.blade_seen.resize(tools, 0);
+    ct.blade_world.resize(tools, Vec3::Zero());
+    ct.blade_heading_from.resize(tools, Vec3::Zero());
+    ct.blade_not_through.resize(tools, 0);
+    ct.blade_last.resize(tools, Vec3::Zero());
+    ct.blade_last_seen.resize(tools, 0);
+}
+
 /// The blades' tips (2D) or fronts (3D) built anew at `wanted` (rest point, direction, tangent),
 /// keeping what follows the blades (CrackTips' per-tool state).
 void build_blade_zones(World& w, const std::vector<std::array<Vec3, 3>>& wanted) {
@@ -465,11 +476,14 @@ void build_blade_zones(World& w, const std::vector<std::array<Vec3, 3>>& wanted)
     CrackTips fresh;
     fresh.version = ct.version;
     fresh.follow_radius = ct.follow_radius;
+    fresh.follow_stride = ct.follow_stride;
     fresh.blade_point = ct.blade_point;
     fresh.blade_seen = ct.blade_seen;
     fresh.blade_world = ct.blade_world;
     fresh.blade_heading_from = ct.blade_heading_from;
     fresh.blade_not_through = ct.blade_not_through;
+    fresh.blade_last = ct.blade_last;
+    fresh.blade_last_seen = ct.blade_last_seen;
     ct = std::move(fresh);
     for (const auto& [T, dir, tangent] : wanted) {
         if (w.elements.dim == 3)
@@ -486,13 +500,10 @@ void build_blade_zones(World& w, const std::vector<std::array<Vec3, 3>>& wanted)
 bool follow_blades(World& w) {
     CrackTips& ct = w.tips;
     const ToolBodies& tb = w.tools;
-    ct.blade_point.resize(tb.count(), Vec3::Zero());
-    ct.blade_seen.resize(tb.count(), 0);
-    ct.blade_world.resize(tb.count(), Vec3::Zero());
-    ct.blade_heading_from.resize(tb.count(), Vec3::Zero());
-    ct.blade_not_through.resize(tb.count(), 0);
+    size_blade_state(ct, tb.count());
     const bool space = w.elements.dim == 3;
     const double follow = kTipFollowFraction * w.cut_state.mean_edge, turn = kTipTurnFraction * w.cut_state.mean_edge;
+    const double stride = std::max(follow, ct.follow_stride * w.cut_state.mean_edge);
     std::vector<std::array<Vec3, 3>> wanted;  // point, direction, tangent (rest)
     for (int t = 0; t < tb.count(); ++t) {
         // 2D: the blade's point, the front's tangent z; 3D: the edge through the tissue.
@@ -501,6 +512,10 @@ bool follow_blades(World& w) {
                                 : space          ? blade_rest_front(w, t, T, tangent)
                                 : blade_rest_point(w, t, T) ? BladeFront::kFront : BladeFront::kNone;
         ct.blade_not_through[t] += held == BladeFront::kNotThrough;
+        // Whether the blade moved in the world since the step before (past the drift of `follow`).
+        const Vec3 P = tb.position[t] + tb.orientation[t] * tb.blade_tip[t];
+        const bool moving = ct.blade_last_seen[t] && (P - ct.blade_last[t]).norm() > follow;
+        ct.blade_last[t] = P, ct.blade_last_seen[t] = tb.has_blade[t];
         if (held != BladeFront::kFront) {
             ct.blade_seen[t] = 0;
             continue;
@@ -515,8 +530,9 @@ bool follow_blades(World& w) {
         // since the tip was put; one just entering takes its velocity's direction. A blade that
         // has not moved `follow` in the world since (the tissue drifting under a blade that
         // stands moves its rest point, and a direction taken from that drift is noise), or
-        // backs into its own wound, keeps its tip: neither the zone nor the crack turns.
-        const Vec3 P = tb.position[t] + tb.orientation[t] * tb.blade_tip[t];
+        // backs into its own wound, keeps its tip: neither the zone nor the crack turns. A blade
+        // that moves keeps it too until it has run a stride from it (in the world or through the
+        // tissue), and one that has come to stand takes it to where it stands.
         Vec3 dir = Vec3::Zero();
         if (ct.blade_seen[t]) {
             int own = -1;
@@ -524,9 +540,10 @@ bool follow_blades(World& w) {
                 if ((ct.point[k] - ct.blade_point[t]).norm() <= 1e-12) own = k;
             dir = across(T - ct.blade_point[t]);
             const bool stands = (P - ct.blade_world[t]).norm() <= follow || dir.norm() <= follow;
+            const bool striding = own >= 0 && moving && (P - ct.blade_world[t]).norm() < stride && dir.norm() < stride;
             // (3D: while the front it keeps still runs through uncut tissue; a split that caught up
             // with it hands the front to where the edge is now.)
-            const bool keeps = stands || (own >= 0 && dir.dot(ct.direction[own]) < 0.0);
+            const bool keeps = stands || striding || (own >= 0 && dir.dot(ct.direction[own]) < 0.0);
             if (keeps && (own < 0 || !space || front_in_uncut_tissue(w, ct.point[own], ct.tangent[own]))) {
                 if (own >= 0) wanted.push_back({ct.point[own], ct.direction[own], ct.tangent[own]});
                 continue;

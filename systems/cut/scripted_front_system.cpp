@@ -132,6 +132,7 @@ bool enrich_scripted_fronts(World& w) {
     CrackTips rebuilt;  // every front again: their zones' parts follow the cut elements
     rebuilt.version = w.tips.version;
     rebuilt.follow_radius = w.tips.follow_radius;
+    rebuilt.follow_stride = w.tips.follow_stride;
     w.tips = std::move(rebuilt);
     for (size_t i = 0; i < cuts.size(); ++i) {
         ScriptedCut& c = cuts[i];

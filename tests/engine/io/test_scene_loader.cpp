@@ -135,6 +135,7 @@ std::vector<BadScene> bad_scenes() {
          "\"cutter\": { \"tip\": { \"radius\": -1 } } }",
          "cutter.tip.radius", "out of range"},
         {"unknown tip field", "cutter.tip={\"size\": 1}", "cutter.tip.size", "unknown field"},
+        {"a tip's stride past an edge", "cutter.tip={\"stride\": 1.5}", "cutter.tip.stride", "out of range"},
         {"unknown element", "material.element=\"cubic\"", "material.element", "is not one of \"linear\", \"quadratic\""},
         {"6-node triangles with crack tips",
          "!{ \"mesh\": { \"generator\": \"plate\", \"size\": [0.01, 0.01, 0], \"cells\": [2, 2, 1] }, \"gravity\": [0, 0, 0], "
