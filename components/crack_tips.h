@@ -25,8 +25,8 @@ inline constexpr double kTipFollowFraction = 0.01;
 /// length (CrackTips::follow_stride, scene cutter.tip.stride; follow_blades): each stride builds the
 /// zone again (its integrals, the amplitudes' block beside the factor), so the crack ends within a
 /// stride behind the blade while it moves, and where the blade is once it stands. Measured on the
-/// default skin with a front (docs/xfem.md, Crack fronts in 3D): the step's median 6.2 ms with a
-/// stride of 0 (every step the blade moves) against 3.7-4.7 ms at a quarter edge [-].
+/// default skin with a front (docs/xfem.md, Crack fronts in 3D): the step's median 7.4-9.5 ms with
+/// a stride of 0 (every step the blade moves) against 4.6-6.0 ms at a quarter edge [-].
 inline constexpr double kTipStrideFraction = 0.25;
 
 /// A tip's crack turns with its blade once the blade has run this fraction of the mean edge length

@@ -38,8 +38,8 @@ struct TipZone {
     int front_conical_order = kConicalOrder;
 };
 
-/// The rule of a front a blade carries (follow_blades, 3D), whose zone is built again at every
-/// step the blade moves: 2 x 2 per Duffy triangle (3 x 3 where the section's fan is signed:
+/// The rule of a front a blade carries (follow_blades, 3D), whose zone is built again at each
+/// stride the blade moves: 2 x 2 per Duffy triangle (3 x 3 where the section's fan is signed:
 /// front_tet_rule), 3 per slab and 3³ conical points (4 x 4, 5 and 4³ in TipZone), 0.28 of the
 /// points on the default skin. Problem 5's errors (the accuracy suite's enriched front so taken)
 /// move by at most 0.17, 0.10, 0.08, 0.03, 0.013 points of percent at 8, 12, 16, 24, 32 cells
@@ -92,8 +92,9 @@ Vec3 front_enrichment_at(const World& world, const Eigen::VectorXd& amplitudes, 
 /// crosses the tissue whole carries a straight front along it (systems/cut/blade_front.h), through
 /// the rest point of the middle of its stretch in uncut tissue, enriched by enrich_crack_front with
 /// the blade's rule (kBladeFrontRuleOrder); an edge that ends inside the tissue carries none
-/// (CrackTips::blade_not_through counts those steps). When a tip moved or the
-/// topology changed, the zones are built again; before that, each phantom the cuts made since the
+/// (CrackTips::blade_not_through counts those steps). A moving blade moves its tip on in strides
+/// (CrackTips::follow_stride of the mean edge, in the world or through the tissue), and to where
+/// it stands once it stops. When a tip moved or the topology changed, the zones are built again; before that, each phantom the cuts made since the
 /// last build takes the position the old tips' field gives its lip at its node, x_j - 2 Σ_l F_l b_jl
 /// (the other lip's branch functions are the own lip's negated), so the opening the tip carried in
 /// an element survives its split (state transfer). Returns whether it built the zones again.

@@ -1,6 +1,6 @@
 #pragma once
 // The kept Cholesky factor with a moving term's block beside it: the cholesky method's
-// preconditioner while a blade carries its crack tip (the zone is built again every step it moves,
+// preconditioner while a blade carries its crack tip (the zone is built again at each stride it moves,
 // systems/cut/crack_tip_system.h), where a factor of the whole system each step costs more than it
 // saves (systems/solver/beside_factor.h) and A's factor alone leaves the tips' term to CG.
 //

@@ -16,7 +16,7 @@
 //
 // Used while the block stands still: renewed when it changes, and kept as A's own factor is (aged
 // by solves and CG iterations). A block that changed at this step and at one of the two before (a
-// blade that carries its tip rebuilds the zone every step it moves, and its old M preconditions no
+// blade that carries its tip rebuilds the zone at each stride it moves, and its old M preconditions no
 // better than A's own factor) gets no factor of M: a factor every step cost that scene more than
 // the CG iterations it saved. The cholesky method then solves it with the factor in use and the
 // block beside it (systems/solver/beside_augment.h: sparse solves for the amplitudes' columns,
@@ -44,7 +44,7 @@ struct BesideFactor {
     uint64_t topology = 0;      ///< A's pattern it was made for
     uint64_t version = 0;       ///< the term's beside_version it was made for
     uint64_t jumps = 0;         ///< the jumping terms' jump_version it was made for (grasps)
-    // Whether the block moves (a blade that carries its tip rebuilds the zone every step it moves):
+    // Whether the block moves (a blade that carries its tip rebuilds the zone at each stride it moves):
     uint64_t seen_version = 0;  ///< the version at the last solve
     int changed_step = -1000;   ///< the step it last changed at
     int changed_before = -1000; ///< the step it changed at before that

@@ -220,7 +220,7 @@ TEST(CrackTipFollow, AMovingBladesTipFollowsInStridesAndStandsWhereTheBladeStops
     EXPECT_LT(run_patch(true, 2, kTipStrideFraction).jump, 5e-4);
 }
 
-// A blade that carries its tip rebuilds the zone every step it moves: those steps are preconditioned
+// A blade that carries its tip (stride 0) rebuilds the zone every step it moves: those steps are preconditioned
 // by the kept factor with the tips' block beside it (systems/solver/beside_augment.h), not by the
 // factor alone with the tips' term left to CG. The face skin with tips moved at every step the blade
 // moves (stride 0): 2-5 CG iterations a moving step where the factor alone took 6-9 (measured),

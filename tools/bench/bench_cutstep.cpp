@@ -47,7 +47,7 @@ std::vector<Case> cases(bool tiny) {
     in_step_2mm.scene.solver.factor_delay = 0;
     Case in_step_1mm = skin("skin_1mm_renew_in_step", 0.001, 130), in_step_07mm = skin("skin_0.7mm_renew_in_step", 0.0007, 130);
     in_step_1mm.scene.solver.renew_delay = in_step_07mm.scene.solver.renew_delay = 0;
-    // The crack front at the blade (cutter.tip): its zone built again every step the blade moves,
+    // The crack front at the blade (cutter.tip): its zone built again at each stride the blade moves,
     // solved beside the factor in use, through the blade's stop at 1.2 s.
     const Case front_2mm = skin("skin_2mm_front", 0.002, 130, {"cutter.tip={}"});
     return {skin("skin_2mm", 0.002, 130), in_step_2mm, front_2mm, skin("skin_1mm", 0.001, 130), in_step_1mm,
