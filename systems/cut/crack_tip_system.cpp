@@ -473,18 +473,7 @@ void size_blade_state(CrackTips& ct, int tools) {
 /// keeping what follows the blades (CrackTips' per-tool state).
 void build_blade_zones(World& w, const std::vector<std::array<Vec3, 3>>& wanted) {
     CrackTips& ct = w.tips;
-    CrackTips fresh;
-    fresh.version = ct.version;
-    fresh.follow_radius = ct.follow_radius;
-    fresh.follow_stride = ct.follow_stride;
-    fresh.blade_point = ct.blade_point;
-    fresh.blade_seen = ct.blade_seen;
-    fresh.blade_world = ct.blade_world;
-    fresh.blade_heading_from = ct.blade_heading_from;
-    fresh.blade_not_through = ct.blade_not_through;
-    fresh.blade_last = ct.blade_last;
-    fresh.blade_last_seen = ct.blade_last_seen;
-    ct = std::move(fresh);
+    clear_tip_zones(ct);
     for (const auto& [T, dir, tangent] : wanted) {
         if (w.elements.dim == 3)
             enrich_crack_front(w, T, dir, tangent, TipZone{ct.follow_radius, kBladeFrontRuleOrder, kBladeFrontSlabOrder, kBladeFrontConicalOrder});
@@ -496,6 +485,21 @@ void build_blade_zones(World& w, const std::vector<std::array<Vec3, 3>>& wanted)
 }
 
 }  // namespace
+
+void clear_tip_zones(CrackTips& ct) {
+    CrackTips fresh;
+    fresh.version = ct.version;
+    fresh.follow_radius = ct.follow_radius;
+    fresh.follow_stride = ct.follow_stride;
+    fresh.blade_point = std::move(ct.blade_point);
+    fresh.blade_seen = std::move(ct.blade_seen);
+    fresh.blade_world = std::move(ct.blade_world);
+    fresh.blade_heading_from = std::move(ct.blade_heading_from);
+    fresh.blade_not_through = std::move(ct.blade_not_through);
+    fresh.blade_last = std::move(ct.blade_last);
+    fresh.blade_last_seen = std::move(ct.blade_last_seen);
+    ct = std::move(fresh);
+}
 
 bool follow_blades(World& w) {
     CrackTips& ct = w.tips;
@@ -530,17 +534,17 @@ bool follow_blades(World& w) {
         // since the tip was put; one just entering takes its velocity's direction. A blade that
         // has not moved `follow` in the world since (the tissue drifting under a blade that
         // stands moves its rest point, and a direction taken from that drift is noise), or
-        // backs into its own wound, keeps its tip: neither the zone nor the crack turns. A blade
-        // that moves keeps it too until it has run a stride from it (in the world or through the
-        // tissue), and one that has come to stand takes it to where it stands.
+        // backs into its own wound, keeps its tip: neither the zone nor the crack turns. A moving
+        // blade keeps it until it has run a stride from it; one come to stand takes it along.
         Vec3 dir = Vec3::Zero();
         if (ct.blade_seen[t]) {
             int own = -1;
             for (int k = 0; k < ct.count(); ++k)
                 if ((ct.point[k] - ct.blade_point[t]).norm() <= 1e-12) own = k;
             dir = across(T - ct.blade_point[t]);
-            const bool stands = (P - ct.blade_world[t]).norm() <= follow || dir.norm() <= follow;
-            const bool striding = own >= 0 && moving && (P - ct.blade_world[t]).norm() < stride && dir.norm() < stride;
+            const double in_world = (P - ct.blade_world[t]).norm(), in_tissue = dir.norm();
+            const bool stands = std::min(in_world, in_tissue) <= follow;
+            const bool striding = own >= 0 && moving && std::max(in_world, in_tissue) < stride;
             // (3D: while the front it keeps still runs through uncut tissue; a split that caught up
             // with it hands the front to where the edge is now.)
             const bool keeps = stands || striding || (own >= 0 && dir.dot(ct.direction[own]) < 0.0);

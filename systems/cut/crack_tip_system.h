@@ -99,6 +99,10 @@ Vec3 front_enrichment_at(const World& world, const Eigen::VectorXd& amplitudes, 
 /// (the other lip's branch functions are the own lip's negated), so the opening the tip carried in
 /// an element survives its split (state transfer). Returns whether it built the zones again.
 bool follow_blades(World& world);
+/// Drops every tip and its zone, keeping what is not a zone's: the count of zones built, the
+/// blades' follow settings and their per-tool state (follow_blades' and the scripted fronts'
+/// rebuilds start from it).
+void clear_tip_zones(CrackTips& tips);
 /// The CrackTipSystem: follow_blades each step, after the EnrichmentSystem.
 SystemDesc crack_tip_system();
 

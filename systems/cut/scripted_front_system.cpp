@@ -129,11 +129,7 @@ bool enrich_scripted_fronts(World& w) {
         w.tips.cuts_seen = w.cuts.count();
         return false;
     }
-    CrackTips rebuilt;  // every front again: their zones' parts follow the cut elements
-    rebuilt.version = w.tips.version;
-    rebuilt.follow_radius = w.tips.follow_radius;
-    rebuilt.follow_stride = w.tips.follow_stride;
-    w.tips = std::move(rebuilt);
+    clear_tip_zones(w.tips);  // every front again: their zones' parts follow the cut elements
     for (size_t i = 0; i < cuts.size(); ++i) {
         ScriptedCut& c = cuts[i];
         if (c.front_radius < 0.0 || !c.applied) continue;
