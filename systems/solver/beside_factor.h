@@ -20,7 +20,8 @@
 // better than A's own factor) gets no factor of M: a factor every step cost that scene more than
 // the CG iterations it saved. The cholesky method then solves it with the factor in use and the
 // block beside it (systems/solver/beside_augment.h: sparse solves for the amplitudes' columns,
-// no factorization); the direct method, with A's factor and the term left to CG. A static solve's
+// no factorization; a factor made in the step with factor_delay 0 is viewed for it); the direct
+// method, with A's factor and the term left to CG (its columns anew every step). A static solve's
 // block is built once.
 // In dynamic steps, cholesky with its factor renewed off the step (solver.factor_delay > 0, the
 // default) makes no M at all: the factor in use with the block beside it serves a standing block

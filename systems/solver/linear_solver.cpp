@@ -26,11 +26,10 @@ namespace {
 bool off_step_factors(const World& w) { return w.linear.method == "cholesky" && w.solver.factor_delay > 0; }
 
 /// Factors A in the step (symbolically too when the pattern changed), solved through views of its
-/// supernodes when the method renews its factor off the step (as a background one is). False if
-/// CHOLMOD found A not SPD.
-bool factorize(World& w) {
+/// supernodes when `viewed` (a factor renewed off the step is, and one that solves with a moving
+/// block beside it: beside_augment.h). False if CHOLMOD found A not SPD.
+bool factorize(World& w, bool viewed) {
     LinearSystem& A = w.linear;
-    const bool viewed = off_step_factors(w);
     if (!A.factor || A.factor->is_viewed != viewed) A.factor = std::make_shared<LinearFactor>(viewed);
     LinearFactor& f = *A.factor;
     f.single_from = single_precision_from(w.solver.factor_precision);
@@ -306,6 +305,11 @@ public:
         return cg(Preconditioning::kTeam, no_rows, solve_in_team, f.lower->split.bins > 0);
     }
 
+    /// Whether the factor made in the step is solved through views of its supernodes: off the step
+    /// as a background one is, and beside a moving block (prepare_beside), except direct's (its
+    /// factor of every step would solve all the block's columns anew: the block is left to CG).
+    bool viewed_factor() const { return off_step_factors(w_) || (moving_term_ && A_.method != "direct"); }
+
     /// cholesky / direct: CG preconditioned by CHOLMOD's factor (factor_cg).
     /// cholesky renews it off the step (systems/solver/factor_background.h): at a cut the old one
     /// goes on through an augmented block, an aged one as it is, until the successor is due.
@@ -334,7 +338,8 @@ public:
         // Renewed in the step all the same when its successor would come too late: CG needed more
         // than kFactorInStepGrowth x refactor_iterations (a large step that turned the elements).
         const bool spent = f && f->last_iterations > kFactorInStepGrowth * s.refactor_iterations;
-        const bool stale = !f || !f->ok || A_.method == "direct" || failed_off_step ||
+        const bool viewed = viewed_factor();  // a kept factor made without the views is made again
+        const bool stale = !f || !f->ok || A_.method == "direct" || failed_off_step || (viewed && !f->lower) ||
                            (f->topology != A_.topology && !augmented) || ((aged || jumped) && !off_step) || spent;
         if (A_.pending_factor) A_.step_preconditioner = std::max(A_.step_preconditioner, 1);
         if (augmented) ++A_.augmented_steps;
@@ -367,7 +372,7 @@ public:
             if (t.ok) beside = &t, ++t.solves;
         };
         const auto renew = [&] {
-            const bool ok = factorize(w_);
+            const bool ok = factorize(w_, viewed);
             f = A_.factor.get();
             f->jumps = built(now), f->jumps_key = now.key, f->jumps_keyed = true;
             augmented = false, renewed = true;
@@ -562,7 +567,7 @@ void prepare_linear_solver(World& w, const StepOperator& op) {
     op.linearize(w);
     fill_step_matrix(w, op, scales.mass, scales.stiffness);
     if (A.method == "amg") build_hierarchy(w, free_mask(w), scales.stiffness / scales.mass);
-    else factorize(w), A.factor->jumps = op.jump_blocks(w);
+    else factorize(w, off_step_factors(w)), A.factor->jumps = op.jump_blocks(w);
     // The first successor's copy of A (the default skin asks for one at its second step, as it
     // sags) goes into storage touched here, at load, not in fresh pages in the step that asks.
     if (off_step_factors(w) && A.factor) copy_linear_system(A, *(A.factor->snapshot = std::make_shared<LinearSystem>()));
