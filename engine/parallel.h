@@ -46,6 +46,24 @@ inline void parallel_for_uneven(int count, Body&& body) {
     for (int i = 0; i < count; ++i) body(i);
 }
 
+/// parallel_for_uneven with a scratch object per thread, made once by make() on each thread that
+/// runs items (a sparse solve's work vectors): body(i, scratch). The same rule: each body(i) writes
+/// only its own results and leaves the scratch as it found it.
+template <class Make, class Body>
+inline void parallel_for_uneven_scratch(int count, Make&& make, Body&& body) {
+    if (count < 2 || thread_count() == 1) {
+        auto scratch = make();
+        for (int i = 0; i < count; ++i) body(i, scratch);
+        return;
+    }
+#pragma omp parallel num_threads(thread_count())
+    {
+        auto scratch = make();
+#pragma omp for schedule(dynamic, 1)
+        for (int i = 0; i < count; ++i) body(i, scratch);
+    }
+}
+
 /// Sum of term(i) over [0, count) in a fixed association order: 64 blocks, each summed serially,
 /// then the block sums summed serially. Independent of the thread count.
 template <class Term>

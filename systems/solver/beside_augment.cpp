@@ -4,6 +4,7 @@
 #include <array>
 #include <utility>
 
+#include "engine/parallel.h"
 #include "systems/solver/beside_factor.h"
 
 namespace xcut {
@@ -29,10 +30,13 @@ void solve_rows(const LowerFactor& lf, const std::vector<int>& rows, bool same_f
         if (same_factor && it != b.s_rows.end() && *it == rows[c]) was[c] = static_cast<int>(it - b.s_rows.begin());
         else fresh.push_back(c);
     }
-    std::vector<int> solved_start{0}, solved_row;
-    std::vector<double> solved_value;
-    SparseForward<kSolveWidth> solver(lf);
-    for (size_t first = 0; first < fresh.size(); first += kSolveWidth) {
+    // The fresh rows' solves, kSolveWidth columns a pass, the passes on the threads (each its own
+    // work vectors), their columns then appended in the passes' order.
+    const int passes = static_cast<int>((fresh.size() + kSolveWidth - 1) / kSolveWidth);
+    std::vector<std::vector<int>> pass_start(passes), pass_row(passes);
+    std::vector<std::vector<double>> pass_value(passes);
+    parallel_for_uneven_scratch(passes, [&] { return SparseForward<kSolveWidth>(lf); }, [&](int q, SparseForward<kSolveWidth>& solver) {
+        const size_t first = static_cast<size_t>(q) * kSolveWidth;
         const int width = static_cast<int>(std::min<size_t>(kSolveWidth, fresh.size() - first));
         for (int c = 0; c < width; ++c) {
             double entry[kSolveWidth] = {};
@@ -41,11 +45,19 @@ void solve_rows(const LowerFactor& lf, const std::vector<int>& rows, bool same_f
         }
         solver.solve();
         for (int c = 0; c < width; ++c) {
+            pass_start[q].push_back(static_cast<int>(pass_row[q].size()));
             for (int j : solver.reach())
-                if (solver.x(j)[c] != 0.0) solved_row.push_back(j), solved_value.push_back(solver.x(j)[c]);
-            solved_start.push_back(static_cast<int>(solved_row.size()));
+                if (solver.x(j)[c] != 0.0) pass_row[q].push_back(j), pass_value[q].push_back(solver.x(j)[c]);
         }
+        pass_start[q].push_back(static_cast<int>(pass_row[q].size()));
         solver.clear();
+    });
+    std::vector<int> solved_start{0}, solved_row;
+    std::vector<double> solved_value;
+    for (int q = 0; q < passes; ++q) {
+        for (size_t c = 1; c < pass_start[q].size(); ++c) solved_start.push_back(static_cast<int>(solved_row.size()) + pass_start[q][c]);
+        solved_row.insert(solved_row.end(), pass_row[q].begin(), pass_row[q].end());
+        solved_value.insert(solved_value.end(), pass_value[q].begin(), pass_value[q].end());
     }
     const std::vector<int> old_start = std::move(b.x_start), old_row = std::move(b.x_row);
     const std::vector<double> old_value = std::move(b.x_value);
@@ -59,14 +71,21 @@ void solve_rows(const LowerFactor& lf, const std::vector<int>& rows, bool same_f
     };
     for (int c = 0, next = 0; c < n; ++c)
         was[c] >= 0 ? append(old_start, old_row, old_value, was[c]) : append(solved_start, solved_row, solved_value, next++);
-    Eigen::VectorXd w = Eigen::VectorXd::Zero(lf.rows());
+    // G's row c up to its diagonal on the threads: entry (c, d), d <= c, and its mirror are row c's
+    // alone; a kept row whose columns so far are all kept copies them without a dot.
+    std::vector<char> kept_so_far(n);
+    for (int c = 0; c < n; ++c) kept_so_far[c] = was[c] >= 0 && (c == 0 || kept_so_far[c - 1]);
     b.G.resize(n, n);
-    for (int c = 0; c < n; ++c) {
+    parallel_for_uneven_scratch(n, [&] { return Eigen::VectorXd(Eigen::VectorXd::Zero(lf.rows())); }, [&](int c, Eigen::VectorXd& w) {
+        if (kept_so_far[c]) {
+            for (int d = 0; d <= c; ++d) b.G(c, d) = b.G(d, c) = old_G(was[c], was[d]);
+            return;
+        }
         for (int p = b.x_start[c]; p < b.x_start[c + 1]; ++p) w[b.x_row[p]] = b.x_value[p];
         for (int d = 0; d <= c; ++d)
             b.G(c, d) = b.G(d, c) = was[c] >= 0 && was[d] >= 0 ? old_G(was[c], was[d]) : column_dot(b, d, w);
         for (int p = b.x_start[c]; p < b.x_start[c + 1]; ++p) w[b.x_row[p]] = 0.0;
-    }
+    });
     // F's columns of the kept rows stay (the phantoms' columns of Y_g are kept as they were made
     // while the factor stays: extend_augment); the new rows' columns are left to phantom_products.
     b.f_fresh.clear();
