@@ -1,11 +1,7 @@
 #include "systems/solver/linear_solver.h"
 
-#include <unistd.h>
-
 #include <Eigen/SparseCore>
-#include <cmath>
 #include <exception>
-#include <fmt/format.h>
 
 #include "engine/parallel.h"
 #include "systems/kernels/solver/amg.h"
@@ -61,55 +57,8 @@ bool build_hierarchy(World& w, const Eigen::VectorXd& mask, double ratio) {
     return h.ok;
 }
 
-constexpr int kAutoCholeskyDofs = 10000;  // auto: cholesky up to this many DOFs, amg beyond
-/// The same with quadratic elements, whose mid-edge nodes the smoothed aggregation serves poorly:
-/// scenes/cantilever.json with "element": "quadratic", 2 threads, 30 steps at 17.6k DOFs: cholesky
-/// 12.1 / 13.7 steps/s at nu 0.3 / 0.49, amg 9.3 / 2.2 (60 CG iterations a step); 38.9k DOFs at
-/// nu 0.49, 10 steps with the setup: 2.8 against 1.1 (docs/elements.md).
-constexpr int kAutoCholeskyQuadraticDofs = 40000;
-/// The same limit for nearly incompressible linear tissue (a material at nu >= this), whose
-/// volumetric stiffness the smoothed aggregation serves poorly too: scenes/skin_slab.json at 1 mm
-/// elements (22.5k DOFs), 2 threads, 200 steps: amg 17.4 / 14.7 / 10.9 steps/s at nu 0.45 / 0.48 /
-/// 0.49 (19 / 24 / 38 CG iterations a step) against cholesky's 15.4 / 15.3 / 14.2; at 0.8 mm (48k
-/// DOFs) and nu 0.49, 80 steps: cholesky 4.3 against 3.0 steps/s, at 506 MB peak against 272 MB.
-constexpr double kAutoCholeskyPoisson = 0.48;
-
-double physical_memory_bytes() {
-    const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
-    return pages > 0 && size > 0 ? double(pages) * double(size) : 8e9;
-}
-
 }  // namespace
 
-std::string resolve_linear_method(const World& w, std::string* why) {
-    const std::string& asked = w.solver.linear;
-    if (asked != "auto") {
-        if (why) *why = "set in the scene";
-        return asked;
-    }
-    // Up to kAutoCholeskyDofs the kept factor's 1-5 iterations win; past it the triangular solves
-    // grow like the fill and the multigrid cycle wins (xcut bench --suite solver: 2 threads, the
-    // 24k-tet block with 13k DOFs ran 32 steps/s with amg against 20 with cholesky; the default
-    // scene, 3.9k DOFs, 210 with cholesky against 130). Supernodal Cholesky fill of a 3D tet mesh
-    // under nested dissection grows like n^(4/3): about 17 n^(4/3) non-zeros for n DOFs, fitted on
-    // blocks of 2k-53k tets (15 M at 53k), 12 bytes each; it must fit in a quarter of memory.
-    const double dofs = 3.0 * w.nodes.count();
-    const double bytes = 12.0 * 17.0 * std::pow(dofs, w.elements.dim == 3 ? 4.0 / 3.0 : 1.1);
-    const double budget = 0.25 * physical_memory_bytes();
-    bool incompressible = false;  // a linear material near nu 0.5
-    for (const Material& m : w.materials.list)
-        incompressible = incompressible || (!m.quadratic && m.poisson >= kAutoCholeskyPoisson);
-    const int limit = w.quadratic.count() > 0 || incompressible ? kAutoCholeskyQuadraticDofs : kAutoCholeskyDofs;
-    const bool small = dofs <= limit, fits = bytes <= budget;
-    if (why) {
-        *why = !small ? fmt::format("auto: {:.0f} DOFs, over {}", dofs, limit)
-                      : fmt::format("auto: factor ~{:.0f} MB {} a quarter of memory ({:.0f} MB)", bytes / 1e6,
-                                    fits ? "within" : "beyond", budget / 1e6);
-        if (incompressible && dofs > kAutoCholeskyDofs)
-            *why += fmt::format("; nu >= {}: cholesky up to {} DOFs", kAutoCholeskyPoisson, limit);
-    }
-    return small && fits ? "cholesky" : "amg";
-}
 
 namespace {
 

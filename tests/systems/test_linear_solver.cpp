@@ -13,6 +13,7 @@
 #include "systems/kernels/solver/conjugate_gradient.h"
 #include "systems/kernels/solver/team_cg.h"
 #include "systems/solver/linear_assembly.h"
+#include "systems/solver/fill_estimate.h"
 #include "systems/solver/linear_solver.h"
 #include "systems/pipeline.h"
 #include "tests/test_helpers.h"
@@ -160,6 +161,28 @@ TEST(LinearSolver, AutoPicksCholeskyWhenSmallAndAmgBeyond) {
     EXPECT_NE(why.find("nu >= 0.48"), std::string::npos) << why;
     for (Material& m : large.materials.list) m.poisson = 0.45;
     EXPECT_EQ(resolve_linear_method(large, &why), "amg") << "at 0.45 the multigrid is still the faster";
+}
+
+// Past 10k DOFs the factor's own fill decides (systems/solver/fill_estimate.h): the default skin at
+// 1 mm elements (22.5k DOFs, two elements through its 4 mm) keeps cholesky, 2x amg's speed there
+// (systems/solver/linear_solver.cpp, kAutoCholeskyNonzeros); its estimate is CHOLMOD's own L within
+// 10 %; at 0.7 mm (60k DOFs) and in a block of 17k DOFs the fill is past 5 M and amg is taken.
+TEST(LinearSolver, AutoKeepsCholeskyWhereTheFactorsFillIsThatOfAThinLayer) {
+    const std::string skin = std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json";
+    auto sim = make_simulation(load_scene(skin, {"mesh.element_size=0.001"}), false);
+    std::string why;
+    ASSERT_GT(3 * sim->world.nodes.count(), 20000);
+    EXPECT_EQ(resolve_linear_method(sim->world, &why), "cholesky") << why;
+    EXPECT_NE(why.find("estimated"), std::string::npos) << why;
+    ASSERT_EQ(sim->world.linear.method, "cholesky");
+    const double estimate = estimated_factor_nonzeros(sim->world), actual = sim->world.linear.factor_nonzeros;
+    EXPECT_NEAR(estimate / actual, 1.0, 0.1) << estimate << " against CHOLMOD's " << actual;
+    auto thinner = make_simulation(load_scene(skin, {"mesh.element_size=0.0007"}), false);
+    EXPECT_EQ(thinner->world.linear.method, "amg");
+    World block = deformed(false, Eigen::Vector3i(22, 22, 11));
+    ASSERT_LT(3 * block.nodes.count(), 20000);
+    EXPECT_EQ(resolve_linear_method(block, &why), "amg") << why;
+    EXPECT_GT(estimated_factor_nonzeros(block), 5e6);
 }
 
 // A cut changes the pattern: the factor is analysed and computed again; the multigrid hierarchy is
