@@ -49,9 +49,10 @@ std::string resolve_linear_method(const World& w, std::string* why) {
     // Up to kAutoCholeskyDofs the kept factor's 1-5 iterations win (the default scene, 3.9k DOFs:
     // 283 steps/s with cholesky against 149 with amg, xcut bench --suite solver, 2 threads); past
     // it the triangular solves grow like the fill, and the factor's fill decides
-    // (kAutoCholeskyNonzeros): a block's grows fast, a thin layer's slowly. Supernodal Cholesky fill of a 3D tet mesh
-    // under nested dissection grows like n^(4/3): about 17 n^(4/3) non-zeros for n DOFs, fitted on
-    // blocks of 2k-53k tets (15 M at 53k), 12 bytes each; it must fit in a quarter of memory.
+    // (kAutoCholeskyNonzeros): a block's grows fast, a thin layer's slowly. Supernodal Cholesky
+    // fill of a 3D tet mesh under nested dissection grows like n^(4/3): about 17 n^(4/3) non-zeros
+    // for n DOFs, fitted on blocks of 2k-53k tets (15 M at 53k), 12 bytes each; it must fit in a
+    // quarter of memory.
     const double dofs = 3.0 * w.nodes.count();
     const double bytes = 12.0 * 17.0 * std::pow(dofs, w.elements.dim == 3 ? 4.0 / 3.0 : 1.1);
     const double budget = 0.25 * physical_memory_bytes();
