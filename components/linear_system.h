@@ -75,6 +75,7 @@ struct LinearSystem {
     int extensions = 0;                    ///< amg hierarchies carried over to a grown pattern (amg_extend)
     double factor_nonzeros = 0.0;          ///< non-zeros of the Cholesky factor L or the amg hierarchy (12 bytes each)
     std::string method;                    ///< the method in use: jacobi, block_jacobi, amg, cholesky, direct
+    std::string method_why;                ///< why (resolve_linear_method), for the SolverSystem's schedule line
     double load_setup_ms = 0.0;            ///< building the kept preconditioner at load [ms]
     SolutionHistory history;               ///< earlier steps' solutions: the next step's first guess
     int projected_guesses = 0;             ///< steps whose first guess came from them

@@ -60,8 +60,8 @@ void xcut_pipeline(const Scene& scene, Scheduler& scheduler, Simulation& sim) {
     scheduler.add(collision_system(make_collision_model()));
     scheduler.add(grasp_system());
     const auto terms = std::make_shared<const StepOperator>(xcut_step_terms());
+    prepare_linear_solver(world, *terms);  // before its system: the schedule line says what it chose
     scheduler.add(solver_system(world, terms));
-    prepare_linear_solver(world, *terms);
     scheduler.add(watchdog_system());
     // The surface follows the tips' field (2D: slit up to the tip; 3D: no slit inside an element
     // the front runs through, docs/xfem.md), a 2D tip's element in the volume output too.

@@ -33,8 +33,7 @@ void solve_rows(const LowerFactor& lf, const std::vector<int>& rows, bool same_f
     // The fresh rows' solves, kSolveWidth columns a pass, the passes on the threads (each its own
     // work vectors), their columns then appended in the passes' order.
     const int passes = static_cast<int>((fresh.size() + kSolveWidth - 1) / kSolveWidth);
-    std::vector<std::vector<int>> pass_start(passes), pass_row(passes);
-    std::vector<std::vector<double>> pass_value(passes);
+    std::vector<SparseColumns> solved(passes);
     parallel_for_uneven_scratch(passes, [&] { return SparseForward<kSolveWidth>(lf); }, [&](int q, SparseForward<kSolveWidth>& solver) {
         const size_t first = static_cast<size_t>(q) * kSolveWidth;
         const int width = static_cast<int>(std::min<size_t>(kSolveWidth, fresh.size() - first));
@@ -44,21 +43,12 @@ void solve_rows(const LowerFactor& lf, const std::vector<int>& rows, bool same_f
             solver.add(rows[fresh[first + c]], entry);
         }
         solver.solve();
-        for (int c = 0; c < width; ++c) {
-            pass_start[q].push_back(static_cast<int>(pass_row[q].size()));
-            for (int j : solver.reach())
-                if (solver.x(j)[c] != 0.0) pass_row[q].push_back(j), pass_value[q].push_back(solver.x(j)[c]);
-        }
-        pass_start[q].push_back(static_cast<int>(pass_row[q].size()));
+        take_columns(solver, width, solved[q]);
         solver.clear();
     });
     std::vector<int> solved_start{0}, solved_row;
     std::vector<double> solved_value;
-    for (int q = 0; q < passes; ++q) {
-        for (size_t c = 1; c < pass_start[q].size(); ++c) solved_start.push_back(static_cast<int>(solved_row.size()) + pass_start[q][c]);
-        solved_row.insert(solved_row.end(), pass_row[q].begin(), pass_row[q].end());
-        solved_value.insert(solved_value.end(), pass_value[q].begin(), pass_value[q].end());
-    }
+    for (const SparseColumns& pass : solved) append_columns(pass, solved_start, solved_row, solved_value);
     const std::vector<int> old_start = std::move(b.x_start), old_row = std::move(b.x_row);
     const std::vector<double> old_value = std::move(b.x_value);
     const Eigen::MatrixXd old_G = std::move(b.G), old_F = std::move(b.F);

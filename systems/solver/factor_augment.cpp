@@ -8,19 +8,13 @@
 namespace xcut {
 namespace {
 
-/// Y's three columns of one new node: their entries (rows, values) and where each column ends.
-struct NodeColumns {
-    std::vector<int> row, end;
-    std::vector<double> value;
-};
-
 /// Solves for the three columns of Y of new node `node` (its axes) into `out`, and fills their
 /// columns of C (rows: every new DOF). B's columns come from the node's own block row (A is
 /// symmetric: A(i, node) = A(node, i)^T): B = A'_12 + E^T A'_22, C = A'_22 (jump basis). One sparse
 /// solve for the three axes; it depends on the node alone (the bits whichever thread solves it).
 /// (Passes of 2 and 4 nodes side by side, their reaches read once: no faster on the 20k-tet block.)
 void solve_columns(const LinearSystem& A, int node, const FactorAugment& g, SparseForward<3>& solver,
-                   Eigen::Ref<Eigen::MatrixXd> C, NodeColumns& out) {
+                   Eigen::Ref<Eigen::MatrixXd> C, SparseColumns& out) {
     const int base_nodes = g.base / 3;
     for (int b = A.row_offset[node]; b < A.row_offset[node + 1]; ++b) {
         const int i = A.column[b];
@@ -38,11 +32,7 @@ void solve_columns(const LinearSystem& A, int node, const FactorAugment& g, Spar
         }
     }
     solver.solve();
-    for (int c = 0; c < 3; ++c) {
-        for (int j : solver.reach())
-            if (solver.x(j)[c] != 0.0) out.row.push_back(j), out.value.push_back(solver.x(j)[c]);
-        out.end.push_back(static_cast<int>(out.row.size()));
-    }
+    take_columns(solver, 3, out);
     solver.clear();
 }
 
@@ -59,16 +49,11 @@ bool extend_augment(const LinearSystem& A, const LowerFactor& lf, std::vector<in
     C.setZero();
     // The new nodes' solves on the threads (each its own work vectors), appended in node order.
     const int nodes = (m - kept) / 3;
-    std::vector<NodeColumns> solved(nodes);
+    std::vector<SparseColumns> solved(nodes);
     parallel_for_uneven_scratch(nodes, [&] { return SparseForward<3>(lf); }, [&](int n, SparseForward<3>& solver) {
         solve_columns(A, base / 3 + kept / 3 + n, g, solver, C.middleCols(3 * n, 3), solved[n]);
     });
-    for (const NodeColumns& node : solved) {
-        const int at = static_cast<int>(g.y_row.size());
-        g.y_row.insert(g.y_row.end(), node.row.begin(), node.row.end());
-        g.y_value.insert(g.y_value.end(), node.value.begin(), node.value.end());
-        for (int end : node.end) g.y_start.push_back(at + end);
-    }
+    for (const SparseColumns& node : solved) append_columns(node, g.y_start, g.y_row, g.y_value);
     // S's rows and columns of the new DOFs, C - Y^T Y: column k's entries up to its diagonal (and
     // their mirrors) are k's alone, on the threads.
     g.S.conservativeResize(m, m);

@@ -68,6 +68,30 @@ private:
     std::vector<int> reach_;
 };
 
+/// Columns of sparse solves kept by their entries: rows, values, and where each column ends.
+struct SparseColumns {
+    std::vector<int> row, end;
+    std::vector<double> value;
+};
+
+/// Appends the solver's first `count` columns (their entries off zero, rows increasing) to out.
+template <int width>
+void take_columns(const SparseForward<width>& solver, int count, SparseColumns& out) {
+    for (int c = 0; c < count; ++c) {
+        for (int j : solver.reach())
+            if (solver.x(j)[c] != 0.0) out.row.push_back(j), out.value.push_back(solver.x(j)[c]);
+        out.end.push_back(static_cast<int>(out.row.size()));
+    }
+}
+
+/// Appends part's columns to a matrix stored by sparse columns (start, row, value).
+inline void append_columns(const SparseColumns& part, std::vector<int>& start, std::vector<int>& row, std::vector<double>& value) {
+    const int at = static_cast<int>(row.size());
+    row.insert(row.end(), part.row.begin(), part.row.end());
+    value.insert(value.end(), part.value.begin(), part.value.end());
+    for (int end : part.end) start.push_back(at + end);
+}
+
 /// Column q . v of a matrix stored by sparse columns ([start[q], start[q + 1]) of row, value; v dense).
 inline double sparse_column_dot(const std::vector<int>& start, const std::vector<int>& row, const std::vector<double>& value,
                                 int q, const Eigen::VectorXd& v) {

@@ -509,7 +509,7 @@ LinearSolve solve(World& w, const StepOperator& op, double mass_scale, double st
 
 void prepare_linear_solver(World& w, const StepOperator& op) {
     LinearSystem& A = w.linear;
-    if (A.method.empty()) A.method = resolve_linear_method(w);
+    if (A.method.empty()) A.method = resolve_linear_method(w, &A.method_why);
     if (w.nodes.count() == 0 || (A.method != "cholesky" && A.method != "amg")) return;
     const double start = wall_seconds();
     const StepScales scales = step_scales(w.solver, w.solver.dt);
@@ -537,7 +537,7 @@ LinearSolve solve_step_linear(World& w, const StepOperator& op, double mass_scal
 
 StepMatrix fill_step_matrix(World& w, const StepOperator& op, double mass_scale, double stiff_scale) {
     LinearSystem& A = w.linear;
-    if (A.method.empty()) A.method = resolve_linear_method(w);
+    if (A.method.empty()) A.method = resolve_linear_method(w, &A.method_why);
     StepMatrix out;
     if (A.method == "jacobi") return out;
     out.assembled = true;

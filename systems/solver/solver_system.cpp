@@ -280,8 +280,9 @@ StaticResult static_solve(World& world, const StepOperator& op, double tolerance
 }
 
 SystemDesc solver_system(const World& world, std::shared_ptr<const StepOperator> op) {
-    std::string why;
-    const std::string method = resolve_linear_method(world, &why);
+    // Resolved once where the solver was prepared (auto's fill estimate is a symbolic analysis).
+    std::string why = world.linear.method_why;
+    const std::string method = why.empty() ? resolve_linear_method(world, &why) : world.linear.method;
     // Writes the state, the step's forces and linear system, the rotations (Newton iterations and
     // substeps relinearize) and the step's metrics.
     SystemDesc s{"SolverSystem", kNodes | kElements | kForces, kNodes | kElements | kForces | kLinear | kMetrics,
