@@ -48,6 +48,17 @@ void with_cholmod_blas(F&& f) {
     omp_set_max_active_levels(levels);
 }
 
+/// What a factor computed off the step is made from, in storage handed on from factor to factor:
+/// the step's A, copied in the step that asks (so that asking allocates nothing in the step), and
+/// its scalar copy, made off the step and factored there. Fresh pages cost a virtual machine of
+/// this project's kind 4-10 ms in the step; off it, the scalar copy of the skin at 1 mm elements
+/// (12 MB) took 1-27 ms of the background thread's CPU time in fresh pages against 1 ms in kept
+/// ones, time taken from the step's threads on two cores.
+struct FactorSnapshot {
+    LinearSystem block;
+    Eigen::SparseMatrix<double> scalar;
+};
+
 struct LinearFactor {
     explicit LinearFactor(bool viewed = false) : is_viewed(viewed) {}
     LinearFactor(const LinearFactor&) = delete;
@@ -79,10 +90,9 @@ struct LinearFactor {
     /// at (jumps_keyed): a step with the same key has the same block, unbuilt.
     uint64_t jumps_key = 0;
     bool jumps_keyed = false;
-    /// What a successor computed off the step is copied from: the step's A, into storage handed on
-    /// from factor to factor, so that asking for one allocates nothing in the step (fresh pages
-    /// cost 4-10 ms on a virtual machine; the scalar copy is made off the step).
-    std::shared_ptr<LinearSystem> snapshot;
+    /// What a successor computed off the step is copied from, in storage handed on from factor to
+    /// factor (FactorSnapshot).
+    std::shared_ptr<FactorSnapshot> snapshot;
 
     /// z = A^-1 r with the factor: through `lower` (no BLAS), else CHOLMOD's solve (the caller
     /// holds with_cholmod_blas).

@@ -14,7 +14,10 @@ namespace xcut {
 namespace {
 
 constexpr size_t kKeptMin = size_t{256} << 10;   ///< blocks from this size are kept when freed [bytes]
-constexpr size_t kKeptMax = size_t{64} << 20;    ///< at most this much is held [bytes]
+/// At most this much is held [bytes]: a retired factor's blocks for its successor. The skin at 1 mm
+/// elements (L 4.1 M non-zeros) frees 40 MB of L's values, 20 MB of their single-precision copy and
+/// its index arrays at each swap, beside the 21 MB of work arrays held from the factorization.
+constexpr size_t kKeptMax = size_t{128} << 20;
 /// Room a kept-size block is given beyond its request, so that the next factor's slightly larger
 /// arrays (a cut added DOFs) fit in it: an eighth. Pages past the request are not touched.
 constexpr size_t kRoomDivisor = 8;

@@ -20,10 +20,10 @@ int node_in_factor(const World& w, int j, int base) {
 
 }  // namespace
 
-std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<LinearSystem> snapshot,
+std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<FactorSnapshot> snapshot,
                                                        BesideBlock jumps, int requested_step, int due_step, double single_from) {
-    if (!snapshot) snapshot = std::make_shared<LinearSystem>();
-    copy_linear_system(A, *snapshot);
+    if (!snapshot) snapshot = std::make_shared<FactorSnapshot>();
+    copy_linear_system(A, snapshot->block);
     auto f = std::make_shared<LinearFactor>(true);
     f->topology = A.topology, f->computed_step = requested_step, f->snapshot = snapshot, f->single_from = single_from;
     f->jumps = std::move(jumps);
@@ -32,8 +32,12 @@ std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, st
     pending->computing = f, pending->nodes = A.rows();
     pending->result = run_in_background<std::shared_ptr<LinearFactor>>([f]() {
         try {
-            copy_to_scalar(*f->snapshot, f->matrix, true);
+            // The scalar copy is made and factored in the snapshot's storage, and left there for
+            // the next factor (the views need CHOLMOD's L only).
+            f->matrix.swap(f->snapshot->scalar);
+            copy_to_scalar(f->snapshot->block, f->matrix, true);
             compute_factor(*f, true);
+            f->matrix.swap(f->snapshot->scalar);
         } catch (const std::exception&) {  // out of memory: the step factors in itself
             f->ok = false;
         }
@@ -83,10 +87,11 @@ void retire_factor(std::shared_ptr<LinearFactor> f) {
 
 bool augment_for_grown_system(const World& w, LinearFactor& f, const Eigen::VectorXd& mask) {
     const LinearSystem& A = w.linear;
-    const int base_nodes = static_cast<int>(f.matrix.rows()) / 3;
     if (f.augment.ok && f.augment.topology == A.topology) return true;
+    if (!f.lower) return false;
+    const int base_nodes = f.lower->rows() / 3;
     // A snapping remesh moves the old nodes' elements: no jump basis, the old block is not kept.
-    if (!f.lower || w.snap.elements_split > 0 || base_nodes < w.mesh_nodes || A.rows() < base_nodes) return false;
+    if (w.snap.elements_split > 0 || base_nodes < w.mesh_nodes || A.rows() < base_nodes) return false;
     std::vector<int> parent;  // per new scalar DOF: its mesh node's, both axes free; else -1
     for (int j = base_nodes; j < A.rows(); ++j) {
         const int phantom = j - w.mesh_nodes;

@@ -40,7 +40,7 @@ struct PendingFactor : PendingResult<LinearFactor> {
 /// Starts computing a factor of A, to be solved through views of its supernodes, due at `due_step`.
 /// A is copied into `snapshot` (storage handed on from factor to factor, or null): it changes from
 /// the next step on. `jumps`: the jumping terms' block A holds now (LinearFactor::jumps).
-std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<LinearSystem> snapshot,
+std::shared_ptr<PendingFactor> start_background_factor(const LinearSystem& A, std::shared_ptr<FactorSnapshot> snapshot,
                                                        BesideBlock jumps, int requested_step, int due_step, double single_from);
 /// The steps before a successor is due at which the columns of X_S its moving block will need are
 /// asked for: the block's rows then, most of those it has at the swap (a front moves a few rows a

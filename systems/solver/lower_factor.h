@@ -27,6 +27,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "systems/solver/cholmod_pages.h"
+
 namespace xcut {
 
 struct LowerFactor {
@@ -43,8 +45,9 @@ struct LowerFactor {
     int max_below = 0;              ///< the most rows any supernode has below its own columns
     /// L's entries rounded to single precision, supernode after supernode (make_single), when the
     /// step's solves read them: half the bytes of a solve, which is bound by memory on a large
-    /// factor. Empty: the solves read `value`. See make_single for what it costs in precision.
-    std::vector<float> single;
+    /// factor. Empty: the solves read `value`. See make_single for what it costs in precision. In
+    /// the kept blocks (systems/solver/cholmod_pages.h): the next factor's copy reuses its pages.
+    KeptArray<float> single;
     bool is_single() const { return !single.empty(); }
 
     /// The solves' split (see above): bins of subtrees, one bin a thread; 0 bins: all top.

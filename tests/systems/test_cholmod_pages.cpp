@@ -15,6 +15,16 @@ namespace {
 
 constexpr size_t kLarge = size_t{1} << 20;  // 1 MiB: kept when freed
 
+/// The entries of a 1D Laplacian of n rows, shifted to be positive definite.
+std::vector<Eigen::Triplet<double>> laplacian_1d(int n) {
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int i = 0; i < n; ++i) {
+        entries.emplace_back(i, i, 2.5);
+        if (i + 1 < n) entries.emplace_back(i + 1, i, -1.0), entries.emplace_back(i, i + 1, -1.0);
+    }
+    return entries;
+}
+
 TEST(CholmodPages, SuiteSparseAllocatesThroughThem) {
     EXPECT_EQ(SuiteSparse_config.malloc_func, &kept_malloc);
     EXPECT_EQ(SuiteSparse_config.calloc_func, &kept_calloc);
@@ -64,11 +74,7 @@ TEST(CholmodPages, AFactorComputedAgainReusesThePagesOfTheOneBefore) {
     // A 1D Laplacian of 30,000 rows: its factor's arrays (about 11 MB in all) are well over the
     // kept size, and two factors' worth stay under the cap.
     const int n = 30000;
-    std::vector<Eigen::Triplet<double>> entries;
-    for (int i = 0; i < n; ++i) {
-        entries.emplace_back(i, i, 2.5);
-        if (i + 1 < n) entries.emplace_back(i + 1, i, -1.0), entries.emplace_back(i, i + 1, -1.0);
-    }
+    const std::vector<Eigen::Triplet<double>> entries = laplacian_1d(n);
     auto factor_once = [&] {
         LinearFactor f;
         f.matrix.resize(n, n);
@@ -85,6 +91,42 @@ TEST(CholmodPages, AFactorComputedAgainReusesThePagesOfTheOneBefore) {
     EXPECT_LT(cholmod_kept_bytes(), kept + kept / 2);
     release_kept_pages();
     EXPECT_EQ(cholmod_kept_bytes(), 0u);
+}
+
+// A factor solved in single precision keeps its rounded copy in the kept blocks too: freed with
+// the factor, it is there for the next one's, which takes it again.
+TEST(CholmodPages, ASinglePrecisionCopyIsKeptForTheNextFactor) {
+    const int n = 30000;
+    const std::vector<Eigen::Triplet<double>> entries = laplacian_1d(n);
+    size_t single_bytes = 0;
+    auto factor_once = [&] {
+        LinearFactor f(true);
+        f.single_from = 0.0;
+        f.matrix.resize(n, n);
+        f.matrix.setFromTriplets(entries.begin(), entries.end());
+        ASSERT_TRUE(compute_factor(f, true));
+        ASSERT_TRUE(f.lower && f.lower->is_single());
+        single_bytes = f.lower->single.size() * sizeof(float);
+    };
+    release_kept_pages();
+    factor_once();
+    ASSERT_GE(single_bytes, size_t{256} << 10) << "large enough to be kept";
+    const size_t kept = cholmod_kept_bytes();
+    release_kept_pages();
+    {
+        LinearFactor in_double(true);  // the same factor in double: what CHOLMOD's blocks alone keep
+        in_double.matrix.resize(n, n);
+        in_double.matrix.setFromTriplets(entries.begin(), entries.end());
+        ASSERT_TRUE(compute_factor(in_double, true));
+        ASSERT_FALSE(in_double.lower->is_single());
+    }
+    EXPECT_GE(kept, cholmod_kept_bytes() + single_bytes) << "the single copy went to the kept blocks";
+    release_kept_pages();
+    factor_once();
+    const size_t again = cholmod_kept_bytes();
+    factor_once();
+    EXPECT_LT(cholmod_kept_bytes(), again + single_bytes) << "the second factor took the copy's block again";
+    release_kept_pages();
 }
 
 }  // namespace

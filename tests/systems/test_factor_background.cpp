@@ -563,14 +563,20 @@ TEST(FactorBackground, TheLoadsFactorHoldsTheCopyItsSuccessorsUse) {
     const LinearSystem& A = sim->world.linear;
     ASSERT_EQ(A.method, "cholesky");
     ASSERT_TRUE(A.factor && A.factor->snapshot);
-    const LinearSystem* storage = A.factor->snapshot.get();
-    EXPECT_EQ(storage->value, A.value) << "the copy at load is A";
+    const FactorSnapshot* storage = A.factor->snapshot.get();
+    EXPECT_EQ(storage->block.value, A.value) << "the copy at load is A";
     int swaps = 0;
     for (int i = 0; i < 40; ++i) {
         step_simulation(*sim);
-        swaps += sim->world.metrics.current.preconditioner == 2;
+        const bool swapped = sim->world.metrics.current.preconditioner == 2;
+        swaps += swapped;
         ASSERT_TRUE(A.factor && A.factor->snapshot);
         EXPECT_EQ(A.factor->snapshot.get(), storage) << "step " << i + 1;
+        if (!swapped) continue;
+        // The successor's scalar copy stays in the snapshot for the next one, not in the factor.
+        EXPECT_EQ(A.factor->matrix.nonZeros(), 0) << "step " << i + 1;
+        ASSERT_TRUE(A.factor->lower);
+        EXPECT_EQ(storage->scalar.rows(), A.factor->lower->rows()) << "step " << i + 1;
     }
     EXPECT_GE(swaps, 1) << "a successor was taken";
 }

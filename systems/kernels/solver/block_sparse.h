@@ -38,12 +38,16 @@ void block_diagonal_inverse(const LinearSystem& A, std::vector<double>& inverse)
 /// The scalar matrix of A: row 3i + r holds, block by block in column order, entries 3j + c.
 /// Symmetric, so its CSR arrays are its CSC ones: either storage order takes them. `structure`:
 /// (re)build the pattern too, else refill the values only.
+/// Room a scalar copy's arrays are given beyond their entries when they grow (an eighth), so that
+/// a copy made again after a cut (a few more DOFs) fills the same pages instead of fresh ones.
+inline constexpr double kScalarCopyRoom = 0.125;
+
 template <class Sparse>
 void copy_to_scalar(const LinearSystem& A, Sparse& S, bool structure) {
     const int n = A.rows();
     if (structure) {
-        S.resize(3 * n, 3 * n);
-        S.resizeNonZeros(9 * A.blocks());
+        S.resize(3 * n, 3 * n);  // keeps the arrays' storage: a copy made again reuses their pages
+        S.data().resize(9 * A.blocks(), kScalarCopyRoom);
         int* outer = S.outerIndexPtr();
         int* inner = S.innerIndexPtr();
         outer[0] = 0;
