@@ -8,6 +8,7 @@
 #include "systems/kernels/solver/projected_guess.h"
 #include "systems/kernels/solver/team_cg.h"
 #include "systems/solver/amg_background.h"
+#include "systems/solver/zone_correction.h"
 #include "systems/solver/beside_augment.h"
 #include "systems/solver/beside_factor.h"
 #include "systems/solver/cholesky_factor.h"
@@ -204,7 +205,18 @@ public:
             h = A_.amg.get();
             return ok;
         };
-        const auto cycle = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) { amg_cycle_in_team(*h, A_, r, z); };
+        // A term beside A with a small dense zone (the crack tips): the cycle with an exact solve on
+        // the zone around it (systems/solver/zone_correction.h); made again for every solve.
+        ZoneCorrection zone;
+        BesideBlock block;
+        const StepTerm* term = op_.block_term(w_);
+        const bool zoned = term && term->beside_block(w_, block) && build_zone_correction(A_, block, stiff_scale_, mask_, zone);
+        Eigen::VectorXd scratch(zoned ? 3 * A_.rows() : 0);
+        const auto cycle = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+            const auto plain = [&](const Eigen::VectorXd& q, Eigen::VectorXd& out) { amg_cycle_in_team(*h, A_, q, out); };
+            if (zoned) return zone_corrected_cycle(A_, zone, r, scratch, z, plain);
+            plain(r, z);
+        };
         const auto solve = [&] {
             amg_update_finest(*h, A_);
             return cg(Preconditioning::kTeam, no_rows, cycle);
