@@ -246,6 +246,7 @@ void check_options(const AccuracyBenchOptions& o) {
     for (int n : o.block_levels) cut_block_cells(block, n);  // throws on a level whose grid misses the crack front
     for (int n : o.plate_levels) edge_crack_cells(EdgeCrackSpec{}, n);
     for (int n : o.plate_quadratic_levels) edge_crack_cells(EdgeCrackSpec{}, n);
+    for (int n : o.plate_snap_levels) edge_crack_cells(EdgeCrackSpec{}, n);
     for (double ratio : o.crack_ratios) {
         if (!(ratio > 0.0 && ratio < 1.0)) throw std::invalid_argument(fmt::format("crack ratio {}: a / W in (0, 1)", ratio));
         EdgeCrackSpec spec;
@@ -315,6 +316,7 @@ AccuracyBenchOptions AccuracyBenchOptions::tiny() {
     o.block_reference = 24;
     o.plate_levels = {16, 32, 64};
     o.plate_quadratic_levels = {4, 8};
+    o.plate_snap_levels = {};
     o.cantilever_reference_levels = {1, 2, 3};
     o.block_reference_levels = {4, 8, 16, 32};
     o.plate_reference_levels = {10, 20, 40, 80};  // its estimate under 1/10 of the tiny levels' errors
@@ -338,7 +340,7 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o, std::
     std::vector<ReferenceNote> notes;
     const std::string cache = o.cache_dir.empty() ? default_cache_dir() : o.cache_dir;
     const int total = (wants(o, 3) ? o.cantilever_levels.size() : 0) + (wants(o, 5) ? 3 * o.block_levels.size() + 1 : 0) +
-                      (wants(o, 6) ? 3 * o.plate_levels.size() + o.plate_quadratic_levels.size() : 0);
+                      (wants(o, 6) ? 3 * o.plate_levels.size() + o.plate_snap_levels.size() + o.plate_quadratic_levels.size() : 0);
     ProgressBar bar("accuracy", o.progress ? total : 0);
     int done = 0;
     if (wants(o, 3)) {
@@ -372,6 +374,8 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o, std::
         for (int n : o.plate_levels)
             for (const char* c : kPlateCutters)
                 rows.push_back(median_if_short([&] { return plate_run(n, c, value); })), bar.update(++done);
+        for (int n : o.plate_snap_levels)
+            rows.push_back(median_if_short([&] { return plate_run(n, "snap", value); })), bar.update(++done);
         for (int n : o.plate_quadratic_levels)
             rows.push_back(median_if_short([&] { return plate_run(n, "xfem-quadratic", value); })), bar.update(++done);
         if (ref.available) refuse_weak_reference(rows, 6, ref.error_estimate, notes);
