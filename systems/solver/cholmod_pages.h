@@ -12,6 +12,7 @@
 // copy, KeptArray) are kept the same way.
 #include <cstddef>
 #include <new>
+#include <vector>
 
 namespace xcut {
 
@@ -24,6 +25,12 @@ size_t cholmod_kept_bytes();
 
 /// Gives every held block back to the C library (a program done with its factors; tests).
 void release_kept_pages();
+
+/// Blocks of these sizes (those of at least the kept size, while they fit within the cap), each
+/// written once and held for reuse: a factor's first successor then finds pages already touched, as later
+/// ones find their predecessor's. Run on the background thread (warm_pages_for_successor,
+/// systems/solver/factor_background.h).
+void keep_touched_blocks(const std::vector<size_t>& sizes);
 
 /// The same functions SuiteSparse is given, for tests: malloc, calloc, realloc and free.
 void* kept_malloc(size_t bytes);

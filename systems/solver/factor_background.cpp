@@ -5,6 +5,7 @@
 
 #include "engine/background_threads.h"
 #include "systems/solver/beside_augment.h"
+#include "systems/solver/cholmod_pages.h"
 #include "systems/solver/linear_assembly.h"
 #include "systems/kernels/solver/block_sparse.h"
 
@@ -83,6 +84,14 @@ void take_successor_columns(PendingFactor& p, const LinearFactor& f, BesideAugme
 
 void retire_factor(std::shared_ptr<LinearFactor> f) {
     if (f) post_background_job([f = std::move(f)]() mutable { f.reset(); });
+}
+
+void warm_pages_for_successor(const LinearFactor& f) {
+    const cholmod_factor* L = f.llt.factor();
+    if (!L || !L->is_super) return;
+    std::vector<size_t> sizes{L->xsize * sizeof(double), L->ssize * sizeof(int)};
+    if (f.lower && f.lower->is_single()) sizes.push_back(f.lower->single.size() * sizeof(float));
+    post_background_job([sizes = std::move(sizes)] { keep_touched_blocks(sizes); });
 }
 
 bool augment_for_grown_system(const World& w, LinearFactor& f, const Eigen::VectorXd& mask) {

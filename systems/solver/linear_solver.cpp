@@ -531,7 +531,10 @@ void prepare_linear_solver(World& w, const StepOperator& op) {
     else factorize(w, off_step_factors(w)), A.factor->jumps = op.jump_blocks(w);
     // The first successor's copy of A (the default skin asks for one at its second step, as it
     // sags) goes into storage touched here, at load, not in fresh pages in the step that asks.
-    if (off_step_factors(w) && A.factor) copy_linear_system(A, (A.factor->snapshot = std::make_shared<FactorSnapshot>())->block);
+    if (off_step_factors(w) && A.factor) {
+        copy_linear_system(A, (A.factor->snapshot = std::make_shared<FactorSnapshot>())->block);
+        warm_pages_for_successor(*A.factor);
+    }
     A.load_setup_ms = 1e3 * (wall_seconds() - start);
 }
 

@@ -7,7 +7,9 @@
 
 #include <cstring>
 
+#include "engine/background_threads.h"
 #include "systems/solver/cholesky_factor.h"
+#include "systems/solver/factor_background.h"
 #include "systems/solver/cholmod_pages.h"
 
 namespace xcut {
@@ -126,6 +128,41 @@ TEST(CholmodPages, ASinglePrecisionCopyIsKeptForTheNextFactor) {
     const size_t again = cholmod_kept_bytes();
     factor_once();
     EXPECT_LT(cholmod_kept_bytes(), again + single_bytes) << "the second factor took the copy's block again";
+    release_kept_pages();
+}
+
+TEST(CholmodPages, TouchedBlocksAreHeldForTheNextRequests) {
+    release_kept_pages();
+    keep_touched_blocks({kLarge, 2 * kLarge, 100});  // the small one is not kept
+    const size_t held = cholmod_kept_bytes();
+    EXPECT_GE(held, 3 * kLarge);
+    EXPECT_LT(held, 4 * kLarge);
+    void* p = kept_malloc(2 * kLarge);  // one of them comes back
+    EXPECT_LT(cholmod_kept_bytes(), held - kLarge);
+    kept_free(p);
+    release_kept_pages();
+}
+
+// The factor made at load warms blocks the size of its largest arrays for its first successor, on
+// the background thread (systems/solver/factor_background.h).
+TEST(CholmodPages, AFactorWarmsBlocksOfItsArraysSizesForItsSuccessor) {
+    const int n = 30000;
+    const std::vector<Eigen::Triplet<double>> entries = laplacian_1d(n);
+    LinearFactor f(true);
+    f.single_from = 0.0;
+    f.matrix.resize(n, n);
+    f.matrix.setFromTriplets(entries.begin(), entries.end());
+    ASSERT_TRUE(compute_factor(f, true));
+    const cholmod_factor* L = f.llt.factor();
+    ASSERT_TRUE(L && L->is_super && f.lower->is_single());
+    release_kept_pages();
+    warm_pages_for_successor(f);
+    run_in_background<int>([] { return 0; }).get();  // the jobs run in order: the warming is done
+    size_t expected = 0;
+    for (size_t bytes : {L->xsize * sizeof(double), L->ssize * sizeof(int), f.lower->single.size() * sizeof(float)})
+        if (bytes >= (size_t{256} << 10)) expected += bytes;
+    EXPECT_GT(expected, 0u);
+    EXPECT_GE(cholmod_kept_bytes(), expected);
     release_kept_pages();
 }
 
