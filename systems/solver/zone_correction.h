@@ -4,9 +4,10 @@
 // A in CG's product). The multigrid cycle M is built from A alone, so CG on A + s K_t needed 3-6x
 // the iterations of the same plate without the tip (problem 6 with its tip enriched, 80-320 cells:
 // 151-304 against 47-49, docs/BENCHMARKS.md, accuracy). The cycle is wrapped here in a symmetric
-// multiplicative Schwarz step with an exact solve on the zone (Smith, Bjørstad & Gropp, *Domain
-// Decomposition*, 1996, §1.3 and §5.2; the two-subspace case of Toselli & Widlund, *Domain
-// Decomposition Methods*, 2005, §2.2):
+// multiplicative Schwarz step with an exact solve on the zone, the two-subspace case of the
+// symmetric multiplicative Schwarz methods (Smith, Bjørstad & Gropp, *Domain Decomposition*,
+// Cambridge University Press, 1996; Toselli & Widlund, *Domain Decomposition Methods: Algorithms
+// and Theory*, Springer, 2005):
 //
 //   B = Z + (I - Z Â) M (I - Â Z),   Z = P S^-1 P^T,   S = P^T Â P,   Â = A + s K_t,
 //
