@@ -64,7 +64,9 @@ struct LinearFactor {
     LinearFactor(const LinearFactor&) = delete;
     LinearFactor& operator=(const LinearFactor&) = delete;
 
-    Eigen::SparseMatrix<double> matrix;  ///< the scalar copy of A it was computed from
+    /// The scalar copy of A it was computed from (a factor made in the step keeps it for the next
+    /// one's values; one made off the step leaves it in its FactorSnapshot, and this is empty).
+    Eigen::SparseMatrix<double> matrix;
     bool is_viewed = false;              ///< solved through `lower` (renewed off the step), not by CHOLMOD
     OpenCholmod llt;
     uint64_t topology = 0;     ///< pattern the symbolic analysis was made for

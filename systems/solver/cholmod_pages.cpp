@@ -59,13 +59,16 @@ Header* take_kept(size_t bytes) {
     return h;
 }
 
+/// The capacity a new block of `bytes` is given (kept-size blocks with room).
+size_t capacity_for(size_t bytes) { return bytes >= kKeptMin ? bytes + bytes / kRoomDivisor : bytes; }
+
 }  // namespace
 
 void* kept_malloc(size_t bytes) {
     bytes = std::max<size_t>(bytes, 1);
     Header* h = bytes >= kKeptMin ? take_kept(bytes) : nullptr;
     if (!h) {
-        const size_t capacity = bytes >= kKeptMin ? bytes + bytes / kRoomDivisor : bytes;
+        const size_t capacity = capacity_for(bytes);
         if (capacity > std::numeric_limits<size_t>::max() - sizeof(Header)) return nullptr;
         h = static_cast<Header*>(std::malloc(sizeof(Header) + capacity));
         if (!h) return nullptr;
@@ -115,7 +118,7 @@ void keep_touched_blocks(const std::vector<size_t>& sizes) {
     std::vector<void*> held;
     size_t total = cholmod_kept_bytes();
     for (size_t bytes : sizes) {
-        const size_t capacity = bytes + bytes / kRoomDivisor;
+        const size_t capacity = capacity_for(bytes);
         if (bytes < kKeptMin || total + capacity > kKeptMax) continue;  // past the cap it would be freed again
         total += capacity;
         void* p = kept_malloc(bytes);

@@ -7,40 +7,43 @@
 namespace xcut {
 namespace {
 
-/// out[k] = (A z)[dofs[k]]: the zone's rows of A times z (A symmetric, both triangles stored).
-void zone_rows_times(const LinearSystem& A, const std::vector<int>& dofs, const Eigen::VectorXd& z, Eigen::VectorXd& out) {
-    for (size_t k = 0; k < dofs.size(); ++k) {
-        const int node = dofs[k] / 3, r = dofs[k] % 3;
-        double acc = 0.0;
-        for (int b = A.row_offset[node]; b < A.row_offset[node + 1]; ++b) {
-            const double* v = A.value.data() + 9 * static_cast<size_t>(b) + 3 * r;
-            const int c = 3 * A.column[b];
-            acc += v[0] * z[c] + v[1] * z[c + 1] + v[2] * z[c + 2];
-        }
-        out[static_cast<Eigen::Index>(k)] = acc;
+/// Calls f(column, value) for each stored entry of A's scalar row j (A symmetric, both triangles
+/// stored: also column j's entries, by row).
+template <class F>
+void for_row(const LinearSystem& A, int j, F&& f) {
+    const int node = j / 3, r = j % 3;
+    for (int b = A.row_offset[node]; b < A.row_offset[node + 1]; ++b) {
+        const double* v = A.value.data() + 9 * static_cast<size_t>(b) + 3 * r;
+        const int c = 3 * A.column[b];
+        f(c, v[0]), f(c + 1, v[1]), f(c + 2, v[2]);
     }
+}
+
+/// dofs[k] == j's k, or -1 (dofs increasing).
+int slot_of(const std::vector<int>& dofs, int j) {
+    const auto it = std::lower_bound(dofs.begin(), dofs.end(), j);
+    return it != dofs.end() && *it == j ? static_cast<int>(it - dofs.begin()) : -1;
 }
 
 }  // namespace
 
 bool build_zone_correction(const LinearSystem& A, const BesideBlock& block, double stiff_scale, const Eigen::VectorXd& mask,
                            ZoneCorrection& out) {
-    for (int j : out.dofs) out.slot[j] = -1;
     out.ok = false;
     out.dofs.clear();
     const int n = 3 * A.rows();
-    if (static_cast<int>(out.slot.size()) != n) out.slot.assign(n, -1);
     for (const auto& t : block.coupling)
         if (t.col() < n && mask[t.col()] != 0.0) out.dofs.push_back(t.col());
     std::sort(out.dofs.begin(), out.dofs.end());
     out.dofs.erase(std::unique(out.dofs.begin(), out.dofs.end()), out.dofs.end());
     const int m = static_cast<int>(out.dofs.size());
     if (m == 0 || m > kZoneMaxDofs || block.rows == 0) return false;
-    for (int k = 0; k < m; ++k) out.slot[out.dofs[k]] = k;
     // s K_t on the zone: -s C_z^T H^-1 C_z, C_z the coupling's zone columns.
     Eigen::MatrixXd coupling = Eigen::MatrixXd::Zero(block.rows, m);
-    for (const auto& t : block.coupling)
-        if (t.col() < n && out.slot[t.col()] >= 0) coupling(t.row(), out.slot[t.col()]) += t.value();
+    for (const auto& t : block.coupling) {
+        const int at = t.col() < n ? slot_of(out.dofs, t.col()) : -1;
+        if (at >= 0) coupling(t.row(), at) += t.value();
+    }
     Eigen::SparseMatrix<double> h(block.rows, block.rows);
     h.setFromTriplets(block.stiffness.begin(), block.stiffness.end());
     const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> amplitudes(h);
@@ -50,17 +53,14 @@ bool build_zone_correction(const LinearSystem& A, const BesideBlock& block, doub
     out.term = 0.5 * (out.term + out.term.transpose()).eval();
     // S = A_zz + s K_t.
     Eigen::MatrixXd local = out.term;
-    for (int k = 0; k < m; ++k) {
-        const int node = out.dofs[k] / 3, r = out.dofs[k] % 3;
-        for (int b = A.row_offset[node]; b < A.row_offset[node + 1]; ++b)
-            for (int c = 0; c < 3; ++c) {
-                const int at = out.slot[3 * A.column[b] + c];
-                if (at >= 0) local(k, at) += A.value[9 * static_cast<size_t>(b) + 3 * r + c];
-            }
-    }
+    for (int k = 0; k < m; ++k)
+        for_row(A, out.dofs[k], [&](int c, double v) {
+            const int at = slot_of(out.dofs, c);
+            if (at >= 0) local(k, at) += v;
+        });
     out.local.compute(local);
     if (out.local.info() != Eigen::Success) return false;
-    out.z1.resize(m), out.g.resize(m);
+    out.z1.resize(m), out.g.resize(m), out.zz.resize(m);
     return out.ok = true;
 }
 
@@ -68,15 +68,9 @@ void zone_before_cycle(const LinearSystem& A, ZoneCorrection& zc, const Eigen::V
     const int m = static_cast<int>(zc.dofs.size());
     for (int k = 0; k < m; ++k) zc.g[k] = r[zc.dofs[k]];
     zc.z1 = zc.local.solve(zc.g);
-    // r1 = r - Â P z1: zero on the zone (S z1 = P^T r); off it, A's zone columns (K_t has zone rows only).
-    for (int k = 0; k < m; ++k) {
-        const int node = zc.dofs[k] / 3, r0 = zc.dofs[k] % 3;
-        for (int b = A.row_offset[node]; b < A.row_offset[node + 1]; ++b) {
-            const double* v = A.value.data() + 9 * static_cast<size_t>(b) + 3 * r0;  // row dofs[k] = column, by symmetry
-            const int c = 3 * A.column[b];
-            for (int q = 0; q < 3; ++q) r1[c + q] -= v[q] * zc.z1[k];
-        }
-    }
+    // r1 = r - Â P z1: zero on the zone (S z1 = P^T r); off it, A's zone columns (K_t has zone rows
+    // only), read as the zone's rows by symmetry.
+    for (int k = 0; k < m; ++k) for_row(A, zc.dofs[k], [&](int c, double v) { r1[c] -= v * zc.z1[k]; });
     for (int j : zc.dofs) r1[j] = 0.0;
 }
 
@@ -84,13 +78,15 @@ void zone_after_cycle(const LinearSystem& A, ZoneCorrection& zc, const Eigen::Ve
     const int m = static_cast<int>(zc.dofs.size());
     for (int k = 0; k < m; ++k) z[zc.dofs[k]] += zc.z1[k];
     // g = P^T (r - Â z) = r_z - (A z)_z - s K_t z_z.
-    zone_rows_times(A, zc.dofs, z, zc.g);
-    Eigen::VectorXd zz(m);
-    for (int k = 0; k < m; ++k) zz[k] = z[zc.dofs[k]];
-    zc.g.noalias() += zc.term * zz;
+    for (int k = 0; k < m; ++k) {
+        double acc = 0.0;
+        for_row(A, zc.dofs[k], [&](int c, double v) { acc += v * z[c]; });
+        zc.g[k] = acc, zc.zz[k] = z[zc.dofs[k]];
+    }
+    zc.g.noalias() += zc.term * zc.zz;
     for (int k = 0; k < m; ++k) zc.g[k] = r[zc.dofs[k]] - zc.g[k];
-    zz = zc.local.solve(zc.g);
-    for (int k = 0; k < m; ++k) z[zc.dofs[k]] += zz[k];
+    zc.zz = zc.local.solve(zc.g);
+    for (int k = 0; k < m; ++k) z[zc.dofs[k]] += zc.zz[k];
 }
 
 }  // namespace xcut

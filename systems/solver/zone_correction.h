@@ -32,10 +32,9 @@ inline constexpr int kZoneMaxDofs = 400;
 struct ZoneCorrection {
     bool ok = false;
     std::vector<int> dofs;              ///< the zone's scalar DOFs (free), increasing
-    std::vector<int> slot;              ///< per scalar DOF of A: its place in `dofs`, or -1
     Eigen::MatrixXd term;               ///< s K_t on the zone (m x m)
     Eigen::LLT<Eigen::MatrixXd> local;  ///< S = P^T (A + s K_t) P
-    Eigen::VectorXd z1, g;              ///< the first zone solve, the last's right-hand side
+    Eigen::VectorXd z1, g, zz;          ///< the first zone solve, the last's right-hand side, z on the zone
 };
 
 /// Builds `out` for A + stiff_scale K_t, K_t = -C^T H^-1 C from `block`, on A's free DOFs (mask 1).
