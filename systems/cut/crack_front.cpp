@@ -117,10 +117,12 @@ void enrich_crack_front(World& w, const Vec3& point, const Vec3& direction, cons
                          integrals[j].M);
 }
 
-Vec3 front_enrichment_at(const World& w, const Eigen::VectorXd& b, int fe, const Vec3& X, const Eigen::Vector4d& bary) {
+Vec3 crack_enrichment_at(const World& w, const Eigen::VectorXd& b, int fe, const Vec3& X, const Eigen::Vector4d& bary) {
     Vec3 u = Vec3::Zero();
     for (int z = 0; z < w.tips.zone(); ++z)
-        if (w.tips.element[z] == fe) u += front_enrichment(w, b, z, X, bary);
+        if (w.tips.element[z] == fe)
+            u += w.elements.dim == 3 ? front_enrichment(w, b, z, X, bary)
+                                     : tip_enrichment(w, b, z, X.head<2>(), bary.head<3>(), w.tips.lip[z]);
     return u;
 }
 

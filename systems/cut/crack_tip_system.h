@@ -80,10 +80,11 @@ void add_zone_element(World& world, int e, int force_element, int lip, const std
 /// The local corners of mesh element e whose nodes have a pair in `pair_of` (add_tip).
 std::vector<int> enriched_slots(const World& world, int e, const std::vector<int>& pair_of);
 
-/// The displacement the fronts' functions add at rest point X of force element fe (its barycentric
-/// coordinates `bary`), amplitudes b (crack_tip_amplitudes): Σ_k N_k Σ_l (F_l(X) - F_l(X_k)) b_kl,
-/// on the element's lip (or X's side of the crack's plane) [m]. 3D; zero in 2D.
-Vec3 front_enrichment_at(const World& world, const Eigen::VectorXd& amplitudes, int fe, const Vec3& X,
+/// The displacement the tips' (2D) or fronts' (3D) functions add at rest point X of force element
+/// fe (its barycentric coordinates `bary`; 2D: the first three), amplitudes b (crack_tip_amplitudes):
+/// Σ_k N_k Σ_l (F_l(X) - F_l(X_k)) b_kl, on the element's lip (or X's side of the crack) [m]: what a
+/// probe adds to its element's linear interpolation.
+Vec3 crack_enrichment_at(const World& world, const Eigen::VectorXd& amplitudes, int fe, const Vec3& X,
                          const Eigen::Vector4d& bary);
 
 /// Blades carry tips (2D, scene cutter.tip, CrackTips::follow_radius >= 0): a bladed tool whose

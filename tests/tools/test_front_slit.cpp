@@ -83,8 +83,8 @@ TEST(FrontSlit, TheSkinsScalpelShowsItsCrackOpenToTheFrontOnAClosedSurface) {
                     const Vec3 X = rest_of(w, s, v);
                     Vec3 linear = Vec3::Zero();
                     for (int k = 0; k < 4; ++k) linear += s.bary[v][k] * w.nodes.position[w.elements.nodes[e][k]];
-                    const Vec3 plus = linear + front_enrichment_at(w, w.tips.amplitude, e, X + 1e-10 * f.normal(), s.bary[v]);
-                    const Vec3 minus = linear + front_enrichment_at(w, w.tips.amplitude, e, X - 1e-10 * f.normal(), s.bary[v]);
+                    const Vec3 plus = linear + crack_enrichment_at(w, w.tips.amplitude, e, X + 1e-10 * f.normal(), s.bary[v]);
+                    const Vec3 minus = linear + crack_enrichment_at(w, w.tips.amplitude, e, X - 1e-10 * f.normal(), s.bary[v]);
                     worst_misplaced = std::max(worst_misplaced, std::min((s.position[v] - plus).norm(), (s.position[v] - minus).norm()));
                 }
             }

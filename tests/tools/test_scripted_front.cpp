@@ -196,7 +196,7 @@ TEST(ScriptedFront, TheStepsAmplitudesPlaceTheSurfaceByTheEnrichedField) {
     double worst = 0.0, opened = 0.0, linear = 0.0;
     for (int v = 0; v < s.vertex_count(); ++v) {
         const auto [X, x] = vertex_rest_and_linear(w, s, v);
-        const Vec3 u = front_enrichment_at(w, fresh, s.element[v], X, s.bary[v]);
+        const Vec3 u = crack_enrichment_at(w, fresh, s.element[v], X, s.bary[v]);
         worst = std::max(worst, (s.position[v] - x - u).norm());
         moved += u.norm() > 1e-9;
         const Vec3 r = X - front;

@@ -91,8 +91,13 @@ AccuracyRow cantilever_run(int n, double reference) {
 /// Problem 5's front enrichment: the nodes within this many cells of the front (docs/xfem.md).
 constexpr double kBlockFrontCells = 2.0;
 
-/// The tip's enrichment on problem 6: the nodes within four cells of the tip (docs/xfem.md).
-TipZone tip_zone(int n, const EdgeCrackSpec& spec) { return TipZone{4.0 * spec.width / n}; }
+/// The tip's enrichment on problem 6: the nodes within this many cells of the tip. Chosen by the
+/// error at equal CPU time against snapping's over the levels 10-320 (docs/BENCHMARKS.md, record
+/// 2026-12-07: 4, 5 and 6 cells gave 0.15-0.43, 0.12-0.41 and 0.10-0.42 x; 5 the best or within 0.05
+/// of it at every level, and 0.84 % at 40 cells against 4 cells' 1.01 %).
+constexpr double kPlateTipCells = 5.0;
+
+TipZone tip_zone(int n, const EdgeCrackSpec& spec) { return TipZone{kPlateTipCells * spec.width / n}; }
 
 /// Problem 6 on the plate `spec` meshes, cut from its left edge to x = `stop` (the mesh's tip if
 /// negative) by `cutter`: xfem (split once crossed), progressive (xfem; also the element the cut
@@ -284,7 +289,7 @@ AccuracyRow cut_block_run(const CutBlockSpec& spec, int n, const char* cutter, c
     double diff = 0.0, norm = 0.0, own = 0.0;
     for (size_t k = 0; k < probes.size(); ++k) {
         Vec3 u = probe_displacement(w, probes[k]);
-        if (w.tips.count() > 0) u += front_enrichment_at(w, amplitudes, probes[k].element, probes[k].rest, probes[k].bary);
+        if (w.tips.count() > 0) u += crack_enrichment_at(w, amplitudes, probes[k].element, probes[k].rest, probes[k].bary);
         diff += (u - reference[k]).squaredNorm();
         norm += reference[k].squaredNorm();
         own += u.squaredNorm();

@@ -188,7 +188,7 @@ std::vector<Vec3> pulled_block_displacements(World& w, const CutBlockSpec& spec)
     std::vector<Vec3> u;
     for (const Probe& p : locate_points(w, cut_block_samples(spec))) {
         u.push_back(probe_displacement(w, p));
-        if (w.tips.count() > 0) u.back() += front_enrichment_at(w, amplitudes, p.element, p.rest, p.bary);
+        if (w.tips.count() > 0) u.back() += crack_enrichment_at(w, amplitudes, p.element, p.rest, p.bary);
     }
     return u;
 }
@@ -267,10 +267,15 @@ Eigen::VectorXd edge_crack_load(World& w, const EdgeCrackSpec& s) {
     return load;
 }
 
-double edge_crack_cmod(const World& w, const EdgeCrackSpec& s) {
+double edge_crack_cmod(World& w, const EdgeCrackSpec& s) {
     const double e = 1e-6 * s.width, y = 0.5 * s.height;
     const auto p = locate_points(w, {Vec3(0.0, y + e, 0.0), Vec3(0.0, y - e, 0.0)});
-    return probe_displacement(w, p[0]).y() - probe_displacement(w, p[1]).y();
+    const Eigen::VectorXd amplitudes = w.tips.count() > 0 ? step_tip_amplitudes(w) : Eigen::VectorXd();
+    const auto opening = [&](const Probe& q) {
+        const double u = probe_displacement(w, q).y();
+        return w.tips.count() > 0 ? u + crack_enrichment_at(w, amplitudes, q.element, q.rest, q.bary).y() : u;
+    };
+    return opening(p[0]) - opening(p[1]);
 }
 
 }  // namespace xcut

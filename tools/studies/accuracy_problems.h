@@ -100,7 +100,7 @@ void pull_block_ends(World& world, const CutBlockSpec& spec);
 /// lips (x = cut_x -/+ 1e-6 L, y = B / 2, through the cut depth).
 std::vector<Vec3> cut_block_samples(const CutBlockSpec& spec);
 /// The samples' displacements at the static equilibrium of `world` (the block, cut) with its ends
-/// pulled, the fronts' functions added where it has any (crack_tip_amplitudes, front_enrichment_at:
+/// pulled, the fronts' functions added where it has any (crack_tip_amplitudes, crack_enrichment_at:
 /// as the suite's xfem_tip row takes them) [m]. Throws std::runtime_error if the solve fails.
 std::vector<Vec3> pulled_block_displacements(World& world, const CutBlockSpec& spec);
 
@@ -137,8 +137,9 @@ std::vector<Vec3> edge_crack_segment(const EdgeCrackSpec& spec);
 /// edges' shape functions weigh it (a 6-node triangle's mid-edge nodes included; 3 entries per DOF
 /// node [N]). Self-equilibrated, so the holds carry no reaction.
 Eigen::VectorXd edge_crack_load(World& world, const EdgeCrackSpec& spec);
-/// Opening of the crack mouth: u_y(0, H/2 + e) - u_y(0, H/2 - e), e = 1e-6 W [m].
-double edge_crack_cmod(const World& world, const EdgeCrackSpec& spec);
+/// Opening of the crack mouth: u_y(0, H/2 + e) - u_y(0, H/2 - e), e = 1e-6 W [m], with the tip's
+/// functions where its zone reaches the mouth (step_tip_amplitudes, crack_enrichment_at).
+double edge_crack_cmod(World& world, const EdgeCrackSpec& spec);
 
 
 }  // namespace xcut
