@@ -289,7 +289,7 @@ TEST(AccuracyBench, TheEnrichedTipCutsTheCrackOpeningsError) {
 
 TEST(AccuracyBench, TheEnrichedFrontCutsTheSlitBlocksError) {
     // Problem 5 (displacements at the samples against CalculiX's reference): with the front's branch
-    // functions (3D, within two cells of the front) XFEM's error is below plain XFEM's at every level.
+    // functions (3D, over the front's elements) XFEM's error is below plain XFEM's at every level.
     std::map<int, std::map<std::string, double>> error;
     for (const AccuracyRow& r : tiny_rows())
         if (r.problem == 5) error[r.resolution][r.cutter] = r.error;

@@ -88,8 +88,11 @@ AccuracyRow cantilever_run(int n, double reference) {
     return row;
 }
 
-/// Problem 5's front enrichment: the nodes within this many cells of the front (docs/xfem.md).
-constexpr double kBlockFrontCells = 2.0;
+/// Problem 5's front enrichment: the nodes within this many cells of the front; 0: the nodes of the
+/// elements the front runs through or touches. Chosen by the error at equal CPU time against
+/// snapping's (docs/xfem.md, record 2026-12-07: 1.06-1.09, 0.90-0.92, 0.79 x at 12, 16, 24 cells
+/// against two cells' 1.24-1.27, 1.03-1.13, 0.84-0.87 x in alternated runs; one cell gives zero's zone).
+constexpr double kBlockFrontCells = 0.0;
 
 /// The tip's enrichment on problem 6: the nodes within this many cells of the tip. Chosen by the
 /// error at equal CPU time against snapping's over the levels 10-320 (docs/BENCHMARKS.md, record
@@ -249,6 +252,7 @@ void check_options(const AccuracyBenchOptions& o) {
     positive(o.plate_levels, "plate levels");
     const CutBlockSpec block;
     for (int n : o.block_levels) cut_block_cells(block, n);  // throws on a level whose grid misses the crack front
+    for (int n : o.block_snap_levels) cut_block_cells(block, n);
     for (int n : o.plate_levels) edge_crack_cells(EdgeCrackSpec{}, n);
     for (int n : o.plate_quadratic_levels) edge_crack_cells(EdgeCrackSpec{}, n);
     for (int n : o.plate_snap_levels) edge_crack_cells(EdgeCrackSpec{}, n);
@@ -258,7 +262,9 @@ void check_options(const AccuracyBenchOptions& o) {
         spec.crack = ratio * spec.width;
         edge_crack_cells(spec, o.plate_levels.back());  // throws when the tip is off the finest grid
     }
-    if (o.block_reference <= *std::max_element(o.block_levels.begin(), o.block_levels.end()))
+    std::vector<int> block_all = o.block_levels;
+    block_all.insert(block_all.end(), o.block_snap_levels.begin(), o.block_snap_levels.end());
+    if (o.block_reference <= *std::max_element(block_all.begin(), block_all.end()))
         throw std::invalid_argument("the conforming reference must be finer than every block level");
 }
 
@@ -322,6 +328,7 @@ AccuracyBenchOptions AccuracyBenchOptions::tiny() {
     o.plate_levels = {16, 32, 64};
     o.plate_quadratic_levels = {4, 8};
     o.plate_snap_levels = {};
+    o.block_snap_levels = {};
     o.cantilever_reference_levels = {1, 2, 3};
     o.block_reference_levels = {4, 8, 16, 32};
     o.plate_reference_levels = {10, 20, 40, 80};  // its estimate under 1/10 of the tiny levels' errors
@@ -344,7 +351,7 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o, std::
     std::vector<AccuracyRow> rows;
     std::vector<ReferenceNote> notes;
     const std::string cache = o.cache_dir.empty() ? default_cache_dir() : o.cache_dir;
-    const int total = (wants(o, 3) ? o.cantilever_levels.size() : 0) + (wants(o, 5) ? 3 * o.block_levels.size() + 1 : 0) +
+    const int total = (wants(o, 3) ? o.cantilever_levels.size() : 0) + (wants(o, 5) ? 3 * o.block_levels.size() + o.block_snap_levels.size() + 1 : 0) +
                       (wants(o, 6) ? 3 * o.plate_levels.size() + o.plate_snap_levels.size() + o.plate_quadratic_levels.size() : 0);
     ProgressBar bar("accuracy", o.progress ? total : 0);
     int done = 0;
@@ -370,6 +377,8 @@ std::vector<AccuracyRow> run_accuracy_bench(const AccuracyBenchOptions& o, std::
         for (int n : o.block_levels)
             for (const char* c : kCutters)
                 rows.push_back(median_if_short([&] { return cut_block_run(CutBlockSpec{}, n, c, reference); })), bar.update(++done);
+        for (int n : o.block_snap_levels)
+            rows.push_back(median_if_short([&] { return cut_block_run(CutBlockSpec{}, n, "snap", reference); })), bar.update(++done);
         if (ext.available) refuse_weak_reference(rows, 5, ext.error_estimate, notes);
         if (o.block_stops > 0) block_stop_sweep(o, cache, notes);
     }
