@@ -41,9 +41,10 @@ struct TipZone {
 /// The rule of a front a blade carries (follow_blades, 3D), whose zone is built again at each
 /// stride the blade moves: 2 x 2 per Duffy triangle (3 x 3 where the section's fan is signed:
 /// front_tet_rule), 3 per slab and 3³ conical points (4 x 4, 5 and 4³ in TipZone), 0.28 of the
-/// points on the default skin. Problem 5's errors (the accuracy suite's enriched front so taken)
-/// move by at most 0.17, 0.10, 0.08, 0.03, 0.013 points of percent at 8, 12, 16, 24, 32 cells
-/// (docs/xfem.md, Blades that carry fronts).
+/// points on the default skin. Problem 5's errors move by at most 0.17, 0.10, 0.08, 0.03, 0.013
+/// points of percent at 8, 12, 16, 24, 32 cells with a zone of two cells (docs/xfem.md, Blades that
+/// carry fronts), 0.10, 0.05, 0.035, 0.011, 0.003 on the front's elements, where the accuracy suite
+/// takes it since 2026-12-07 (docs/xfem.md, Crack fronts in 3D).
 constexpr int kBladeFrontRuleOrder = 2, kBladeFrontSlabOrder = 3, kBladeFrontConicalOrder = 3;
 
 /// Gauss points per direction of a zone's Duffy rule (tip_polygon_rule): 5 x 5 per fan triangle of

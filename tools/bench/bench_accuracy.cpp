@@ -90,9 +90,17 @@ AccuracyRow cantilever_run(int n, double reference) {
 
 /// Problem 5's front enrichment: the nodes within this many cells of the front; 0: the nodes of the
 /// elements the front runs through or touches. Chosen by the error at equal CPU time against
-/// snapping's (docs/xfem.md, record 2026-12-07: 1.06-1.09, 0.90-0.92, 0.79 x at 12, 16, 24 cells
-/// against two cells' 1.24-1.27, 1.03-1.13, 0.84-0.87 x in alternated runs; one cell gives zero's zone).
+/// snapping's (docs/xfem.md, 2026-12-07: 1.06-1.09, 0.90-0.92, 0.79 x at 12, 16, 24 cells against
+/// two cells' 1.24-1.27, 1.03-1.13, 0.84-0.87 x in alternated runs; one cell gives zero's zone).
 constexpr double kBlockFrontCells = 0.0;
+
+/// Problem 5's front zone: the rule of a front a blade carries (kBladeFrontRuleOrder, ...), whose
+/// errors there are within 0.10, 0.05, 0.035, 0.011, 0.003 points of percent of TipZone's default
+/// rule's at 8-32 cells, at 0.82-0.89 x snapping's error at equal CPU time at 12 cells against
+/// 1.06-1.08 x (two alternated runs each, 2026-12-07; docs/xfem.md).
+TipZone block_front_zone(int n, const CutBlockSpec& spec) {
+    return TipZone{kBlockFrontCells * spec.size.x() / n, kBladeFrontRuleOrder, kBladeFrontSlabOrder, kBladeFrontConicalOrder};
+}
 
 /// The tip's enrichment on problem 6: the nodes within this many cells of the tip. Chosen by the
 /// error at equal CPU time against snapping's over the levels 10-320 (docs/BENCHMARKS.md, record
@@ -285,7 +293,7 @@ AccuracyRow cut_block_run(const CutBlockSpec& spec, int n, const char* cutter, c
     const int split = cut_with_polygon(w, cut_block_polygon(spec));
     if (name == "xfem_tip")  // the front z = H - d along y, the crack above it (ahead: -z)
         enrich_crack_front(w, Vec3(spec.cut_x, 0.0, spec.size.z() - spec.depth), Vec3(0, 0, -1), Vec3(0, 1, 0),
-                           TipZone{kBlockFrontCells * spec.size.x() / n});
+                           block_front_zone(n, spec));
     pull_block_ends(w, spec);
     const StaticResult r = solve_equilibrium(w);
     AccuracyRow row = row_of(5, cutter, n, spec.size.x() / n, w, split, t, r);
