@@ -135,6 +135,11 @@ Vec3 probe_displacement(const World& w, const Probe& p) {
     return x - p.rest;
 }
 
+Vec3 probe_displacement(const World& w, const Probe& p, const Eigen::VectorXd& amplitudes) {
+    const Vec3 u = probe_displacement(w, p);
+    return w.tips.count() > 0 ? u + crack_enrichment_at(w, amplitudes, p.element, p.rest, p.bary) : u;
+}
+
 int cut_with_polygon(World& w, const std::vector<Vec3>& polygon, bool progressive) {
     if (w.snap.enabled) {
         prepare_snap_cut(w);
@@ -186,10 +191,7 @@ std::vector<Vec3> pulled_block_displacements(World& w, const CutBlockSpec& spec)
     if (!solve_equilibrium(w).converged) throw std::runtime_error("the pulled block's static solve did not converge");
     const Eigen::VectorXd amplitudes = w.tips.count() > 0 ? crack_tip_amplitudes(w) : Eigen::VectorXd();
     std::vector<Vec3> u;
-    for (const Probe& p : locate_points(w, cut_block_samples(spec))) {
-        u.push_back(probe_displacement(w, p));
-        if (w.tips.count() > 0) u.back() += crack_enrichment_at(w, amplitudes, p.element, p.rest, p.bary);
-    }
+    for (const Probe& p : locate_points(w, cut_block_samples(spec))) u.push_back(probe_displacement(w, p, amplitudes));
     return u;
 }
 
@@ -271,11 +273,7 @@ double edge_crack_cmod(World& w, const EdgeCrackSpec& s) {
     const double e = 1e-6 * s.width, y = 0.5 * s.height;
     const auto p = locate_points(w, {Vec3(0.0, y + e, 0.0), Vec3(0.0, y - e, 0.0)});
     const Eigen::VectorXd amplitudes = w.tips.count() > 0 ? step_tip_amplitudes(w) : Eigen::VectorXd();
-    const auto opening = [&](const Probe& q) {
-        const double u = probe_displacement(w, q).y();
-        return w.tips.count() > 0 ? u + crack_enrichment_at(w, amplitudes, q.element, q.rest, q.bary).y() : u;
-    };
-    return opening(p[0]) - opening(p[1]);
+    return probe_displacement(w, p[0], amplitudes).y() - probe_displacement(w, p[1], amplitudes).y();
 }
 
 }  // namespace xcut

@@ -60,6 +60,9 @@ struct Probe {
 std::vector<Probe> locate_points(const World& world, const std::vector<Vec3>& rest_points);
 /// Displacement x(X) - X of a probe at the current positions [m].
 Vec3 probe_displacement(const World& world, const Probe& probe);
+/// The same with the tips' (2D) or fronts' (3D) functions added where the world has any
+/// (crack_enrichment_at), amplitudes b from crack_tip_amplitudes or step_tip_amplitudes [m].
+Vec3 probe_displacement(const World& world, const Probe& probe, const Eigen::VectorXd& amplitudes);
 
 /// Splits the elements the planar polygon (2D: segment) crosses completely, with the world's cutter
 /// (XFEM unless world.snap.enabled); returns the mesh elements split. `progressive` (XFEM only):
