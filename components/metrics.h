@@ -34,6 +34,8 @@ struct Metrics {
     int refactored_steps = 0;     ///< steps whose solve needed a renewed factor
     int substepped_steps = 0;     ///< steps split into substeps to converge
     int max_substeps = 1;         ///< the most substeps one step took
+    /// once-linearized steps (or substeps) that gained energy and were iterated by Newton
+    int energy_newton_steps = 0;
     double work_in = 0.0;         ///< energy put in so far: first energy, gravity, tools [J] (watchdog)
 };
 

@@ -25,7 +25,7 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
         }
         case kForces: {
             const ForceState& f = w.forces;
-            h.all(f.element_buffer, f.quadratic_buffer, f.elastic_energy);
+            h.all(f.element_buffer, f.quadratic_buffer, f.elastic_energy, f.checked_gradient, f.checked_rotation);
             h.bytes(f.force.data(), sizeof(double) * f.force.size());
             h.bytes(f.stiffness_diagonal.data(), sizeof(double) * f.stiffness_diagonal.size());
             return h.bytes(f.last_dv.data(), sizeof(double) * f.last_dv.size());
@@ -34,7 +34,8 @@ void hash_component(Hasher& h, const World& w, uint32_t bit) {
             const StepMetrics& m = w.metrics.current;
             return h.all(m.step, m.time, m.dt, m.dofs, m.cg_iterations, m.newton_iterations, m.cg_residual, m.solve_flag,
                          m.substeps, m.kinetic_energy, m.elastic_energy, m.gravity_work, w.metrics.refactored_steps,
-                         w.metrics.substepped_steps, w.metrics.max_substeps, w.metrics.work_in, w.time, w.step);
+                         w.metrics.substepped_steps, w.metrics.max_substeps, w.metrics.energy_newton_steps, w.metrics.work_in,
+                         w.time, w.step);
         }
         case kCutPlan:
             for (const ScriptedCut& c : w.cut_plan.cuts) h.all(c.applied);

@@ -66,6 +66,9 @@ struct SolverSettings {
     double damping_stiffness = 0.0;  ///< Rayleigh beta [s]
     int newton_iterations = 1;       ///< "newton.iterations": 1 = the once-linearized step (paper)
     double newton_tolerance = 1e-6;  ///< "newton.tolerance": residual relative to the first [-]
+    /// "newton.on_energy_gain": a once-linearized step that gains energy goes on with up to this many
+    /// Newton iterations (systems/solver/energy_check.h); 0 or 1: no check [-]
+    int newton_on_energy_gain = 8;
     /// "linear": how the step's system is solved (systems/solver/linear_solver.h): "auto", "jacobi"
     /// (matrix-free Jacobi CG), "block_jacobi" (assembled, 3x3 block Jacobi CG), "amg" (CG
     /// preconditioned by a kept smoothed-aggregation multigrid), "cholesky" (CG preconditioned by a
@@ -100,6 +103,11 @@ struct ForceState {
     std::vector<std::array<Vec3, 10>> quadratic_buffer;  ///< the same per quadratic element
     Eigen::VectorXd last_dv;                        ///< previous step's velocity change: CG's first guess
     double elastic_energy = 0.0;                    ///< [J]
+    /// 3D, the step's energy check (systems/solver/energy_check.h): per element, the deformation
+    /// gradient at the positions it checked and its polar rotation, which the next update_rotations
+    /// takes where the element's gradient is the same to the bit (NaN where the rotation depended on
+    /// the warm start: an inverted element's)
+    std::vector<Mat3> checked_gradient, checked_rotation;
 };
 
 struct OutputSettings {

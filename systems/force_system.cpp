@@ -34,6 +34,25 @@ void for_each_element(World& world, Body&& body) {
     });
 }
 
+/// The deformation gradients and rotations of tetrahedra first..first+n-1 (n <= 4; a short group
+/// repeats its last) at positions x, for extract_rotations4.
+void gather_group(const Elements& el, const Vec3* x, int first, int n, std::array<Mat3, 4>& F, std::array<Mat3, 4>& warm) {
+    for (int k = 0; k < 4; ++k) {
+        const int e = first + std::min(k, n - 1);
+        F[k] = edge_matrix<3>(gather_vectors(el.nodes[e], 4, x)) * el.dm_inv[e];
+        warm[k] = el.rotation[e];
+    }
+}
+
+/// Whether the energy check computed the rotations of elements first..first+n-1 at exactly these
+/// gradients F (a rotation of a gradient that is not inverted depends on it alone).
+bool checked_here(const ForceState& fs, int first, int n, const std::array<Mat3, 4>& F) {
+    if (static_cast<int>(fs.checked_gradient.size()) < first + n) return false;
+    for (int k = 0; k < n; ++k)
+        if (!(fs.checked_gradient[first + k].array() == F[k].array()).all()) return false;
+    return true;
+}
+
 template <int D>
 void update_rotations_dim(World& world) {
     Elements& el = world.elements;
@@ -43,10 +62,10 @@ void update_rotations_dim(World& world) {
         parallel_for(groups, [&](int g) {
             std::array<Mat3, 4> F, warm, R;
             const int first = 4 * g, n = std::min(4, count - first);
-            for (int k = 0; k < 4; ++k) {
-                const int e = first + std::min(k, n - 1);
-                F[k] = edge_matrix<3>(gather_vectors(el.nodes[e], 4, x)) * el.dm_inv[e];
-                warm[k] = el.rotation[e];
+            gather_group(el, x, first, n, F, warm);
+            if (checked_here(world.forces, first, n, F)) {  // the energy check's rotations of these gradients
+                for (int k = 0; k < n; ++k) el.rotation[first + k] = world.forces.checked_rotation[first + k];
+                return;
             }
             extract_rotations4(F, warm, R);
             for (int k = 0; k < n; ++k) el.rotation[first + k] = R[k];
@@ -113,23 +132,38 @@ Vec3 gathered(const World& world, int i) {
     return s;
 }
 
+/// The strain energy at the current positions [J]; with `keep`, the 3D rotations it took and their
+/// gradients go to keep's checked_gradient and checked_rotation.
 template <int D>
-double elastic_energy_dim(const World& world) {
+double elastic_energy_dim(const World& world, ForceState* keep = nullptr) {
     const Elements& el = world.elements;
     const Vec3* x = world.nodes.position.data();
-    std::vector<double> energy(el.count());
-    parallel_for(el.count(), [&](int e) {
-        const MatD<D> dm_inv = el.dm_inv[e].template topLeftCorner<D, D>();
-        const MatD<D> F = edge_matrix<D>(gather_vectors(el.nodes[e], D + 1, x)) * dm_inv;
-        MatD<D> R;
-        if constexpr (D == 3)
-            R = extract_rotation(F, el.rotation[e]);
-        else
-            R = extract_rotation(F);
-        std::array<Vec3, 4> unused;
-        energy[e] = corotational_forces<D>(gather_vectors(el.nodes[e], D + 1, x), dm_inv, R, el.rest_volume[e] * el.weight[e],
-                                           lame_of(world.materials.list[el.material[e]], D), unused);
-    });
+    const int count = el.count();
+    std::vector<double> energy(count);
+    const auto energy_of = [&](int e, const MatD<D>& F, const MatD<D>& R) {
+        energy[e] = corotational_energy<D>(F, R, el.rest_volume[e] * el.weight[e], lame_of(world.materials.list[el.material[e]], D));
+    };
+    if constexpr (D == 3) {  // the rotations as update_rotations takes them, four at a time
+        if (keep) keep->checked_gradient.resize(count), keep->checked_rotation.resize(count);
+        parallel_for((count + 3) / 4, [&](int g) {
+            std::array<Mat3, 4> F, warm, R;
+            std::array<bool, 4> robust;
+            const int first = 4 * g, n = std::min(4, count - first);
+            gather_group(el, x, first, n, F, warm);
+            extract_rotations4(F, warm, R, &robust);
+            for (int k = 0; k < n; ++k) {
+                energy_of(first + k, F[k], R[k]);
+                if (!keep) continue;
+                keep->checked_gradient[first + k] = robust[k] ? Mat3::Constant(std::nan("")) : F[k];
+                keep->checked_rotation[first + k] = R[k];
+            }
+        }, kParallelMin / 4);
+    } else {
+        parallel_for(count, [&](int e) {
+            const MatD<D> F = edge_matrix<D>(gather_vectors(el.nodes[e], D + 1, x)) * el.dm_inv[e].template topLeftCorner<D, D>();
+            energy_of(e, F, extract_rotation(F));
+        });
+    }
     double quadratic = 0.0;
     if (world.quadratic.count() > 0) {  // each element's rotation as update_rotations takes it
         const QuadraticElements& q = world.quadratic;
@@ -140,7 +174,7 @@ double elastic_energy_dim(const World& world) {
         });
         quadratic = deterministic_sum(q.count(), [&](int t) { return part[t]; });
     }
-    return deterministic_sum(el.count(), [&](int e) { return energy[e]; }) + quadratic;
+    return deterministic_sum(count, [&](int e) { return energy[e]; }) + quadratic;
 }
 
 void ensure_buffers(World& world) {
@@ -213,6 +247,10 @@ double elastic_energy_now(const World& world) {
     return world.elements.dim == 3 ? elastic_energy_dim<3>(world) : elastic_energy_dim<2>(world);
 }
 
+double elastic_energy_checked(World& world) {
+    return world.elements.dim == 3 ? elastic_energy_dim<3>(world, &world.forces) : elastic_energy_dim<2>(world);
+}
+
 void elastic_stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out) {
     ensure_buffers(world);
     if (world.elements.dim == 3) {
@@ -266,6 +304,7 @@ public:
         compute_forces(world);
     }
     void prepare_product(World& world) override { ensure_buffers(world); }
+    double energy_now(World& world) override { return elastic_energy_checked(world); }
     void product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
         if (first) return elastic_stiffness_product(world, p, out);
         Eigen::VectorXd own;

@@ -24,6 +24,9 @@ void compute_stiffness_diagonal(World& world);
 /// Strain energy [J] at the current positions, each element's rotation extracted from them (the
 /// stored rotations, forces and energy are those of the step's start and are left untouched).
 double elastic_energy_now(const World& world);
+/// The same, keeping the 3D rotations it took (ForceState::checked_rotation) for the next
+/// update_rotations at the same positions: the step's energy check.
+double elastic_energy_checked(World& world);
 /// out = K_el p (K_el = -df/dx of the elements with rotations frozen, positive semi-definite), 3
 /// entries per node.
 void elastic_stiffness_product(World& world, const Eigen::VectorXd& p, Eigen::VectorXd& out);

@@ -68,6 +68,12 @@ void StepOperator::finish_step(World& world) const {
         if (t->active(world)) t->finish_step(world);
 }
 
+double StepOperator::energy_now(World& world) const {
+    double sum = 0.0;
+    in_order(terms, world, not_held, [&](StepTerm& t, bool) { sum += t.energy_now(world); });
+    return sum;
+}
+
 bool StepOperator::any_beside(const World& world) const {
     bool any = false;
     in_order(terms, world, [](const StepTerm& t) { return t.beside_assembly(); }, [&](StepTerm&, bool) { any = true; });

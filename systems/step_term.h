@@ -96,6 +96,11 @@ public:
     /// step's end for the systems after the solver (the crack tips' amplitudes at the new positions,
     /// through the step's own factor).
     virtual void finish_step(World&) {}
+    /// Its stored energy at the current positions [J] (a term that is not held: the elements' strain
+    /// energy with each rotation taken from the positions, the crack tips' condensed part through
+    /// the step's factor), changing nothing stored: the step's energy check
+    /// (systems/solver/energy_check.h). Held terms act as external forces, their work bounded apart.
+    virtual double energy_now(World&) { return 0.0; }
 };
 
 /// A held term whose stiffness product is one serial pass over its own entries (the penalty
@@ -144,6 +149,8 @@ struct StepOperator {
     void add_start_forces(World& world) const;
     /// Every active term's finish_step, once the step is taken.
     void finish_step(World& world) const;
+    /// The sum of the active terms' energy_now that are not held [J].
+    double energy_now(World& world) const;
     /// Whether an active term is kept beside the assembly now.
     bool any_beside(const World& world) const;
     /// out += scale mask (K_t (mask p)) over the active terms kept beside the assembly; whether any is.

@@ -25,6 +25,7 @@ RunFigures run_figures(const World& w, int steps, double secs) {
         for (int j = 0; j < w.mesh_nodes; ++j) f.max_opening_m = std::max(f.max_opening_m, enriched_displacement(w, j).norm());
     f.snap_elements_split = w.snap.elements_split, f.snap_nodes_snapped = w.snap.snaps;
     f.refactored_steps = w.metrics.refactored_steps, f.substepped_steps = w.metrics.substepped_steps;
+    f.energy_newton_steps = w.metrics.energy_newton_steps;
     if ((w.present() & kPieces) != 0) f.pieces = w.pieces.count;
     for (const PieceEvent& e : w.pieces.log) f.freed_volumes_m3.push_back(e.volume);
     f.pieces_line = pieces_report(w);
@@ -36,6 +37,11 @@ void print_figures(const RunFigures& f, int max_substeps) {
         fmt::print(stderr, "warning: to reach the CG tolerance, of {} steps {} needed a renewed factor and {} substeps "
                            "(up to {} each); solve_flag and substeps in the metrics CSV say which\n",
                    f.steps, f.refactored_steps, f.substepped_steps, max_substeps);
+    if (f.energy_newton_steps > 0)
+        fmt::print("note: {} of {} once-linearized steps gained energy (the tissue turning fast for the time step) and "
+                   "went on with Newton iterations (solver.newton.on_energy_gain; newton_iterations in the metrics CSV "
+                   "says which)\n",
+                   f.energy_newton_steps, f.steps);
     fmt::print("done: t = {:.4g} s in {:.3f} s wall ({:.1f} steps/s); free DOFs {}; last step {} CG iterations; "
                "max displacement {:.4g} m; kinetic {:.4g} J, elastic {:.4g} J\n",
                f.time_s, f.wall_s, f.steps_per_s, f.free_dofs, f.last_cg_iterations, f.max_displacement_m, f.kinetic_J,
@@ -54,7 +60,7 @@ nlohmann::json figures_json(const RunFigures& f) {
             {"front_held_nodes", f.front_held_nodes}, {"max_opening_m", f.max_opening_m},
             {"snap_elements_split", f.snap_elements_split}, {"snap_nodes_snapped", f.snap_nodes_snapped},
             {"refactored_steps", f.refactored_steps}, {"substepped_steps", f.substepped_steps},
-            {"pieces", f.pieces}, {"freed_volumes_m3", f.freed_volumes_m3}};
+            {"energy_newton_steps", f.energy_newton_steps}, {"pieces", f.pieces}, {"freed_volumes_m3", f.freed_volumes_m3}};
 }
 
 void write_summary(const std::string& path, const RunSummary& s) {

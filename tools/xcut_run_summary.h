@@ -20,6 +20,9 @@ struct RunFigures {
     double max_opening_m = 0.0;                                        ///< max |a_j|
     int snap_elements_split = 0, snap_nodes_snapped = 0;               ///< the snapping baseline
     int refactored_steps = 0, substepped_steps = 0;
+    /// Once-linearized steps that gained energy and went on with Newton iterations (solver
+    /// "newton": {"on_energy_gain"}: systems/solver/energy_check.h).
+    int energy_newton_steps = 0;
     /// Pieces of tissue now (-1: the scene has no cutter), and the rest volumes of the pieces cuts
     /// freed, in order [m^3]; pieces_line is the console's line on them ("" if none).
     int pieces = -1;

@@ -21,6 +21,7 @@ std::vector<MetricColumn> metric_columns(const World& world, int& split_total) {
         {"step_ms", m.step_ms, 'f'},
         {"solve_flag", double(m.solve_flag), 'd'},
         {"substeps", double(m.substeps), 'd'},
+        {"newton_iterations", double(m.newton_iterations), 'd'},
         {"preconditioner", double(m.preconditioner), 'd'},
         {"preconditioner_wait_ms", m.preconditioner_wait_ms, 'f'},
     };

@@ -408,9 +408,10 @@ Scene scene_from_json(nlohmann::json root, const std::string& path, const fs::pa
     s.damping_mass = damp.number("mass", 0.0, 0.0);
     s.damping_stiffness = damp.number("stiffness", 0.0, 0.0);
     const JsonFields newton = sol.object("newton");
-    newton.allow_only({"iterations", "tolerance"});
+    newton.allow_only({"iterations", "tolerance", "on_energy_gain"});
     s.newton_iterations = newton.integer("iterations", 1, 1, 1000);
     s.newton_tolerance = newton.number("tolerance", 1e-6, 1e-16, 1.0);
+    s.newton_on_energy_gain = newton.integer("on_energy_gain", s.newton_on_energy_gain, 0, 1000);
     s.linear = sol.choice("linear", "auto", {"auto", "jacobi", "block_jacobi", "amg", "cholesky", "direct"});
     s.refactor_iterations = sol.integer("refactor_iterations", 8, 1, 1000000);
     s.refactor_every = sol.integer("refactor_every", 200, 1, 1000000);

@@ -282,6 +282,15 @@ public:
         if (factored_[1] != w.tips.version) linearize(w);
         c_.with(w, [&](const auto& c) { keep_amplitudes(w, -c.solve(c.coupling(w, w.nodes.position.data(), 1.0))); });
     }
+    /// The condensed energy ½ g·b at the current positions, through the step's factor (as force()).
+    double energy_now(World& w) override {
+        if (!active(w)) return 0.0;
+        ensure_factor(w);
+        return c_.with(w, [&](const auto& c) {
+            const Eigen::VectorXd g = c.coupling(w, w.nodes.position.data(), 1.0);
+            return 0.5 * g.dot(-c.solve(g));
+        });
+    }
     /// out (+)= -G_x^T H^-1 G_x p.
     void product(World& w, const Eigen::VectorXd& p, Eigen::VectorXd& out, bool first) override {
         if (first) out.setZero(3 * w.nodes.count());

@@ -77,6 +77,15 @@ XCUT_INLINE double corotational_forces(const std::array<Vec3, 4>& x, const MatD<
     return volume * (lame.mu * eps.squaredNorm() + 0.5 * lame.lambda * eps.trace() * eps.trace());
 }
 
+/// The strain energy alone, as corotational_forces returns it [J] (the energy check's, at positions
+/// the step has not linearized about).
+template <int D>
+XCUT_INLINE double corotational_energy(const MatD<D>& F, const MatD<D>& R, double volume, const LameParameters& lame) {
+    const MatD<D> H = R.transpose() * F - MatD<D>::Identity();
+    const MatD<D> eps = 0.5 * (H + H.transpose());
+    return volume * (lame.mu * eps.squaredNorm() + 0.5 * lame.lambda * eps.trace() * eps.trace());
+}
+
 /// Stiffness action out_j = sum_k K_jk p_k = V R sigma(R^T P) g_j (K positive semi-definite).
 template <int D>
 XCUT_INLINE void corotational_stiffness_product(const std::array<Vec3, 4>& p, const MatD<D>& dm_inv,

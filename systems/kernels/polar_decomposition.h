@@ -64,9 +64,11 @@ inline Eigen::Matrix3d extract_rotation(const Eigen::Matrix3d& F, const Eigen::M
 /// X^-T is the cofactor matrix over det X. A lane stops changing once its update is below the same
 /// 1e-15 (Frobenius, relative); the loop ends when all four have, or after 30 iterations. A lane
 /// with det F <= 1e-12 |F|^3 (inverted or flat) takes the robust iteration, warm-started from its
-/// `warm_start`, as extract_rotation does. The result agrees with extract_rotation to round-off.
+/// `warm_start`, as extract_rotation does. The result agrees with extract_rotation to round-off. A
+/// lane's result depends on its own F alone (and, robust, its warm start): `robust`, when given,
+/// says which lanes took the robust iteration.
 inline void extract_rotations4(const std::array<Eigen::Matrix3d, 4>& F, const std::array<Eigen::Matrix3d, 4>& warm_start,
-                               std::array<Eigen::Matrix3d, 4>& R) {
+                               std::array<Eigen::Matrix3d, 4>& R, std::array<bool, 4>* robust_lanes = nullptr) {
     using A4 = Eigen::Array4d;
     std::array<A4, 9> X;  // X[3 r + c], lane k: entry (r, c) of matrix k
     for (int k = 0; k < 4; ++k)
@@ -101,6 +103,7 @@ inline void extract_rotations4(const std::array<Eigen::Matrix3d, 4>& F, const st
         done = done || (change.sqrt() <= 1e-15 * 1.7320508075688772);
     }
     for (int k = 0; k < 4; ++k) {
+        if (robust_lanes) (*robust_lanes)[k] = robust[k];
         if (robust[k]) {
             R[k] = extract_rotation_robust(F[k], warm_start[k]);
             continue;

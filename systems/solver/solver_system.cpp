@@ -9,6 +9,7 @@
 
 #include "engine/error.h"
 #include "engine/parallel.h"
+#include "systems/solver/energy_check.h"
 #include "systems/solver/linear_assembly.h"
 #include "systems/solver/linear_solver.h"
 
@@ -50,11 +51,52 @@ Eigen::VectorXd held_part(World& w, const StepOperator& op) {
     return held;
 }
 
+/// What a step changes, to start it again in substeps.
+struct StepStart {
+    std::vector<Vec3> position, velocity;
+    std::vector<Mat3> rotation;
+    Eigen::VectorXd force, stiffness_diagonal, last_dv;
+    double elastic_energy = 0.0;
+};
+
+StepStart save_step(const World& w) {
+    return {w.nodes.position, w.nodes.velocity, w.elements.rotation, w.forces.force, w.forces.stiffness_diagonal,
+            w.forces.last_dv, w.forces.elastic_energy};
+}
+
+void restore_step(World& w, const StepStart& s) {
+    w.nodes.position = s.position, w.nodes.velocity = s.velocity, w.elements.rotation = s.rotation;
+    w.forces.force = s.force, w.forces.stiffness_diagonal = s.stiffness_diagonal, w.forces.last_dv = s.last_dv;
+    w.forces.elastic_energy = s.elastic_energy;
+}
+
+/// Whether the once-linearized step's velocity change dv gains energy (energy_check.h): the state's
+/// energy now (its stored part as the step's forces counted it) against that at x + h (v + dv),
+/// the stored part with rotations taken from those positions. Changes nothing it does not restore.
+bool linearized_step_gains(World& world, const StepOperator& op, double h, const Eigen::VectorXd& m3,
+                           const Eigen::VectorXd& dv) {
+    const int n3 = 3 * world.nodes.count();
+    Eigen::Map<Eigen::VectorXd> v(world.nodes.velocity[0].data(), n3);
+    Eigen::Map<Eigen::VectorXd> x(world.nodes.position[0].data(), n3);
+    StepEnergy before = motion_energy(world, m3, v);
+    before.stored = world.forces.elastic_energy;
+    Eigen::VectorXd v1 = v + dv;
+    project_constraints(world, v1);
+    const Eigen::VectorXd xn = x;
+    x += h * v1;
+    StepEnergy after = motion_energy(world, m3, v1);
+    after.stored = op.energy_now(world);
+    x = xn;
+    return gained_energy(world, h, before, after);
+}
+
 /// One backward Euler step of length h from the current state, forces and rotations (paper §4.3):
-/// the linearized solve, then Newton iterations when asked. Commits v and x only if every solve
-/// converged; returns the solves' sum.
+/// the linearized solve, then Newton iterations when asked or, where the linearized step gained
+/// energy, solver.newton.on_energy_gain of them (systems/solver/energy_check.h; the step's start
+/// is then saved in `start` if it is not yet, as the iterations move rotations and forces). Commits
+/// v and x only if every solve converged; returns the solves' sum.
 LinearSolve euler_substep(World& world, const StepOperator& op, double h, const Eigen::VectorXd& m3,
-                          const Eigen::VectorXd& mask) {
+                          const Eigen::VectorXd& mask, std::optional<StepStart>& start) {
     Nodes& nodes = world.nodes;
     const SolverSettings& s = world.solver;
     const int n3 = 3 * nodes.count();
@@ -78,8 +120,16 @@ LinearSolve euler_substep(World& world, const StepOperator& op, double h, const 
     }
     Eigen::VectorXd dv = world.forces.last_dv.size() == n3 ? world.forces.last_dv : Eigen::VectorXd::Zero(n3);
     LinearSolve total = solve_step_linear(world, op, mass_scale, stiff_scale, b, mask, dv, &filled);
-    int newton = 1;
-    if (total.converged && s.newton_iterations > 1) {
+    int newton = 1, iterations = s.newton_iterations;
+    // The check runs where no held term acts (a contact's or a grasp's work on the tissue within the
+    // step is not known to it: energy_check.h).
+    if (total.converged && iterations == 1 && s.newton_on_energy_gain > 1 && !op.any_held(world) &&
+        linearized_step_gains(world, op, h, m3, dv)) {
+        iterations = s.newton_on_energy_gain;
+        ++world.metrics.energy_newton_steps;
+        if (!start) start = save_step(world);
+    }
+    if (total.converged && iterations > 1) {
         // Newton on the nonlinear step (rotations, forces and K re-evaluated at x_n + h v_k) until
         // |residual| <= newton_tolerance |residual at v_n|: the converged step is backward Euler
         // itself, which the once-linearized step only approximates (it gains energy on large
@@ -88,7 +138,7 @@ LinearSolve euler_substep(World& world, const StepOperator& op, double h, const 
         const Eigen::VectorXd held_force = held_part(world, op);
         const double r0 = std::sqrt(deterministic_dot(b.cwiseProduct(mask), b.cwiseProduct(mask)));
         Eigen::VectorXd vk = vn + dv;
-        for (; newton < s.newton_iterations && total.converged; ++newton) {
+        for (; newton < iterations && total.converged; ++newton) {
             project_constraints(world, vk);
             x = xn + h * vk;
             op.relinearize(world);
@@ -115,28 +165,10 @@ LinearSolve euler_substep(World& world, const StepOperator& op, double h, const 
     return total;
 }
 
-/// What a step changes, to start it again in substeps.
-struct StepStart {
-    std::vector<Vec3> position, velocity;
-    std::vector<Mat3> rotation;
-    Eigen::VectorXd force, stiffness_diagonal, last_dv;
-    double elastic_energy = 0.0;
-};
-
-StepStart save_step(const World& w) {
-    return {w.nodes.position, w.nodes.velocity, w.elements.rotation, w.forces.force, w.forces.stiffness_diagonal,
-            w.forces.last_dv, w.forces.elastic_energy};
-}
-
-void restore_step(World& w, const StepStart& s) {
-    w.nodes.position = s.position, w.nodes.velocity = s.velocity, w.elements.rotation = s.rotation;
-    w.forces.force = s.force, w.forces.stiffness_diagonal = s.stiffness_diagonal, w.forces.last_dv = s.last_dv;
-    w.forces.elastic_energy = s.elastic_energy;
-}
-
 /// The step in `substeps` equal parts; false as soon as one part's solve fails.
 bool run_substeps(World& world, const StepOperator& op, int substeps, const Eigen::VectorXd& m3,
-                  const Eigen::VectorXd& mask, const Eigen::VectorXd& held_force, LinearSolve& total) {
+                  const Eigen::VectorXd& mask, const Eigen::VectorXd& held_force, LinearSolve& total,
+                  std::optional<StepStart>& start) {
     const double h = world.solver.dt / substeps;
     total = LinearSolve{};
     for (int k = 0; k < substeps; ++k) {
@@ -144,7 +176,7 @@ bool run_substeps(World& world, const StepOperator& op, int substeps, const Eige
             op.relinearize(world);
             world.forces.force += held_force;
         }
-        const LinearSolve part = euler_substep(world, op, h, m3, mask);
+        const LinearSolve part = euler_substep(world, op, h, m3, mask, start);
         total.cg.iterations += part.cg.iterations;
         total.cg.relative_residual = std::isnan(part.cg.relative_residual)
                                          ? part.cg.relative_residual
@@ -198,7 +230,7 @@ void implicit_euler_step(World& world, const StepOperator& op) {
     Eigen::VectorXd held_force;
     LinearSolve total;
     int substeps = 1;
-    while (!run_substeps(world, op, substeps, m3, mask, held_force, total)) {
+    while (!run_substeps(world, op, substeps, m3, mask, held_force, total, start)) {
         if (2 * substeps > s.max_substeps) fail_step(world, total, substeps);
         if (!start) start = save_step(world);
         restore_step(world, *start);
@@ -287,7 +319,8 @@ SystemDesc solver_system(const World& world, std::shared_ptr<const StepOperator>
     // substeps relinearize) and the step's metrics.
     SystemDesc s{"SolverSystem", kNodes | kElements | kForces, kNodes | kElements | kForces | kLinear | kMetrics,
                  [op](World& w) { implicit_euler_step(w, *op); }, "linear: " + method + " (" + why + ")"};
-    return s.also_reads(kMaterials | kContacts | kGravity);  // the terms' stiffness, the held contacts
+    // the terms' stiffness, the held contacts, the tools' work (the energy check)
+    return s.also_reads(kMaterials | kContacts | kGravity | kTools | kGrasps);
 }
 
 }  // namespace xcut
