@@ -38,9 +38,9 @@ void print_figures(const RunFigures& f, int max_substeps) {
                            "(up to {} each); solve_flag and substeps in the metrics CSV say which\n",
                    f.steps, f.refactored_steps, f.substepped_steps, max_substeps);
     if (f.energy_newton_steps > 0)
-        fmt::print("note: {} of {} once-linearized steps gained energy (the tissue turning fast for the time step) and "
-                   "went on with Newton iterations (solver.newton.on_energy_gain; newton_iterations in the metrics CSV "
-                   "says which)\n",
+        fmt::print("note: {} once-linearized steps (of {}) gained energy (the tissue turning fast for the time step) "
+                   "and went on with Newton iterations (solver.newton.on_energy_gain; newton_iterations in the "
+                   "metrics CSV says which)\n",
                    f.energy_newton_steps, f.steps);
     fmt::print("done: t = {:.4g} s in {:.3f} s wall ({:.1f} steps/s); free DOFs {}; last step {} CG iterations; "
                "max displacement {:.4g} m; kinetic {:.4g} J, elastic {:.4g} J\n",
@@ -60,7 +60,8 @@ nlohmann::json figures_json(const RunFigures& f) {
             {"front_held_nodes", f.front_held_nodes}, {"max_opening_m", f.max_opening_m},
             {"snap_elements_split", f.snap_elements_split}, {"snap_nodes_snapped", f.snap_nodes_snapped},
             {"refactored_steps", f.refactored_steps}, {"substepped_steps", f.substepped_steps},
-            {"energy_newton_steps", f.energy_newton_steps}, {"pieces", f.pieces}, {"freed_volumes_m3", f.freed_volumes_m3}};
+            {"energy_newton_steps", f.energy_newton_steps},
+ {"pieces", f.pieces}, {"freed_volumes_m3", f.freed_volumes_m3}};
 }
 
 void write_summary(const std::string& path, const RunSummary& s) {

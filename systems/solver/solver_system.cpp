@@ -70,24 +70,27 @@ void restore_step(World& w, const StepStart& s) {
     w.forces.elastic_energy = s.elastic_energy;
 }
 
-/// Whether the once-linearized step's velocity change dv gains energy (energy_check.h): the state's
-/// energy now (its stored part as the step's forces counted it) against that at x + h (v + dv),
-/// the stored part with rotations taken from those positions. Changes nothing it does not restore.
-bool linearized_step_gains(World& world, const StepOperator& op, double h, const Eigen::VectorXd& m3,
-                           const Eigen::VectorXd& dv) {
+/// The energy of the step's start (energy_check.h): its stored part as the step's forces counted it.
+StepEnergy start_energy(const World& world, const Eigen::VectorXd& m3) {
     const int n3 = 3 * world.nodes.count();
-    Eigen::Map<Eigen::VectorXd> v(world.nodes.velocity[0].data(), n3);
+    StepEnergy e = motion_energy(world, m3, Eigen::Map<const Eigen::VectorXd>(world.nodes.velocity[0].data(), n3));
+    e.stored = world.forces.elastic_energy;
+    return e;
+}
+
+/// The energy at the end of a step of length h that changes the velocities by dv, the stored part
+/// with rotations taken from the end positions. Changes nothing it does not restore.
+StepEnergy end_energy(World& world, const StepOperator& op, double h, const Eigen::VectorXd& m3, const Eigen::VectorXd& dv) {
+    const int n3 = 3 * world.nodes.count();
     Eigen::Map<Eigen::VectorXd> x(world.nodes.position[0].data(), n3);
-    StepEnergy before = motion_energy(world, m3, v);
-    before.stored = world.forces.elastic_energy;
-    Eigen::VectorXd v1 = v + dv;
+    Eigen::VectorXd v1 = Eigen::Map<const Eigen::VectorXd>(world.nodes.velocity[0].data(), n3) + dv;
     project_constraints(world, v1);
     const Eigen::VectorXd xn = x;
     x += h * v1;
-    StepEnergy after = motion_energy(world, m3, v1);
-    after.stored = op.energy_now(world);
+    StepEnergy e = motion_energy(world, m3, v1);
+    e.stored = op.energy_now(world);
     x = xn;
-    return gained_energy(world, h, before, after);
+    return e;
 }
 
 /// One backward Euler step of length h from the current state, forces and rotations (paper §4.3):
@@ -124,7 +127,7 @@ LinearSolve euler_substep(World& world, const StepOperator& op, double h, const 
     // The check runs where no held term acts (a contact's or a grasp's work on the tissue within the
     // step is not known to it: energy_check.h).
     if (total.converged && iterations == 1 && s.newton_on_energy_gain > 1 && !op.any_held(world) &&
-        linearized_step_gains(world, op, h, m3, dv)) {
+        gained_energy(world, h, start_energy(world, m3), end_energy(world, op, h, m3, dv))) {
         iterations = s.newton_on_energy_gain;
         ++world.metrics.energy_newton_steps;
         if (!start) start = save_step(world);
@@ -234,6 +237,9 @@ void implicit_euler_step(World& world, const StepOperator& op) {
         if (2 * substeps > s.max_substeps) fail_step(world, total, substeps);
         if (!start) start = save_step(world);
         restore_step(world, *start);
+        // Newton iterations and substeps linearized the terms elsewhere (the crack tips' factor is
+        // made at the rotations of its linearization): again at the step's start.
+        op.linearize(world);
         if (held_force.size() == 0) {
             held_force = op.any_held(world) ? held_part(world, op) : Eigen::VectorXd::Zero(n3);
             restore_step(world, *start);
