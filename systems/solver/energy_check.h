@@ -9,8 +9,11 @@
 // 2.4 × the work of gravity in the crack-tip stress suite (docs/BENCHMARKS.md, stability). The
 // check measures the step's balance with the rotations taken afresh from the end positions, and a
 // step that gained goes on with Newton iterations from where the linearized solve ended (the
-// iterations then converge to backward Euler itself). Held terms (contacts, grasps) act as external
-// forces: their work is bounded as the watchdog bounds it (|F . v| dt).
+// iterations then converge to backward Euler itself: the minimizer of the incremental potential,
+// Gast, Schroeder, Stomakhin, Jiang & Teran, "Optimization integrator for large time steps", IEEE
+// TVCG 21, 2015). Steps where a held term acts (contacts, grasps) are not checked: their work on the
+// tissue within the step is not known here (the SolverSystem skips them); the tools' other work
+// (tool_work) is bounded as the watchdog bounds it, |F . v| dt.
 #include <Eigen/Core>
 
 #include "engine/world.h"
