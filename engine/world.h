@@ -108,6 +108,9 @@ struct ForceState {
     /// takes where the element's gradient is the same to the bit (NaN where the rotation depended on
     /// the warm start: an inverted element's)
     std::vector<Mat3> checked_gradient, checked_rotation;
+    /// 3 per DOF node: the held terms' part of `force` at the step's start (the contacts' and the
+    /// grasps', which their systems add to both), for the energy check's count of their work [N]
+    Eigen::VectorXd held_force;
 };
 
 struct OutputSettings {

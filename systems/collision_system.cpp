@@ -163,6 +163,7 @@ void apply_contact_forces(World& w) {
     tb.reaction_force = cutting ? tb.cutting_force : std::vector<Vec3>(tb.count(), Vec3::Zero());
     tb.reaction_torque = cutting ? tb.cutting_torque : std::vector<Vec3>(tb.count(), Vec3::Zero());
     Eigen::VectorXd& f = w.forces.force;
+    Eigen::VectorXd& held = w.forces.held_force;
     Eigen::VectorXd& diag = w.forces.stiffness_diagonal;
     const bool diagonal = stiffness_diagonal_used(w);  // else it is not made this step: nothing to add to
     const int npe = w.elements.nodes_per_element();
@@ -177,6 +178,7 @@ void apply_contact_forces(World& w) {
         for (int a = 0; a < npe; ++a) {
             const double wa = c.bary[k][a];
             f.segment<3>(3 * nodes[a]) += wa * c.force[k];
+            if (held.size() == f.size()) held.segment<3>(3 * nodes[a]) += wa * c.force[k];
             if (diagonal) diag.segment<3>(3 * nodes[a]) += wa * wa * c.stiffness[k] * n.cwiseProduct(n);
         }
         tb.reaction_force[i] -= c.force[k];

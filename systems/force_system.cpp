@@ -367,6 +367,7 @@ SystemDesc force_system() {
     SystemDesc s{"ForceSystem", kNodes | kElements | kMaterials, kForces | kElements, [](World& w) {
                      update_rotations(w);
                      compute_forces(w);
+                     w.forces.held_force.setZero(w.forces.force.size());  // the contacts and grasps add theirs
                  }};
     return s.also_reads(kGravity);
 }

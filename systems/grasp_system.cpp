@@ -126,6 +126,7 @@ void apply_grasps(World& w) {
         tb.reaction_torque = cutting ? tb.cutting_torque : std::vector<Vec3>(tb.count(), Vec3::Zero());
     }
     Eigen::VectorXd& f = w.forces.force;
+    Eigen::VectorXd& held_force = w.forces.held_force;
     Eigen::VectorXd& diag = w.forces.stiffness_diagonal;
     const bool diagonal = stiffness_diagonal_used(w);
     const int npe = w.elements.nodes_per_element();
@@ -148,6 +149,7 @@ void apply_grasps(World& w) {
         for (int a = 0; a < npe; ++a) {
             const double wa = s.bary[v][a];
             f.segment<3>(3 * nodes[a]) += wa * pull;
+            if (held_force.size() == f.size()) held_force.segment<3>(3 * nodes[a]) += wa * pull;
             if (diagonal) diag.segment<3>(3 * nodes[a]).array() += wa * wa * stiffness;
         }
         // The pull on the jaws as the step starts: the spring to where the held point is now (the

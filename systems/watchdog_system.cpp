@@ -7,7 +7,6 @@
 
 #include "engine/error.h"
 #include "engine/parallel.h"
-#include "engine/tool_work.h"
 
 namespace xcut {
 namespace {
@@ -24,8 +23,20 @@ int first_non_finite(const Nodes& nodes) {
     return -1;
 }
 
-}  // namespace
+/// The work the tools' contacts and grasps did on the tissue over the last step, bounded above [J].
+double tool_work(const World& w) {
+    const ToolBodies& tb = w.tools;
+    double work = 0.0;
+    for (int i = 0; i < tb.count(); ++i) {
+        if (i >= static_cast<int>(tb.reaction_force.size()) || i >= static_cast<int>(tb.velocity.size())) continue;
+        // The blades' cutting resistance is spent opening the cut, not on the tissue's energy.
+        const Vec3 cutting = i < static_cast<int>(tb.cutting_force.size()) ? tb.cutting_force[i] : Vec3::Zero();
+        work += std::abs((tb.reaction_force[i] - cutting).dot(tb.velocity[i])) * w.solver.dt;
+    }
+    return work + w.grasps.step_work;  // the graspers' (systems/grasp_system.h)
+}
 
+}  // namespace
 
 void check_state(World& w) {
     const StepMetrics& m = w.metrics.current;

@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "engine/parallel.h"
-#include "engine/tool_work.h"
 
 namespace xcut {
 
@@ -16,9 +15,8 @@ StepEnergy motion_energy(const World& world, const Eigen::VectorXd& m3, const Ei
     return e;
 }
 
-bool gained_energy(const World& world, double h, const StepEnergy& before, const StepEnergy& after) {
-    const double work = tool_work(world) * (h / world.solver.dt);
-    const double scale = before.kinetic + std::abs(before.stored) + work + std::abs(after.gravity - before.gravity);
+bool gained_energy(const StepEnergy& before, const StepEnergy& after, double work) {
+    const double scale = before.kinetic + std::abs(before.stored) + std::abs(work) + std::abs(after.gravity - before.gravity);
     return after.total() - before.total() > work + kEnergyGainTolerance * scale + kEnergyGainFloor;
 }
 

@@ -11,9 +11,9 @@
 // step that gained goes on with Newton iterations from where the linearized solve ended (the
 // iterations then converge to backward Euler itself: the minimizer of the incremental potential,
 // Gast, Schroeder, Stomakhin, Jiang & Teran, "Optimization integrator for large time steps", IEEE
-// TVCG 21, 2015). Steps where a held term acts (contacts, grasps) are not checked: their work on the
-// tissue within the step is not known here (the SolverSystem skips them); the tools' other work
-// (tool_work) is bounded as the watchdog bounds it, |F . v| dt.
+// TVCG 21, 2015). The held terms (the tools' contacts and grasps) are external forces linear in the
+// step, f_h0 - K_h (x - x_n): their work on the tissue over it is f_h0 . dx - dx . K_h dx / 2 exactly
+// (ForceState::held_force is f_h0). A blade's cutting resistance does no work on the tissue's energy.
 #include <Eigen/Core>
 
 #include "engine/world.h"
@@ -22,8 +22,8 @@
 namespace xcut {
 
 /// Relative tolerance of the balance [-]: a step gains energy when its energy rises by more than
-/// the tools' work plus this fraction of the energy involved (the kinetic and stored energy at the
-/// step's start, the tools' work and gravity's over the step). 1e-3: far above the balance's
+/// the held terms' work plus this fraction of the energy involved (the kinetic and stored energy at
+/// the step's start, the held terms' work and gravity's over the step). 1e-3: far above the balance's
 /// round-off and the CG tolerance's effect (1e-6 relative residual), far below the gains found
 /// (7-136 % of the work put in).
 inline constexpr double kEnergyGainTolerance = 1e-3;
@@ -44,9 +44,8 @@ struct StepEnergy {
 /// The kinetic and gravity parts of the world's state with velocities v (3 per DOF node) [J].
 StepEnergy motion_energy(const World& world, const Eigen::VectorXd& m3, const Eigen::VectorXd& v);
 
-/// Whether a step of length h [s] from `before` to `after` gained energy: more than the tools'
-/// work over it (tool_work, the step's share) plus kEnergyGainTolerance of the energy involved
-/// plus kEnergyGainFloor.
-bool gained_energy(const World& world, double h, const StepEnergy& before, const StepEnergy& after);
+/// Whether a step from `before` to `after` gained energy: more than `work`, what the held terms did
+/// on the tissue over it [J], plus kEnergyGainTolerance of the energy involved plus kEnergyGainFloor.
+bool gained_energy(const StepEnergy& before, const StepEnergy& after, double work);
 
 }  // namespace xcut

@@ -78,19 +78,28 @@ StepEnergy start_energy(const World& world, const Eigen::VectorXd& m3) {
     return e;
 }
 
-/// The energy at the end of a step of length h that changes the velocities by dv, the stored part
-/// with rotations taken from the end positions. Changes nothing it does not restore.
-StepEnergy end_energy(World& world, const StepOperator& op, double h, const Eigen::VectorXd& m3, const Eigen::VectorXd& dv) {
+/// Whether a step of length h that changes the velocities by dv gains energy (energy_check.h): the
+/// energy at its end, the stored part with rotations taken from the end positions, against its
+/// start's and the held terms' work over it. Changes nothing it does not restore.
+bool step_gains(World& world, const StepOperator& op, double h, const Eigen::VectorXd& m3, const Eigen::VectorXd& dv) {
     const int n3 = 3 * world.nodes.count();
     Eigen::Map<Eigen::VectorXd> x(world.nodes.position[0].data(), n3);
     Eigen::VectorXd v1 = Eigen::Map<const Eigen::VectorXd>(world.nodes.velocity[0].data(), n3) + dv;
     project_constraints(world, v1);
+    const Eigen::VectorXd dx = h * v1;
+    double work = 0.0;
+    if (op.any_held(world)) {  // f_h0 . dx - dx . K_h dx / 2
+        Eigen::VectorXd kdx = Eigen::VectorXd::Zero(n3);
+        op.add_held_product(world, dx, kdx);
+        work = deterministic_dot(world.forces.held_force, dx) - 0.5 * deterministic_dot(dx, kdx);
+    }
+    const StepEnergy before = start_energy(world, m3);
     const Eigen::VectorXd xn = x;
-    x += h * v1;
-    StepEnergy e = motion_energy(world, m3, v1);
-    e.stored = op.energy_now(world);
+    x += dx;
+    StepEnergy after = motion_energy(world, m3, v1);
+    after.stored = op.energy_now(world);
     x = xn;
-    return e;
+    return gained_energy(before, after, work);
 }
 
 /// One backward Euler step of length h from the current state, forces and rotations (paper §4.3):
@@ -124,10 +133,10 @@ LinearSolve euler_substep(World& world, const StepOperator& op, double h, const 
     Eigen::VectorXd dv = world.forces.last_dv.size() == n3 ? world.forces.last_dv : Eigen::VectorXd::Zero(n3);
     LinearSolve total = solve_step_linear(world, op, mass_scale, stiff_scale, b, mask, dv, &filled);
     int newton = 1, iterations = s.newton_iterations;
-    // The check runs where no held term acts (a contact's or a grasp's work on the tissue within the
-    // step is not known to it: energy_check.h).
-    if (total.converged && iterations == 1 && s.newton_on_energy_gain > 1 && !op.any_held(world) &&
-        gained_energy(world, h, start_energy(world, m3), end_energy(world, op, h, m3, dv))) {
+    // The held terms' work needs their start force (the systems that add them keep it, unless a
+    // caller other than the pipeline applied them).
+    const bool held_known = !op.any_held(world) || world.forces.held_force.size() == n3;
+    if (total.converged && iterations == 1 && s.newton_on_energy_gain > 1 && held_known && step_gains(world, op, h, m3, dv)) {
         iterations = s.newton_on_energy_gain;
         ++world.metrics.energy_newton_steps;
         if (!start) start = save_step(world);

@@ -98,5 +98,20 @@ TEST(EnergyCheck, ARunNoneOfWhoseStepsGainsIsTheSameToTheBit) {
     EXPECT_EQ(checked, alone);
 }
 
+// The probe of scenes/open_surgery.json parts the wound and presses the tissue: its contacts' work on
+// the tissue is counted exactly (the held terms are linear within the step), so no step is taken for
+// a gain. Bounded as the watchdog bounds the tools' work (|F . v| dt), 30 of its steps were.
+TEST(EnergyCheck, AProbeInContactDoesItsWorkAndNoStepGains) {
+    Scene scene = load_scene(scene_path("open_surgery.json"), {"output.vtu=false", "output.metrics_csv=false"});
+    auto sim = make_simulation(scene, /*with_output=*/false);
+    int contact_steps = 0;
+    for (int n = 0; n < scene.steps; ++n) {
+        step_simulation(*sim);
+        contact_steps += sim->world.contacts.count() > 0;
+    }
+    EXPECT_GT(contact_steps, 20);
+    EXPECT_EQ(sim->world.metrics.energy_newton_steps, 0);
+}
+
 }  // namespace
 }  // namespace xcut
