@@ -68,7 +68,7 @@ struct SolverSettings {
     double newton_tolerance = 1e-6;  ///< "newton.tolerance": residual relative to the first [-]
     /// "newton.on_energy_gain": a once-linearized step that gains energy goes on with up to this many
     /// Newton iterations (systems/solver/energy_check.h); 0 or 1: no check [-]
-    int newton_on_energy_gain = 8;
+    int newton_on_energy_gain = 3;
     /// "linear": how the step's system is solved (systems/solver/linear_solver.h): "auto", "jacobi"
     /// (matrix-free Jacobi CG), "block_jacobi" (assembled, 3x3 block Jacobi CG), "amg" (CG
     /// preconditioned by a kept smoothed-aggregation multigrid), "cholesky" (CG preconditioned by a
