@@ -12,6 +12,10 @@
 // gradient algorithm", Parallel Computing 40, 2014, alg. 2): with u = M^-1 r and w = A u carried
 // along, gamma = (r, u), delta = (w, u) and |r|^2 are summed in one pass, and s = A p is updated by
 // recurrence, so an iteration needs one product and one reduction. In exact arithmetic it is PCG.
+// |r|^2 is also summed where the update makes r (no barrier of its own: the update's loop ends in
+// one), so the test for convergence comes before the preconditioner and the product, not after:
+// a solve of k iterations applies the preconditioner k times, not k + 1 (for a Cholesky factor
+// and the few iterations of a step, most of the solve).
 //
 // Reductions are summed in 64 fixed blocks of rows, each block by one thread, the block sums in
 // order by every thread: bit-identical results for any thread count, no atomics. Held entries
@@ -27,6 +31,8 @@
 #include "systems/kernels/solver/cg_result.h"
 
 namespace xcut {
+
+enum class Preconditioning { kRows, kSingle, kTeam };
 
 namespace team_cg_detail {
 
@@ -62,9 +68,29 @@ std::array<double, 3> rows(Shared& sh, int& reductions, Body&& body, bool reduce
     return t;
 }
 
-}  // namespace team_cg_detail
+/// u = mask M^-1 r on the block rows [lo, hi), if the preconditioner is row-wise.
+template <class PreconditionRows>
+void precondition_rows(Preconditioning mode, PreconditionRows& precondition, const Eigen::VectorXd& mask, int lo, int hi,
+                       const Eigen::VectorXd& r, Eigen::VectorXd& u) {
+    if (mode != Preconditioning::kRows) return;
+    precondition(lo, hi, r, u);
+    for (int i = 3 * lo; i < 3 * hi; ++i) u[i] *= mask[i];
+}
 
-enum class Preconditioning { kRows, kSingle, kTeam };
+/// u = M^-1 r for a whole-vector preconditioner, called by every thread of the team: kTeam's
+/// worksharing, or kSingle's one thread (the single's implicit barrier ends the step).
+template <class PreconditionAll>
+void precondition_whole(Preconditioning mode, PreconditionAll& precondition, const Eigen::VectorXd& r, Eigen::VectorXd& u) {
+    if (mode == Preconditioning::kRows) return;
+    if (mode == Preconditioning::kTeam) {
+        precondition(r, u);
+    } else {
+#pragma omp single
+        precondition(r, u);
+    }
+}
+
+}  // namespace team_cg_detail
 
 /// `product(v, out)`: out = A v, called by every thread of the team; its loops are worksharing
 /// loops (`omp for`, a barrier at their end), so `out` is whole when it returns (out is sized).
@@ -93,29 +119,30 @@ CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, Precon
     {
         int reductions = 0;
         const auto precondition = [&](int lo, int hi) {  // u = mask M^-1 r on rows, if row-wise
-            if (mode != Preconditioning::kRows) return;
-            precondition_rows(lo, hi, r, u);
-            for (int i = 3 * lo; i < 3 * hi; ++i) u[i] *= mask[i];
+            team_cg_detail::precondition_rows(mode, precondition_rows, mask, lo, hi, r, u);
         };
         const auto precondition_whole = [&] {  // the same for a whole-vector preconditioner
-            if (mode == Preconditioning::kRows) return;
-            if (mode == Preconditioning::kTeam) {
-                precondition_all(r, u);
-            } else {
-#pragma omp single
-                precondition_all(r, u);  // its implicit barrier ends the step
-            }
+            team_cg_detail::precondition_whole(mode, precondition_all, r, u);
         };
         // The start: x projected, r = mask (b - A x), u = mask M^-1 r, |b|.
         rows(sh, reductions, [&](int lo, int hi, auto&) {
             for (int i = 3 * lo; i < 3 * hi; ++i) x[i] *= mask[i];
         }, false);
         product(x, w);
-        const double bnorm = std::sqrt(rows(sh, reductions, [&](int lo, int hi, auto& acc) {
-            for (int i = 3 * lo; i < 3 * hi; ++i) r[i] = mask[i] * (b[i] - w[i]), acc[0] += mask[i] * b[i] * b[i];
+        const std::array<double, 3> started = rows(sh, reductions, [&](int lo, int hi, auto& acc) {
+            for (int i = 3 * lo; i < 3 * hi; ++i)
+                r[i] = mask[i] * (b[i] - w[i]), acc[0] += mask[i] * b[i] * b[i], acc[2] += r[i] * r[i];
             precondition(lo, hi);
-        }, true)[0]);
-        precondition_whole();
+        }, true);
+        const double bnorm = std::sqrt(started[0]);
+        // |r|^2 as the fused reduction would sum it (the same blocks and order, the same bits): k
+        // iterations apply the preconditioner k times, not k + 1 (header).
+        const auto more = [&](double r2, int done) {
+            return std::sqrt(r2) > tol * bnorm && done < max_iterations && std::isfinite(r2);
+        };
+        const bool start = std::isfinite(bnorm) && bnorm > 0.0;
+        const bool iterate = start && more(started[2], 0);
+        if (iterate) precondition_whole();
         // w = mask A u and the fused reduction: gamma = (r, u), delta = (w, u), |r|^2.
         const auto product_and_reduce = [&] {
             product(u, w);
@@ -126,25 +153,26 @@ CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, Precon
                 }
             }, true);
         };
-        const bool start = std::isfinite(bnorm) && bnorm > 0.0;
         // Plain scalars, no structured bindings: clang refuses a binding read in an OpenMP construct.
-        const std::array<double, 3> first = start ? product_and_reduce() : std::array<double, 3>{};
-        double gamma = first[0], rr = first[2];
+        const std::array<double, 3> first = iterate ? product_and_reduce() : std::array<double, 3>{};
+        double gamma = first[0], rr = started[2];
         double alpha = gamma / first[1], beta = 0.0;
         int iterations = 0;
-        while (start && std::sqrt(rr) > tol * bnorm && iterations < max_iterations && std::isfinite(rr)) {
+        while (iterate) {
             if (!(alpha > 0.0)) break;  // zero or negative curvature: the matrix is not SPD here
-            rows(sh, reductions, [&](int lo, int hi, auto&) {
+            rr = rows(sh, reductions, [&](int lo, int hi, auto& acc) {
                 for (int i = 3 * lo; i < 3 * hi; ++i) {
                     p[i] = u[i] + beta * p[i], s[i] = w[i] + beta * s[i];
                     x[i] += alpha * p[i], r[i] -= alpha * s[i];
+                    acc[2] += r[i] * r[i];
                 }
                 precondition(lo, hi);
-            }, false);
-            precondition_whole();
+            }, true)[2];
             ++iterations;
+            if (!more(rr, iterations)) break;
+            precondition_whole();
             const std::array<double, 3> next = product_and_reduce();  // gamma, delta, |r|^2
-            rr = next[2], beta = next[0] / gamma;
+            beta = next[0] / gamma;
             alpha = next[0] / (next[1] - beta * next[0] / alpha);
             gamma = next[0];
         }
