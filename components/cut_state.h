@@ -99,6 +99,9 @@ struct CutState {
     /// the tissue has no gap and no overlap where the tissue moves under it between steps.
     std::vector<std::array<MaterialPoint, 2>> anchor_material;
     std::vector<Vec3> last_tip, last_heel;      ///< per tool: blade edge at the previous step [m]
+    /// Per tool: the edge's ends (tip, heel) at the sweep's samples passed since the last quad, in
+    /// world [m]: where one lies off the straight sweep to the next, the blade turned (kTurnFraction).
+    std::vector<std::vector<std::array<Vec3, 2>>> since_anchor;
     /// per tool: the blade's path has been ended where it stopped (its last stretch cut, its stems
     /// made: end_stems); cleared when it moves again
     std::vector<uint8_t> ended;

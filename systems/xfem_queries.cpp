@@ -150,4 +150,6 @@ bool recut_allowed(const World& w) {
            w.tips.point.empty();
 }
 
+bool cuts_at_turns(const World& w) { return w.elements.dim == 3 && !recut_allowed(w); }
+
 }  // namespace xcut

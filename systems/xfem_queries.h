@@ -124,6 +124,11 @@ inline double param_from(double t, bool from_a) { return t < 0.0 ? t : from_a ? 
 /// the first (CutState::recut_ignored says so).
 bool recut_allowed(const World& world);
 
+/// Whether the blades' sweeps are sampled and cut at their turns (kTurnFraction, blade_pose.h): in
+/// 3D where elements are not cut again. With recut (and in 2D) the stems and loops take their quads
+/// from the threshold alone.
+bool cuts_at_turns(const World& world);
+
 /// The virtual elements of cut element c: its two sides, or its fragments once cut again
 /// (CutElements::fragments). A view into the cut components: a caller that changes them copies it first.
 inline std::span<const int> fragments_of(const World& world, int c) {

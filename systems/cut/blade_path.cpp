@@ -72,6 +72,15 @@ void cut_to(World& w, ElementBvh& bvh, int i, const BladeAt& b) {
                      b.back == Vec3::Zero() ? nullptr : &face);
     cs.anchor_tip[i] = b.tip, cs.anchor_heel[i] = b.heel;
     cs.anchor_material[i] = tissue_at(w, bvh, b.tip, b.heel, &cs.blade[i]);
+    cs.since_anchor[i].clear();
+}
+
+/// Whether the blade turned since its last quad: an edge it passed lies off the straight sweep from
+/// the anchor to `b` by more than `turn` [m].
+bool turned_since_anchor(const CutState& cs, int i, const BladeAt& b, double turn) {
+    return std::any_of(cs.since_anchor[i].begin(), cs.since_anchor[i].end(), [&](const std::array<Vec3, 2>& e) {
+        return edge_off_sweep(e[0], e[1], cs.anchor_tip[i], cs.anchor_heel[i], b.tip, b.heel, turn);
+    });
 }
 
 /// A blade stopped at `end` inside cut elements it entered across their cuts (2D): each crossed on
@@ -104,8 +113,19 @@ void sweep_blade(World& w, ElementBvh& bvh, int i, const std::vector<BladeAt>& p
     const auto moved = [&](const BladeAt& b) {
         return std::max((b.tip - cs.anchor_tip[i]).norm(), (b.heel - cs.anchor_heel[i]).norm());
     };
-    for (size_t k = path.size() > 1 ? 1 : 0; k < path.size(); ++k)
+    // A turn short of the threshold: a quad to the last sample before the sweep strays
+    // (cuts_at_turns), so the elements at the turn's apex are crossed, not cut along its chord.
+    const double turn = cuts_at_turns(w) ? kTurnFraction * threshold : 0.0;
+    for (size_t k = path.size() > 1 ? 1 : 0; k < path.size(); ++k) {
+        if (turn > 0.0 && !cs.since_anchor[i].empty() && turned_since_anchor(cs, i, path[k], turn)) {
+            const std::array<Vec3, 2> last = cs.since_anchor[i].back();
+            if (std::max((last[0] - cs.anchor_tip[i]).norm(), (last[1] - cs.anchor_heel[i]).norm()) > 1e-6 * threshold)
+                cut_to(w, bvh, i, BladeAt{last[0], last[1], path[k > 0 ? k - 1 : k].back});
+            cs.since_anchor[i].clear();
+        }
         if (moved(path[k]) >= threshold) cut_to(w, bvh, i, path[k]);
+        else if (turn > 0.0) cs.since_anchor[i].push_back({path[k].tip, path[k].heel});
+    }
     const BladeAt& end = path.back();
     const bool stopped = end.tip == cs.last_tip[i] && end.heel == cs.last_heel[i];
     cs.last_tip[i] = end.tip, cs.last_heel[i] = end.heel;
@@ -150,6 +170,7 @@ void run_cut_system(World& w, ElementBvh& bvh) {
     cs.last_tip.resize(tb.count());
     cs.last_heel.resize(tb.count());
     cs.ended.resize(tb.count(), 0);
+    cs.since_anchor.resize(tb.count());
     cs.blade.resize(tb.count());
     cs.anchor_material.resize(tb.count());
     for (int i = 0; i < tb.count(); ++i) {

@@ -53,5 +53,15 @@ TEST(Bridges, AStraightIncisionLeavesNoElementItCrossedThroughJoined) {
     EXPECT_EQ(t.uncut.bridged, t.uncut.crossed) << "left uncut, every element crossed through is a bridge";
 }
 
+// A V incision, the blade turning 67 degrees at its apex: its sweep is sampled and cut at the turn
+// (cuts_at_turns), so no quad cuts the chord across the apex and leaves the elements there whole
+// (with the quads from the threshold alone, 12 of its 85 elements crossed through stay joined).
+TEST(Bridges, AVIncisionLeavesNoElementAtItsApexJoined) {
+    const Tallies t = incision({{{0.005, 0.0113}}, {{0.020, 0.0213}}, {{0.035, 0.0113}}});
+    EXPECT_GT(t.cut.crossed, 40);
+    EXPECT_EQ(t.cut.bridged, 0);
+    EXPECT_EQ(t.uncut.bridged, t.uncut.crossed);
+}
+
 }  // namespace
 }  // namespace xcut
