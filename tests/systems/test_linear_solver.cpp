@@ -310,6 +310,49 @@ TEST(TeamCg, MatchesPcgAndIsThreadIndependent) {
     EXPECT_LE((x2 - xp).norm(), 1e-8 * xp.norm());
 }
 
+// A solve of k iterations applies a whole-vector preconditioner (a factor's solves) k times and the
+// product k + 1 times (the start's A x among them): the test for convergence comes before the
+// application whose result it would not use.
+TEST(TeamCg, AppliesThePreconditionerOnceAnIterationAndNotAfterTheLast) {
+    World w = deformed(false, Eigen::Vector3i(6, 4, 4));
+    const int n3 = 3 * w.nodes.count();
+    ensure_linear_pattern(w);
+    assemble_step_matrix(w, xcut_step_terms(), 1.0, 1e-4);
+    const Eigen::VectorXd mask = free_mask(w);
+    const Eigen::VectorXd b = (w.forces.force + Eigen::VectorXd::Constant(n3, 1e-3)).cwiseProduct(mask);
+    std::vector<double> inverse;
+    block_diagonal_inverse(w.linear, inverse);
+    int products = 0, applications = 0;
+    const auto product_in_team = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+#pragma omp single
+        ++products;
+#pragma omp for schedule(static)
+        for (int i = 0; i < w.linear.rows(); ++i) linear_multiply_rows(w.linear, i, i + 1, v, out);
+    };
+    const auto no_rows = [](int, int, const Eigen::VectorXd&, Eigen::VectorXd&) {};
+    const auto jacobi = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+        ++applications;
+        z.resize(r.size());
+        for (int i = 0; i < w.linear.rows(); ++i)
+            z.segment<3>(3 * i) = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(inverse.data() + 9 * i) *
+                                  r.segment<3>(3 * i);
+    };
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(n3);
+    const CgResult result = team_cg(w.linear.rows(), product_in_team, Preconditioning::kSingle, no_rows, jacobi, b, mask,
+                                    1e-8, 2000, x);
+    ASSERT_GT(result.iterations, 3);
+    ASSERT_LE(result.relative_residual, 1e-8);
+    EXPECT_EQ(applications, result.iterations);
+    EXPECT_EQ(products, result.iterations + 1);
+    // Converged at the start: no application, no product beyond A x.
+    products = applications = 0;
+    const CgResult again = team_cg(w.linear.rows(), product_in_team, Preconditioning::kSingle, no_rows, jacobi, b, mask,
+                                   1e-8, 2000, x);
+    EXPECT_EQ(again.iterations, 0);
+    EXPECT_EQ(applications, 0);
+    EXPECT_EQ(products, 1);
+}
+
 // The matrix-free product as a team runs it (the jacobi method's CG) gives the same bits as the
 // one-region-per-loop product, on 2 threads.
 TEST(TeamCg, MatrixFreeProductInTeamMatchesTheProduct) {

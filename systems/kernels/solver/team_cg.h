@@ -10,10 +10,11 @@
 // iterative methods for symmetric linear systems", J. Comput. Appl. Math. 25, 1989; as written in
 // Ghysels & Vanroose, "Hiding global synchronization latency in the preconditioned conjugate
 // gradient algorithm", Parallel Computing 40, 2014, alg. 2): with u = M^-1 r and w = A u carried
-// along, gamma = (r, u), delta = (w, u) and |r|^2 are summed in one pass, and s = A p is updated by
+// along, gamma = (r, u) and delta = (w, u) are summed in one pass, and s = A p is updated by
 // recurrence, so an iteration needs one product and one reduction. In exact arithmetic it is PCG.
-// |r|^2 is also summed where the update makes r (no barrier of its own: the update's loop ends in
-// one), so the test for convergence comes before the preconditioner and the product, not after:
+// |r|^2 is summed where the update makes r (no barrier of its own: the update's loop ends in
+// one; the paper's form sums it with gamma and delta, after the preconditioner and the product),
+// so the test for convergence comes before the preconditioner and the product, not after:
 // a solve of k iterations applies the preconditioner k times, not k + 1 (for a Cholesky factor
 // and the few iterations of a step, most of the solve).
 //
@@ -135,21 +136,21 @@ CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, Precon
             precondition(lo, hi);
         }, true);
         const double bnorm = std::sqrt(started[0]);
-        // |r|^2 as the fused reduction would sum it (the same blocks and order, the same bits): k
-        // iterations apply the preconditioner k times, not k + 1 (header).
+        // |r|^2 in the same blocks and order as the fused reduction summed it before (the same
+        // bits): k iterations apply the preconditioner k times, not k + 1 (header).
         const auto more = [&](double r2, int done) {
             return std::sqrt(r2) > tol * bnorm && done < max_iterations && std::isfinite(r2);
         };
         const bool start = std::isfinite(bnorm) && bnorm > 0.0;
         const bool iterate = start && more(started[2], 0);
         if (iterate) precondition_whole();
-        // w = mask A u and the fused reduction: gamma = (r, u), delta = (w, u), |r|^2.
+        // w = mask A u and the fused reduction: gamma = (r, u), delta = (w, u).
         const auto product_and_reduce = [&] {
             product(u, w);
             return rows(sh, reductions, [&](int lo, int hi, auto& acc) {
                 for (int i = 3 * lo; i < 3 * hi; ++i) {
                     u[i] *= mask[i], w[i] *= mask[i];  // u's: a no-op for kRows (masked already)
-                    acc[0] += r[i] * u[i], acc[1] += w[i] * u[i], acc[2] += r[i] * r[i];
+                    acc[0] += r[i] * u[i], acc[1] += w[i] * u[i];
                 }
             }, true);
         };
@@ -171,7 +172,7 @@ CgResult team_cg(int block_rows, Product&& product, Preconditioning mode, Precon
             ++iterations;
             if (!more(rr, iterations)) break;
             precondition_whole();
-            const std::array<double, 3> next = product_and_reduce();  // gamma, delta, |r|^2
+            const std::array<double, 3> next = product_and_reduce();  // gamma, delta
             beta = next[0] / gamma;
             alpha = next[0] / (next[1] - beta * next[0] / alpha);
             gamma = next[0];
