@@ -259,19 +259,31 @@ TEST(Watchdog, NonFiniteStateStopsTheRun) {
         for (int i = 0; i < 5; ++i) step_simulation(*sim), NumericalError);
 }
 
+/// A deformed block's step matrix assembled, its free mask, a right-hand side and the inverses of
+/// its diagonal blocks: the systems the team CG tests solve.
+struct BlockSystem {
+    World w;
+    Eigen::VectorXd mask, b;
+    std::vector<double> inverse;
+    explicit BlockSystem(const Eigen::Vector3i& cells) : w(deformed(false, cells)) {
+        ensure_linear_pattern(w);
+        assemble_step_matrix(w, xcut_step_terms(), 1.0, 1e-4);
+        mask = free_mask(w);
+        b = (w.forces.force + Eigen::VectorXd::Constant(3 * w.nodes.count(), 1e-3)).cwiseProduct(mask);
+        block_diagonal_inverse(w.linear, inverse);
+    }
+};
+
 // The team CG (one OpenMP team per solve, Chronopoulos & Gear's single-reduction iteration) on a
 // block large enough for a 2-thread team: 1 and 2 threads give the same bits, it reaches the
 // tolerance in the true residual, and it agrees with textbook PCG (Saad alg. 9.1) to the tolerance.
 TEST(TeamCg, MatchesPcgAndIsThreadIndependent) {
-    World w = deformed(false, Eigen::Vector3i(20, 12, 10));
+    BlockSystem sys(Eigen::Vector3i(20, 12, 10));
+    World& w = sys.w;
+    const Eigen::VectorXd &mask = sys.mask, &b = sys.b;
+    const std::vector<double>& inverse = sys.inverse;
     const int n3 = 3 * w.nodes.count();
     ASSERT_GE(n3, kParallelMin) << "large enough for a team of two";
-    ensure_linear_pattern(w);
-    assemble_step_matrix(w, xcut_step_terms(), 1.0, 1e-4);
-    const Eigen::VectorXd mask = free_mask(w);
-    const Eigen::VectorXd b = (w.forces.force + Eigen::VectorXd::Constant(n3, 1e-3)).cwiseProduct(mask);
-    std::vector<double> inverse;
-    block_diagonal_inverse(w.linear, inverse);
     const auto product_in_team = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) {
 #pragma omp for schedule(static)
         for (int i = 0; i < w.linear.rows(); ++i) linear_multiply_rows(w.linear, i, i + 1, v, out);
@@ -314,14 +326,11 @@ TEST(TeamCg, MatchesPcgAndIsThreadIndependent) {
 // product k + 1 times (the start's A x among them): the test for convergence comes before the
 // application whose result it would not use.
 TEST(TeamCg, AppliesThePreconditionerOnceAnIterationAndNotAfterTheLast) {
-    World w = deformed(false, Eigen::Vector3i(6, 4, 4));
+    BlockSystem sys(Eigen::Vector3i(6, 4, 4));
+    World& w = sys.w;
+    const Eigen::VectorXd &mask = sys.mask, &b = sys.b;
+    const std::vector<double>& inverse = sys.inverse;
     const int n3 = 3 * w.nodes.count();
-    ensure_linear_pattern(w);
-    assemble_step_matrix(w, xcut_step_terms(), 1.0, 1e-4);
-    const Eigen::VectorXd mask = free_mask(w);
-    const Eigen::VectorXd b = (w.forces.force + Eigen::VectorXd::Constant(n3, 1e-3)).cwiseProduct(mask);
-    std::vector<double> inverse;
-    block_diagonal_inverse(w.linear, inverse);
     int products = 0, applications = 0;
     const auto product_in_team = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) {
 #pragma omp single
