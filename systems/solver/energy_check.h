@@ -17,7 +17,6 @@
 #include <Eigen/Core>
 
 #include "engine/world.h"
-#include "systems/step_term.h"
 
 namespace xcut {
 
