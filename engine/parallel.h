@@ -10,9 +10,12 @@
 
 namespace xcut {
 
-/// Number of threads systems use; set once from --threads (default 2).
+/// Number of threads systems use; set once from --threads (default 2). thread_count() is the count
+/// a team takes now: one fewer while a background job runs (engine/background_threads.h);
+/// configured_thread_count() the count set, for what reports or restores the setting.
 void set_thread_count(int threads);
 int thread_count();
+int configured_thread_count();
 
 /// Wall-clock time [s] on the steady clock (for delays and timings, never for results).
 double wall_seconds();

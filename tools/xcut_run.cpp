@@ -63,7 +63,7 @@ int run_scene(const RunOptions& o, RunSummary& summary) {
     fmt::print("scene {} ({}): {} nodes, {} {}, {} threads (OpenMP wait {}; malloc huge pages {}), dt {} s ({}), {} "
                "steps\n",
                scene.name, o.scene.scene, w.nodes.count(), w.elements.count(),
-               w.elements.dim == 3 ? "tetrahedra" : "triangles", thread_count(), wait ? wait : "active",
+               w.elements.dim == 3 ? "tetrahedra" : "triangles", configured_thread_count(), wait ? wait : "active",
                huge ? "on" : "off", w.solver.dt, w.solver.realtime ? "real-time" : "fixed", steps);
     warn_all(w.mesh_notes, summary.warnings);
     warn_all(plausibility_warnings(scene, w, steps), summary.warnings);

@@ -1,8 +1,7 @@
 #pragma once
 // A tool's cutting edge in world coordinates: the tip (deep end) and the heel at a pose; its face.
-#include <algorithm>
-
 #include "components/tools.h"
+#include "systems/kernels/segment_distance.h"
 
 namespace xcut {
 
@@ -29,14 +28,6 @@ inline void blade_in_world(const ToolBodies& tb, int i, Vec3& tip, Vec3& heel) {
 /// edge strays more than this fraction of the threshold from the straight sweep since the last
 /// quad (else the quad cuts the chord across the turn and the elements at its apex stay whole).
 inline constexpr double kTurnFraction = 0.1;
-
-/// Distance from p to the segment a-b [m].
-inline double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
-    const Vec3 e = b - a;
-    const double len2 = e.squaredNorm();
-    const double t = len2 > 0.0 ? std::clamp((p - a).dot(e) / len2, 0.0, 1.0) : 0.0;
-    return (p - (a + t * e)).norm();
-}
 
 /// Whether the edge (tip, heel) lies farther than `tolerance` from the straight sweep of the edge
 /// from (tip_a, heel_a) to (tip_b, heel_b): either end off its chord [m]. A blade that turned there.

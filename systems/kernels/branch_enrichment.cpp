@@ -6,6 +6,8 @@
 #include <limits>
 #include <numbers>
 
+#include "systems/kernels/segment_distance.h"
+
 namespace xcut {
 
 BranchValues branch_functions(const TipFrame& tip, const Vec2& X, int side) {
@@ -56,17 +58,6 @@ void gauss_legendre_unit(int n, std::vector<double>& x, std::vector<double>& w) 
         w[i] = 1.0 / ((1.0 - z * z) * dp * dp);  // 2 / ((1 - z^2) P_n'^2), halved for [0, 1]
     }
 }
-
-namespace {
-
-/// Distance from p to the segment [a, b].
-double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
-    const Vec2 ab = b - a;
-    const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
-    return (a + t * ab - p).norm();
-}
-
-}  // namespace
 
 void add_duffy(const Vec2& A, const Vec2& B, const Vec2& C, const std::vector<double>& gx,
                const std::vector<double>& gw, double min_area, std::vector<QuadraturePoint>& out) {

@@ -366,7 +366,7 @@ TEST(CrackTip, TheMultigridSolvesTheTipsZoneExactlyAroundItsCycle) {
     }
     // The zone's work runs on one thread of the team: 1 and 2 threads give the same bits.
     std::array<World, 2> by_threads = {pulled_tip_plate("amg", 40), pulled_tip_plate("amg", 40)};
-    const int kept = thread_count();
+    const int kept = configured_thread_count();
     for (int t = 0; t < 2; ++t) {
         set_thread_count(t + 1);
         ASSERT_TRUE(static_solve(by_threads[t], xcut_step_terms(), 1e-10, 30, 1e-10, 5000).converged);

@@ -83,7 +83,7 @@ struct PatchRun {
 /// transfer to the new phantoms; moved on in strides of `stride`), forces, implicit Euler; checks
 /// the tip is at the blade.
 PatchRun run_patch(bool transfer, int threads, double stride = 0.0) {
-    const int kept = thread_count();
+    const int kept = configured_thread_count();
     set_thread_count(threads);
     World w = patch(0.004, {key(0.0, 0.005), key(0.8, 0.021)}, stride);
     ElementBvh bvh;

@@ -272,6 +272,17 @@ struct BlockSystem {
         b = (w.forces.force + Eigen::VectorXd::Constant(3 * w.nodes.count(), 1e-3)).cwiseProduct(mask);
         block_diagonal_inverse(w.linear, inverse);
     }
+    /// z = D^-1 r on the node rows [lo, hi) (block Jacobi).
+    void jacobi_rows(int lo, int hi, const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
+        for (int i = lo; i < hi; ++i)
+            z.segment<3>(3 * i) = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(inverse.data() + 9 * i) *
+                                  r.segment<3>(3 * i);
+    }
+    /// out = A v, its rows shared by the calling OpenMP team.
+    void product_in_team(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
+#pragma omp for schedule(static)
+        for (int i = 0; i < w.linear.rows(); ++i) linear_multiply_rows(w.linear, i, i + 1, v, out);
+    }
 };
 
 // The team CG (one OpenMP team per solve, Chronopoulos & Gear's single-reduction iteration) on a
@@ -281,17 +292,11 @@ TEST(TeamCg, MatchesPcgAndIsThreadIndependent) {
     BlockSystem sys(Eigen::Vector3i(20, 12, 10));
     World& w = sys.w;
     const Eigen::VectorXd &mask = sys.mask, &b = sys.b;
-    const std::vector<double>& inverse = sys.inverse;
     const int n3 = 3 * w.nodes.count();
     ASSERT_GE(n3, kParallelMin) << "large enough for a team of two";
-    const auto product_in_team = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) {
-#pragma omp for schedule(static)
-        for (int i = 0; i < w.linear.rows(); ++i) linear_multiply_rows(w.linear, i, i + 1, v, out);
-    };
+    const auto product_in_team = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) { sys.product_in_team(v, out); };
     const auto jacobi_rows = [&](int lo, int hi, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-        for (int i = lo; i < hi; ++i)
-            z.segment<3>(3 * i) = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(inverse.data() + 9 * i) *
-                                  r.segment<3>(3 * i);
+        sys.jacobi_rows(lo, hi, r, z);
     };
     const auto none = [](const Eigen::VectorXd&, Eigen::VectorXd&) {};
     const double tol = 1e-10;
@@ -329,22 +334,18 @@ TEST(TeamCg, AppliesThePreconditionerOnceAnIterationAndNotAfterTheLast) {
     BlockSystem sys(Eigen::Vector3i(6, 4, 4));
     World& w = sys.w;
     const Eigen::VectorXd &mask = sys.mask, &b = sys.b;
-    const std::vector<double>& inverse = sys.inverse;
     const int n3 = 3 * w.nodes.count();
     int products = 0, applications = 0;
     const auto product_in_team = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) {
 #pragma omp single
         ++products;
-#pragma omp for schedule(static)
-        for (int i = 0; i < w.linear.rows(); ++i) linear_multiply_rows(w.linear, i, i + 1, v, out);
+        sys.product_in_team(v, out);
     };
     const auto no_rows = [](int, int, const Eigen::VectorXd&, Eigen::VectorXd&) {};
     const auto jacobi = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
         ++applications;
         z.resize(r.size());
-        for (int i = 0; i < w.linear.rows(); ++i)
-            z.segment<3>(3 * i) = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(inverse.data() + 9 * i) *
-                                  r.segment<3>(3 * i);
+        sys.jacobi_rows(0, w.linear.rows(), r, z);
     };
     Eigen::VectorXd x = Eigen::VectorXd::Zero(n3);
     const CgResult result = team_cg(w.linear.rows(), product_in_team, Preconditioning::kSingle, no_rows, jacobi, b, mask,

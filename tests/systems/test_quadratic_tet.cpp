@@ -198,7 +198,7 @@ TEST(QuadraticTet, TheVisualSurfaceShowsTheBendTheMidEdgeNodesCarry) {
 /// Mean downward tip deflection of a 0.2 x 0.01 x 0.01 m beam clamped at x = 0 under gravity [m].
 double beam_deflection(bool quadratic, int n, double poisson, const std::string& method, int threads = 0,
                        bool mean_dilatation = false) {
-    const int kept = thread_count();
+    const int kept = configured_thread_count();
     if (threads > 0) set_thread_count(threads);
     Material m = quadratic_material(poisson);
     m.young = 2e8, m.quadratic = quadratic, m.mean_dilatation = mean_dilatation;

@@ -177,7 +177,7 @@ TEST(QuadraticTri, TheVisualSurfaceShowsTheBendTheMidEdgeNodesCarry) {
 /// Mean downward tip deflection of a 0.2 x 0.01 m plane-stress beam (1 mm thick) clamped at x = 0
 /// under gravity (-y), 20n x n cells [m].
 double plate_beam_deflection(bool quadratic, int n, const std::string& method, int threads = 0) {
-    const int kept = thread_count();
+    const int kept = configured_thread_count();
     if (threads > 0) set_thread_count(threads);
     Material m = triangle_material(0.0);
     m.young = 2e8, m.quadratic = quadratic, m.thickness = 1e-3;

@@ -127,7 +127,7 @@ TEST(BladeFront, AnEdgeThatEndsInsideTheTissueCarriesNoFrontAndTheRunSaysSo) {
 
 /// The default skin (2 mm cells) with its blades carrying fronts, `steps` steps on `threads`.
 std::unique_ptr<Simulation> run_skin(int threads, int steps) {
-    const int kept = thread_count();
+    const int kept = configured_thread_count();
     set_thread_count(threads);
     auto sim = make_simulation(load_scene(std::string(XCUT_SOURCE_DIR) + "/scenes/skin_slab.json", {"cutter.tip={}"}), false);
     for (int n = 0; n < steps; ++n) step_simulation(*sim);

@@ -110,7 +110,7 @@ TEST(FrontSlit, TheSkinsScalpelShowsItsCrackOpenToTheFrontOnAClosedSurface) {
 
 TEST(FrontSlit, TheSlitIsTheSameBitsOnOneAndTwoThreads) {
     std::vector<SurfaceMesh> surfaces;
-    const int kept = thread_count();
+    const int kept = configured_thread_count();
     for (int threads : {1, 2}) {
         set_thread_count(threads);
         auto sim = skin("{}");

@@ -570,7 +570,7 @@ int accuracy_bench_command(const AccuracyBenchOptions& o) {
     std::vector<ReferenceNote> notes;
     const auto rows = run_accuracy_bench(o, &notes);
     fmt::print("accuracy benchmark: static solves (Newton 1e-6, CG 1e-10), {} threads; run and CPU time = cut + solve\n",
-               thread_count());
+               configured_thread_count());
     fmt::print("{:>3} {:>8} {:>5} {:>9} {:>8} {:>6} {:>9} {:>9} {:>7} {:>8} {:>12} {:>12} {:>9}\n", "pb", "cutter",
                "level", "h [mm]", "DOFs", "split", "run [s]", "CPU [s]", "Newton", "CG", "value [m]", "ref [m]", "error");
     for (const AccuracyRow& r : rows)

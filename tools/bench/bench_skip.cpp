@@ -71,7 +71,7 @@ void skip_row(const PerfBenchOptions& o) {
     csv.print("scene,system,scheduled,calls,ms_per_step,step_ms\n");
     fmt::print("\nskip what the scene doesn't need: {} at {} tets with a scalpel, visual and collision surfaces, "
                "and without ({} threads)\n",
-               o.scene, o.skip_tets, thread_count());
+               o.scene, o.skip_tets, configured_thread_count());
     fmt::print("{:>8} {:<18} {:>9} {:>6} {:>10}\n", "scene", "system", "scheduled", "calls", "ms/step");
     for (const SkipBenchRow& r : rows) {
         fmt::print("{:>8} {:<18} {:>9} {:>6} {:>10.4f}\n", r.scene, r.system, r.scheduled ? "yes" : "skipped", r.calls,

@@ -189,5 +189,5 @@ PYBIND11_MODULE(_xcut, m) {
     register_errors(m);
     bind_simulation(m);
     m.def("set_threads", [](int n) { xcut::set_thread_count(n); }, "Threads the engine uses (process-wide).");
-    m.def("threads", [] { return xcut::thread_count(); });
+    m.def("threads", [] { return xcut::configured_thread_count(); });
 }

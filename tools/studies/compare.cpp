@@ -366,7 +366,7 @@ int compare_command(const CompareOptions& o) {
     fs::create_directories(dir);
     fmt::print("compare {}: {} incisions {:.3g} mm apart, {} steps of {} s, {} threads; xfem (semi-progressive), xfem "
                "(progressive), snap (threshold {})\n",
-               scene.name, o.cuts, inc.spacing * 1e3, inc.scene.steps, scene.solver.dt, thread_count(), scene.snap_threshold);
+               scene.name, o.cuts, inc.spacing * 1e3, inc.scene.steps, scene.solver.dt, configured_thread_count(), scene.snap_threshold);
     Run run[kRuns];
     for (int c = 0; c < kRuns; ++c) run[c] = run_incisions(inc, kVariants[c], o.quality_threshold_deg, !o.quiet);
     const std::vector<DelayRow> delays = o.delay_sweep ? crossing_delay_sweep(scene, !o.quiet) : std::vector<DelayRow>{};
