@@ -89,6 +89,12 @@ TEST(Bench, CutStepSuiteTinyRun) {
         EXPECT_GE(r.max_ms, r.p99_ms);
         EXPECT_GE(r.p99_ms, r.median_ms);
         EXPECT_GE(r.split_max_ms, r.split_median_ms);
+        EXPECT_GT(r.cut_from, 0);
+        EXPECT_GE(r.cut_to - r.cut_from + 1, r.split_steps) << "the cut spans every step that split";
+        EXPECT_LE(r.cut_to, r.steps);
+        EXPECT_GE(r.cut_max_ms, r.split_max_ms) << "the steps that split are the cut's";
+        EXPECT_LE(r.cut_max_ms, r.max_ms);
+        EXPECT_GE(r.cut_max_ms, r.cut_p99_ms);
         EXPECT_GE(r.cg_split_max, 1.0);
         EXPECT_EQ(r.builds, 0) << r.case_name << ": the cholesky factor is renewed off the step, never in it";
     }

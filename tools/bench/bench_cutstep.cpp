@@ -79,7 +79,15 @@ CutStepBenchRow run_case(const Case& c, const std::string& load) {
         all.push_back(m.step_ms), cg.push_back(m.cg_iterations);
         r.builds += m.preconditioner == 3, r.swaps += m.preconditioner == 2;
         r.wait_max_ms = std::max(r.wait_max_ms, m.preconditioner_wait_ms);
-        if (w.cuts.count() + w.snap.elements_split > cut_before) split.push_back(m.step_ms), cg_split.push_back(m.cg_iterations);
+        if (w.cuts.count() + w.snap.elements_split > cut_before) {
+            split.push_back(m.step_ms), cg_split.push_back(m.cg_iterations);
+            r.cut_to = i + 1;
+            if (r.cut_from == 0) r.cut_from = i + 1;
+        }
+    }
+    if (r.cut_from > 0) {
+        const std::vector<double> cut(all.begin() + (r.cut_from - 1), all.begin() + r.cut_to);
+        r.cut_p99_ms = percentile(cut, 0.99), r.cut_max_ms = max_of(cut);
     }
     r.steps = static_cast<int>(all.size()), r.split_steps = static_cast<int>(split.size());
     r.dofs_end = w.metrics.current.dofs;
@@ -126,27 +134,30 @@ int cutstep_bench_command(const CutStepBenchOptions& o) {
     auto csv = open_csv(o.csv);
     csv.print("case,load,method,tets,steps,dofs_end,median_ms,p99_ms,max_ms,p99_over_median,max_over_median,split_steps,"
               "split_median_ms,split_max_ms,split_median_over_median,cg_median,cg_split_median,cg_split_max,builds,"
-              "swaps,wait_max_ms,peak_rss_mb,peak_is_the_runs,failure\n");
+              "swaps,wait_max_ms,peak_rss_mb,peak_is_the_runs,cut_from_step,cut_to_step,cut_p99_ms,cut_max_ms,"
+              "cut_p99_over_median,cut_max_over_median,failure\n");
     fmt::print("cut step benchmark: a scalpel cutting continuously; 2 threads, no output; every step timed\n");
-    fmt::print("{:>11} {:>5} {:>8} {:>7} {:>6} {:>9} {:>9} {:>9} {:>7} {:>7} {:>6} {:>10} {:>9} {:>8} {:>7}\n", "case",
-               "load", "method", "tets", "steps", "median", "p99", "max", "p99/med", "max/med", "splits", "split med",
-               "split max", "cg split", "built/swap");
+    fmt::print("{:>11} {:>5} {:>8} {:>7} {:>6} {:>9} {:>9} {:>9} {:>7} {:>7} {:>8} {:>6} {:>10} {:>9} {:>8} {:>7}\n",
+               "case", "load", "method", "tets", "steps", "median", "p99", "max", "p99/med", "max/med", "cut p99/max",
+               "splits", "split med", "split max", "cg split", "built/swap");
     for (const CutStepBenchRow& r : rows) {
         const double med = r.median_ms > 0 ? r.median_ms : 1.0;
-        fmt::print("{:>11} {:>5} {:>8} {:>7} {:>6} {:>7.2f}ms {:>7.2f}ms {:>7.2f}ms {:>7.1f} {:>7.1f} {:>6} {:>8.2f}ms "
-                   "{:>7.2f}ms {:>4.0f}/{:<3.0f} {:>4}/{:<4}{}\n",
+        fmt::print("{:>11} {:>5} {:>8} {:>7} {:>6} {:>7.2f}ms {:>7.2f}ms {:>7.2f}ms {:>7.1f} {:>7.1f} {:>5.1f}/{:<5.1f} {:>6} "
+                   "{:>8.2f}ms {:>7.2f}ms {:>4.0f}/{:<3.0f} {:>4}/{:<4}{}\n",
                    r.case_name, r.load, r.method, r.tets, r.steps, r.median_ms, r.p99_ms, r.max_ms, r.p99_ms / med,
-                   r.max_ms / med, r.split_steps, r.split_median_ms, r.split_max_ms, r.cg_split_median, r.cg_split_max,
+                   r.max_ms / med, r.cut_p99_ms / med, r.cut_max_ms / med, r.split_steps, r.split_median_ms, r.split_max_ms, r.cg_split_median, r.cg_split_max,
                    r.builds, r.swaps, r.failure.empty() ? "" : "  FAILED: " + r.failure);
         csv.print("{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.3f},{:.3f},{},{:.4f},{:.4f},{:.3f},{},{},{},{},{},{:.3f},{:.1f},{},"
-                  "\"{}\"\n",
+                  "{},{},{:.4f},{:.4f},{:.3f},{:.3f},\"{}\"\n",
                   r.case_name, r.load, r.method, r.tets, r.steps, r.dofs_end, r.median_ms, r.p99_ms, r.max_ms,
                   r.p99_ms / med, r.max_ms / med, r.split_steps, r.split_median_ms, r.split_max_ms,
                   r.split_median_ms / med, r.cg_median, r.cg_split_median, r.cg_split_max, r.builds, r.swaps,
-                  r.wait_max_ms, r.peak_rss_mb, r.own_peak ? 1 : 0, r.failure);
+                  r.wait_max_ms, r.peak_rss_mb, r.own_peak ? 1 : 0, r.cut_from, r.cut_to, r.cut_p99_ms, r.cut_max_ms,
+                  r.cut_p99_ms / med, r.cut_max_ms / med, r.failure);
     }
     fmt::print("targets (issue #36): p99 <= 1.5x and max <= 2x the median step at every size, also beside a busy "
-               "process\ncsv: {}\n", o.csv);
+               "process (cut p99/max: over the steps from the first split to the last, against the same median)\ncsv: {}\n",
+               o.csv);
     return 0;
 }
 
