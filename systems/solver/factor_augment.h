@@ -36,7 +36,8 @@ namespace xcut {
 template <int width>
 class SparseForward {
 public:
-    explicit SparseForward(const LowerFactor& lf) : lf_(lf), where_(lf.rows()), x_(width * lf.rows(), 0.0), marked_(lf.rows(), 0) {
+    explicit SparseForward(const LowerFactor& lf)
+        : lf_(lf), where_(lf.rows()), x_(width * lf.rows(), 0.0), marked_(lf.rows(), 0), block_(width * lf.max_rows()) {
         for (int k = 0; k < lf.rows(); ++k) where_[lf.perm[k]] = k;
     }
     /// b's entries on row `row` of A: v[c] for each of its `width` sides.
@@ -45,9 +46,12 @@ public:
         for (int c = 0; c < width; ++c) x_[width * at + c] += v[c];
         for (int j = at; j != -1 && !marked_[j]; j = lf_.etree_parent(j)) marked_[j] = 1, reach_.push_back(j);
     }
+    /// The reach in increasing order (a child before its parent: a topological order) holds the
+    /// rest of each supernode it enters (the etree runs up a supernode's columns one by one): the
+    /// supernodes' tails, each eliminated as a block.
     void solve() {
-        std::sort(reach_.begin(), reach_.end());  // a child before its parent: a topological order
-        for (int j : reach_) lf_.eliminate_column<width>(j, x_.data());
+        std::sort(reach_.begin(), reach_.end());
+        for (size_t i = 0; i < reach_.size();) i += lf_.eliminate_tail<width>(reach_[i], x_.data(), block_.data());
     }
     /// The rows of P A P^T the solve reached, increasing, and x there (x(j)[c]).
     const std::vector<int>& reach() const { return reach_; }
@@ -66,6 +70,7 @@ private:
     std::vector<double> x_;
     std::vector<char> marked_;
     std::vector<int> reach_;
+    std::vector<double> block_;  ///< a supernode's rows, gathered (eliminate_tail)
 };
 
 /// Columns of sparse solves kept by their entries: rows, values, and where each column ends.

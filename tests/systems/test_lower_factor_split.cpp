@@ -204,3 +204,58 @@ TEST(LowerFactorSplit, SinglePrecisionAugmentedTeamSolveHasTheSerialSolvesBits) 
 
 }  // namespace
 }  // namespace xcut
+
+namespace xcut {
+namespace {
+
+/// x = L^-1 P b for every column of b, column by column of L over the whole vector, from L's
+/// views: the textbook sparse forward solve (Gilbert & Peierls 1988) the sparse solves must match.
+Eigen::MatrixXd forward_by_columns(const LowerFactor& lf, const Eigen::MatrixXd& b) {
+    const int n = lf.rows();
+    Eigen::MatrixXd x(n, b.cols());
+    for (int k = 0; k < n; ++k) x.row(k) = b.row(lf.perm[k]);
+    for (const LowerFactor::Supernode& s : lf.supernodes)
+        for (int k = 0; k < s.cols; ++k) {
+            const size_t at = static_cast<size_t>(k) * s.rows;
+            const auto L = [&](int p) { return s.value32 ? double(s.value32[at + p]) : s.value[at + p]; };
+            const int j = s.first + k;
+            x.row(j) /= L(k);
+            for (int p = k + 1; p < s.rows; ++p) x.row(s.row[p]) -= L(p) * x.row(j);
+        }
+    return x;
+}
+
+// SparseForward (the augmented blocks' columns of L^-1 P B: systems/solver/factor_augment.h) visits
+// the reach of a few entries only, a supernode's rows gathered at a time: every entry it takes has
+// the bits of the whole column-by-column solve, and the entries it leaves are zero there; in double
+// and in single precision.
+void expect_sparse_forward_matches_the_whole_solve(bool single) {
+    const Eigen::MatrixXd M = grid_matrix(7, 3, 0);
+    LinearFactor f(true);
+    factor_split(M, 2, f, single);
+    const LowerFactor& lf = *f.lower;
+    SparseForward<3> solver(lf);
+    for (const std::vector<int>& rows : {std::vector<int>{5}, std::vector<int>{0, 77, 300}, std::vector<int>{200, 201, 440}}) {
+        Eigen::MatrixXd b = Eigen::MatrixXd::Zero(lf.rows(), 3);
+        for (size_t i = 0; i < rows.size(); ++i) {
+            const double v[3] = {1.0 + i, -0.5 * i, 0.25};
+            b.row(rows[i]) += Eigen::RowVector3d(v[0], v[1], v[2]);
+            solver.add(rows[i], v);
+        }
+        solver.solve();
+        const Eigen::MatrixXd x = forward_by_columns(lf, b);
+        Eigen::MatrixXd taken = Eigen::MatrixXd::Zero(lf.rows(), 3);
+        for (int j : solver.reach())
+            for (int c = 0; c < 3; ++c) taken(j, c) = solver.x(j)[c];
+        EXPECT_TRUE(std::equal(taken.data(), taken.data() + taken.size(), x.data())) << "the whole solve's bits";
+        EXPECT_LT(static_cast<int>(solver.reach().size()), lf.rows()) << "a reach, not the whole factor";
+        solver.clear();
+    }
+}
+
+TEST(LowerFactorSplit, SparseForwardHasTheWholeSolvesBits) { expect_sparse_forward_matches_the_whole_solve(false); }
+
+TEST(LowerFactorSplit, SinglePrecisionSparseForwardHasTheWholeSolvesBits) { expect_sparse_forward_matches_the_whole_solve(true); }
+
+}  // namespace
+}  // namespace xcut
