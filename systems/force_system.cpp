@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "engine/parallel.h"
+#include "engine/vector_room.h"
 #include "systems/kernels/corotational_kernel.h"
 #include "systems/kernels/polar_decomposition.h"
 #include "systems/kernels/quadratic_elastic.h"
@@ -182,8 +183,8 @@ void ensure_buffers(World& world) {
     ForceState& fs = world.forces;
     if (fs.force.size() != n3) fs.force.setZero(n3);
     if (fs.stiffness_diagonal.size() != n3) fs.stiffness_diagonal.setZero(n3);
-    fs.element_buffer.resize(world.elements.count());
-    fs.quadratic_buffer.resize(world.quadratic.count());
+    resize_with_room(fs.element_buffer, world.elements.count());  // grown by a split: room for the next few
+    resize_with_room(fs.quadratic_buffer, world.quadratic.count());
 }
 
 }  // namespace
@@ -276,7 +277,7 @@ struct ElementTerms {
 template <int D>
 void element_terms(const World& w, double scale, std::vector<ElementTerms>& terms) {
     const Elements& el = w.elements;
-    terms.resize(el.count());
+    resize_with_room(terms, el.count());  // a split's virtual elements: no copy to fresh pages in its step
     parallel_for(el.count(), [&](int e) {
         ElementTerms& t = terms[e];
         const double volume = scale * el.rest_volume[e] * el.weight[e];
