@@ -8,6 +8,7 @@
 #include "engine/error.h"
 #include "engine/io/scene_checks.h"
 #include "engine/parallel.h"
+#include "systems/kernels/solver/supernode_solve.h"
 #include "systems/pipeline.h"
 #include "systems/solver/cholesky_factor.h"
 #include "tools/xcut_commands.h"
@@ -71,8 +72,9 @@ int run_scene(const RunOptions& o, RunSummary& summary) {
     if (w.linear.load_setup_ms > 0.0) {
         const LinearFactor* f = w.linear.method == "amg" ? nullptr : w.linear.factor.get();
         const std::string size = !f ? std::string()
-                                    : fmt::format(" (L {:.3g} M non-zeros, solved in {} precision)", f->lnz / 1e6,
-                                                  f->lower && f->lower->is_single() ? "single" : "double");
+                                    : fmt::format(" (L {:.3g} M non-zeros, solved in {} precision{})", f->lnz / 1e6,
+                                                  f->lower && f->lower->is_single() ? "single" : "double",
+                                                  f->lower ? std::string(", ") + supernode_kernels<double>().name + " kernels" : "");
         fmt::print("linear solver: {} built at load in {:.0f} ms{}\n",
                    w.linear.method == "amg" ? "the multigrid hierarchy" : "the Cholesky factor", w.linear.load_setup_ms, size);
     }

@@ -37,7 +37,7 @@ template <int width>
 class SparseForward {
 public:
     explicit SparseForward(const LowerFactor& lf)
-        : lf_(lf), where_(lf.rows()), x_(width * lf.rows(), 0.0), marked_(lf.rows(), 0), block_(width * lf.max_rows()) {
+        : lf_(lf), where_(lf.rows()), x_(width * lf.rows(), 0.0), marked_(lf.rows(), 0), block_(width * lf.max_rows) {
         for (int k = 0; k < lf.rows(); ++k) where_[lf.perm[k]] = k;
     }
     /// b's entries on row `row` of A: v[c] for each of its `width` sides.

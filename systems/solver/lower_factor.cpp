@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <numeric>
 
+#include "systems/kernels/solver/supernode_solve.h"
+
 namespace xcut {
 namespace {
 
 template <class Real>
 using Vector = Eigen::Matrix<Real, Eigen::Dynamic, 1>;
-template <class Real>
-using Block = Eigen::Map<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>>;
 
 template <class Real>
 const Real* entries(const LowerFactor::Supernode& s);
@@ -19,12 +19,15 @@ template <>
 const float* entries<float>(const LowerFactor::Supernode& s) { return s.value32; }
 
 void index_columns(LowerFactor& out) {
+    // The solves' kernels are taken once, where a factor is first viewed (the load, on the calling
+    // thread): a bad XCUT_KERNELS stops the run there with its message, not inside a team's solve.
+    supernode_kernels<double>(), supernode_kernels<float>();
     out.supernode_of.assign(out.n, 0);
-    out.max_below = 0;
+    out.max_rows = 0;
     for (int s = 0; s < static_cast<int>(out.supernodes.size()); ++s) {
         const LowerFactor::Supernode& sn = out.supernodes[s];
         for (int k = 0; k < sn.cols; ++k) out.supernode_of[sn.first + k] = s;
-        out.max_below = std::max(out.max_below, sn.rows - sn.cols);
+        out.max_rows = std::max(out.max_rows, sn.rows);
     }
     split_solves(out, 0, 0.0);
 }
@@ -33,29 +36,28 @@ void index_columns(LowerFactor& out) {
 int first_column(const LowerFactor& f, int a) { return f.supernodes[a].first; }
 int end_column(const LowerFactor& f, int b) { return f.supernodes[b - 1].first + f.supernodes[b - 1].cols; }
 
-/// Supernode s of the forward solve: its columns solved, below = L21 x_s.
+/// Supernode s of the forward solve on x (systems/kernels/solver/supernode_solve.h): its columns
+/// solved, and the updates to add to the rows below it, -L21 x_s, returned (in `buffer`, at least
+/// s.rows long).
 template <class Real>
-Eigen::Map<Vector<Real>> eliminate(const LowerFactor::Supernode& s, Vector<Real>& x, Vector<Real>& buffer) {
-    const Block<Real> L(entries<Real>(s), s.rows, s.cols);
-    auto xs = x.segment(s.first, s.cols);
-    L.topRows(s.cols).template triangularView<Eigen::Lower>().solveInPlace(xs);
-    Eigen::Map<Vector<Real>> below(buffer.data(), s.rows - s.cols);
-    if (s.rows > s.cols) below.noalias() = L.bottomRows(s.rows - s.cols) * xs;
-    return below;
+const Real* eliminate(const LowerFactor::Supernode& s, Vector<Real>& x, Vector<Real>& buffer) {
+    Real* w = buffer.data();
+    std::copy_n(x.data() + s.first, s.cols, w);
+    std::fill(w + s.cols, w + s.rows, Real(0));
+    supernode_kernels<Real>().forward(entries<Real>(s), s.rows, s.cols, w);
+    std::copy_n(w, s.cols, x.data() + s.first);
+    return w + s.cols;
 }
 
 /// Supernode s of the backward solve, its columns scattered to dst if given.
 template <class Real>
 void back_substitute(const LowerFactor::Supernode& s, const int* perm, Vector<Real>& x, Vector<Real>& buffer,
                      Eigen::VectorXd* dst) {
-    const Block<Real> L(entries<Real>(s), s.rows, s.cols);
-    auto xs = x.segment(s.first, s.cols);
-    if (s.rows > s.cols) {
-        Eigen::Map<Vector<Real>> below(buffer.data(), s.rows - s.cols);
-        for (int i = 0; i < s.rows - s.cols; ++i) below[i] = x[s.row[s.cols + i]];
-        xs.noalias() -= L.bottomRows(s.rows - s.cols).transpose() * below;
-    }
-    L.topRows(s.cols).template triangularView<Eigen::Lower>().transpose().solveInPlace(xs);
+    Real* w = buffer.data();
+    std::copy_n(x.data() + s.first, s.cols, w);
+    for (int i = s.cols; i < s.rows; ++i) w[i] = x[s.row[i]];
+    supernode_kernels<Real>().backward(entries<Real>(s), s.rows, s.cols, w);
+    std::copy_n(w, s.cols, x.data() + s.first);
     if (dst)
         for (int k = s.first; k < s.first + s.cols; ++k) (*dst)[perm[k]] = x[k];
 }
@@ -68,7 +70,7 @@ void gather(const LowerFactor& f, const Eigen::VectorXd* src, int lo, int hi, Ve
 
 template <class Real>
 void forward_bin_of(const LowerFactor& f, int b, const Eigen::VectorXd* src, Vector<Real>& t, Real* record) {
-    Vector<Real> buffer(f.max_below);
+    Vector<Real> buffer(f.max_rows);
     const LowerFactor::Split& split = f.split;
     for (size_t k = 0; k < split.range.size(); ++k) {
         if (split.bin_of[k] != b) continue;
@@ -78,11 +80,11 @@ void forward_bin_of(const LowerFactor& f, int b, const Eigen::VectorXd* src, Vec
         Real* rec = record + split.record_start[k];
         for (int s = lo; s < hi; ++s) {
             const LowerFactor::Supernode& sn = f.supernodes[s];
-            const auto below = eliminate(sn, t, buffer);
+            const Real* update = eliminate(sn, t, buffer);
             for (int i = 0; i < sn.rows - sn.cols; ++i) {
                 const int row = sn.row[sn.cols + i];
-                if (row < top) t[row] -= below[i];
-                else *rec++ = below[i];
+                if (row < top) t[row] += update[i];
+                else *rec++ = update[i];
             }
         }
     }
@@ -98,7 +100,7 @@ void forward_top_of(const LowerFactor& f, const Eigen::VectorXd* src, Vector<Rea
         for (int s = 0; s < count; ++s)
             if (split.range_of[s] < 0) gather(f, src, f.supernodes[s].first, f.supernodes[s].first + f.supernodes[s].cols, t);
     }
-    Vector<Real> buffer(f.max_below);
+    Vector<Real> buffer(f.max_rows);
     for (int s = 0; s < count; ++s) {
         const int k = whole ? -1 : split.range_of[s];
         if (k >= 0) {  // a subtree: its updates above it, in the order it made them
@@ -108,27 +110,27 @@ void forward_top_of(const LowerFactor& f, const Eigen::VectorXd* src, Vector<Rea
             for (int q = lo; q < hi; ++q) {
                 const LowerFactor::Supernode& sn = f.supernodes[q];
                 for (int i = sn.cols; i < sn.rows; ++i)
-                    if (sn.row[i] >= top) t[sn.row[i]] -= *rec++;
+                    if (sn.row[i] >= top) t[sn.row[i]] += *rec++;
             }
             s = hi - 1;
             continue;
         }
         const LowerFactor::Supernode& sn = f.supernodes[s];
-        const auto below = eliminate(sn, t, buffer);
-        for (int i = 0; i < sn.rows - sn.cols; ++i) t[sn.row[sn.cols + i]] -= below[i];
+        const Real* update = eliminate(sn, t, buffer);
+        for (int i = 0; i < sn.rows - sn.cols; ++i) t[sn.row[sn.cols + i]] += update[i];
     }
 }
 
 template <class Real>
 void backward_top_of(const LowerFactor& f, Vector<Real>& t, Eigen::VectorXd* dst, bool whole) {
-    Vector<Real> buffer(f.max_below);
+    Vector<Real> buffer(f.max_rows);
     for (int s = static_cast<int>(f.supernodes.size()) - 1; s >= 0; --s)
         if (whole || f.split.range_of[s] < 0) back_substitute(f.supernodes[s], f.perm, t, buffer, dst);
 }
 
 template <class Real>
 void backward_bin_of(const LowerFactor& f, int b, Vector<Real>& t, Eigen::VectorXd* dst) {
-    Vector<Real> buffer(f.max_below);
+    Vector<Real> buffer(f.max_rows);
     const LowerFactor::Split& split = f.split;
     for (int k = static_cast<int>(split.range.size()) - 1; k >= 0; --k) {
         if (split.bin_of[k] != b) continue;

@@ -8,8 +8,8 @@
 //
 // Why not CHOLMOD's solve: it calls BLAS, and Debian's serial OpenBLAS is not safe to call from
 // two threads at once, while the next factor is computed on the background thread with BLAS
-// (systems/solver/factor_background.h). The dense blocks here are Eigen's own kernels; on the
-// default skin and hand_dorsum factors a solve takes about what CHOLMOD's supernodal one takes.
+// (systems/solver/factor_background.h). The dense blocks are xcut's own kernels
+// (systems/kernels/solver/supernode_solve.h: AVX2 where the CPU has it, the same bits without).
 // The views are valid while the factor they view lives.
 //
 // The two triangular solves are split over the team's threads by subtrees of the supernodal
@@ -43,7 +43,7 @@ struct LowerFactor {
     const int* perm = nullptr;
     std::vector<Supernode> supernodes;
     std::vector<int> supernode_of;  ///< per column
-    int max_below = 0;              ///< the most rows any supernode has below its own columns
+    int max_rows = 0;               ///< the most rows any supernode has
     /// L's entries rounded to single precision, supernode after supernode (make_single), when the
     /// step's solves read them: half the bytes of a solve, which is bound by memory on a large
     /// factor. Empty: the solves read `value`. See make_single for what it costs in precision. In
@@ -100,12 +100,6 @@ struct LowerFactor {
         for (int p = 0; p < len; ++p)
             for (int c = 0; c < width; ++c) x[width * row[p] + c] = block[width * p + c];
         return s.cols - k;
-    }
-    /// The most rows a supernode has.
-    int max_rows() const {
-        int most = 0;
-        for (const Supernode& s : supernodes) most = std::max(most, s.rows);
-        return most;
     }
     /// z = A^-1 r = P^T L^-T L^-1 P r.
     void solve(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
