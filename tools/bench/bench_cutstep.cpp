@@ -5,6 +5,7 @@
 
 #include "engine/error.h"
 #include "engine/parallel.h"
+#include "systems/kernels/solver/supernode_solve.h"
 #include "systems/pipeline.h"
 #include "systems/solver/linear_solver.h"
 #include "tools/bench/bench.h"
@@ -136,7 +137,8 @@ int cutstep_bench_command(const CutStepBenchOptions& o) {
               "split_median_ms,split_max_ms,split_median_over_median,cg_median,cg_split_median,cg_split_max,builds,"
               "swaps,wait_max_ms,peak_rss_mb,peak_is_the_runs,cut_from_step,cut_to_step,cut_p99_ms,cut_max_ms,"
               "cut_p99_over_median,cut_max_over_median,failure\n");
-    fmt::print("cut step benchmark: a scalpel cutting continuously; 2 threads, no output; every step timed\n");
+    fmt::print("cut step benchmark: a scalpel cutting continuously; 2 threads, no output; every step timed; the factor's "
+               "solves on the {} kernels\n", supernode_kernels<double>().name);
     fmt::print("{:>11} {:>5} {:>8} {:>7} {:>6} {:>9} {:>9} {:>9} {:>7} {:>7} {:>8} {:>6} {:>10} {:>9} {:>8} {:>7}\n",
                "case", "load", "method", "tets", "steps", "median", "p99", "max", "p99/med", "max/med", "cut p99/max",
                "splits", "split med", "split max", "cg split", "built/swap");

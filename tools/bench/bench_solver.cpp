@@ -11,6 +11,7 @@
 #include "engine/error.h"
 #include "engine/io/output.h"
 #include "engine/parallel.h"
+#include "systems/kernels/solver/supernode_solve.h"
 #include "systems/pipeline.h"
 #include "tools/bench/bench.h"
 
@@ -152,6 +153,7 @@ int solver_bench_command(const SolverBenchOptions& o) {
     csv.print("case,method,threads,tets,steps,steps_per_s,ms_per_step,cg_per_step,max_residual,refactored_steps,"
               "substepped_steps,factorizations,factor_bytes_per_tet,rss_bytes_per_tet,speedup_vs_jacobi,guess_history,"
               "load_setup_ms,repeats,slowest_steps_per_s,fastest_steps_per_s,failure\n");
+    fmt::print("the factor's solves (cholesky) on the {} kernels\n", supernode_kernels<double>().name);
     fmt::print("{:<20} {:<16} {:>3} {:>7} {:>9} {:>15} {:>8} {:>9} {:>6} {:>6} {:>8} {:>9} {:>8}  {}\n", "case", "method",
                "thr", "tets", "steps/s", "(range)", "CG/step", "max res", "refac", "subst", "L B/tet", "vs jacobi",
                "setup ms", "");
