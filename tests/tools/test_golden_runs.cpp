@@ -4,7 +4,9 @@
 // tests/golden/runs.txt by the build before the refactor. The record is of the portable build
 // (without -DXCUT_AVX2, whose fused multiply-adds round otherwise) with OpenBLAS's generic x86-64
 // kernels (OPENBLAS_CORETYPE=Prescott, set by CMakeLists.txt for every test: the kernels OpenBLAS picks
-// for a CPU round differently, so a record written on one machine failed on another); XCUT_GOLDEN_WRITE=1
+// for a CPU round differently, so a record written on one machine failed on another), and with the
+// factor solves' AVX2 kernels or their portable ones alike (ctest runs it once more with
+// XCUT_KERNELS=generic: GoldenRuns.OnThePortableSolveKernels); XCUT_GOLDEN_WRITE=1
 // rewrites it, for a change that is meant to move the numbers (say why in its commit).
 #include <gtest/gtest.h>
 
