@@ -6,8 +6,9 @@
 // Cholesky algorithms on advanced uniprocessor computers"; CHOLMOD's cholmod_super_lsolve and
 // cholmod_super_ltsolve do the same with BLAS trsv and gemv).
 //
-// The step's CG applies the factor once an iteration, and on large factors these kernels are most
-// of the step (the 1 mm skin: over half of the solver's time). They are compiled twice: for any
+// The step's CG applies the factor once an iteration, and on large factors these kernels are a large
+// part of the step (the 1 mm skin: a third of its samples under perf record with Eigen's kernels,
+// docs/BENCHMARKS.md). They are compiled twice: for any
 // x86-64 (SSE2: the portable build) and for AVX2, taken at run time where the CPU has it (as
 // OpenBLAS picks its kernels by CPU). Both give the same bits: every sum is taken in an order the
 // source fixes, not the vector width: a forward update runs each row's columns in increasing
