@@ -23,7 +23,6 @@
 #include <omp.h>
 
 #include <Eigen/Core>
-#include <algorithm>
 #include <array>
 #include <type_traits>
 #include <vector>

@@ -17,22 +17,8 @@ namespace {
 /// call) and -ffp-contract=off.
 constexpr int kLanes = 8;
 template <class Real, int N>
-struct Native;
-template <>
-struct Native<float, 4> {
-    typedef float V __attribute__((vector_size(16)));
-};
-template <>
-struct Native<float, 8> {
-    typedef float V __attribute__((vector_size(32)));
-};
-template <>
-struct Native<double, 2> {
-    typedef double V __attribute__((vector_size(16)));
-};
-template <>
-struct Native<double, 4> {
-    typedef double V __attribute__((vector_size(32)));
+struct Native {
+    typedef Real V __attribute__((vector_size(N * sizeof(Real))));
 };
 template <class Real, int N>
 using Vec = typename Native<Real, N>::V;
@@ -161,7 +147,8 @@ void forward_generic(const Real* L, int rows, int cols, Real* w) {
 }
 template <class Real>
 void backward_generic(const Real* L, int rows, int cols, Real* w) {
-    backward_body<kGenericLanes<Real>, kBlock>(L, rows, cols, w);
+    // Two double columns a pass: four would hold 16 SSE2 registers of sums alone.
+    backward_body<kGenericLanes<Real>, sizeof(Real) == 4 ? kBlock : 2>(L, rows, cols, w);
 }
 
 #if defined(__x86_64__) || defined(__i386__)
