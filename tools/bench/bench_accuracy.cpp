@@ -297,9 +297,10 @@ AccuracyRow cut_block_run(const CutBlockSpec& spec, int n, const char* cutter, c
     pull_block_ends(w, spec);
     const StaticResult r = solve_equilibrium(w);
     AccuracyRow row = row_of(5, cutter, n, spec.size.x() / n, w, split, t, r);
-    const std::vector<Probe> probes = locate_points(w, cut_block_samples(spec));
     const Eigen::VectorXd amplitudes = w.tips.count() > 0 ? step_tip_amplitudes(w) : Eigen::VectorXd();
-    row.cpu_s = t.cpu_s(), row.run_s = t.wall_s();  // the amplitudes for the probes are the run's too
+    row.cpu_s = t.cpu_s(), row.run_s = t.wall_s();  // the front's amplitudes are the run's too
+    // Finding the probes' elements is the error's measurement, not the run's (as problem 6's CMOD).
+    const std::vector<Probe> probes = locate_points(w, cut_block_samples(spec));
     double diff = 0.0, norm = 0.0, own = 0.0;
     for (size_t k = 0; k < probes.size(); ++k) {
         const Vec3 u = probe_displacement(w, probes[k], amplitudes);
