@@ -145,7 +145,7 @@ double elastic_energy_dim(const World& world, ForceState* keep = nullptr) {
         energy[e] = corotational_energy<D>(F, R, el.rest_volume[e] * el.weight[e], lame_of(world.materials.list[el.material[e]], D));
     };
     if constexpr (D == 3) {  // the rotations as update_rotations takes them, four at a time
-        if (keep) keep->checked_gradient.resize(count), keep->checked_rotation.resize(count);
+        if (keep) resize_with_room(keep->checked_gradient, count), resize_with_room(keep->checked_rotation, count);
         parallel_for((count + 3) / 4, [&](int g) {
             std::array<Mat3, 4> F, warm, R;
             std::array<bool, 4> robust;

@@ -114,7 +114,9 @@ TEST(FactorAugment, ExactWithHeldAxes) {
 TEST(FactorAugment, NoNewDofsIsTheFactorAlone) { expect_exact_fresh(6, {}, Eigen::VectorXd::Ones(18)); }
 
 // Extended step by step (two phantoms, then a third): the kept columns are reused, and the result
-// is the block built at once when the later phantom does not couple to the earlier ones.
+// is the block built at once when the later phantom does not couple to the earlier ones. The later
+// split appends in room made at the first (not in grown storage: fresh pages under the kept
+// columns), and a successor factor's block takes that storage over (hand_on_columns).
 TEST(FactorAugment, ExtendingKeepsTheColumnsAlreadySolved) {
     const Eigen::VectorXd mask = Eigen::VectorXd::Ones(33);
     Eigen::MatrixXd M = dense_spd(11, mask);
@@ -126,9 +128,20 @@ TEST(FactorAugment, ExtendingKeepsTheColumnsAlreadySolved) {
     ASSERT_TRUE(extend_augment(block_system(M, 10), jf.lf, first, g));
     const std::vector<int> y_start = g.y_start;
     const std::vector<double> y_value = g.y_value;
+    const double* storage = g.y_value.data();
+    EXPECT_GE(g.y_row.capacity(), g.y_row.size() / 6 * 256) << "room for 256 columns at the first split's mean";
     expect_exact(M, jf, g, mask);
     EXPECT_TRUE(std::equal(y_value.begin(), y_value.end(), g.y_value.begin())) << "the first six columns were kept";
     EXPECT_EQ(g.y_start.size(), y_start.size() + 3);
+    EXPECT_EQ(g.y_value.data(), storage) << "the third phantom's columns moved the first ones";
+    const std::vector<double> made = g.y_value;
+    FactorAugment successor;
+    hand_on_columns(g, successor);
+    EXPECT_FALSE(g.ok);
+    EXPECT_TRUE(successor.y_start == std::vector<int>{0} && successor.y_value.empty());
+    expect_exact(M, jf, successor, mask);
+    EXPECT_EQ(successor.y_value.data(), storage) << "built in the storage handed on";
+    EXPECT_EQ(successor.y_value, made);
 }
 
 // A term's block beside the kept factor (systems/solver/beside_augment.h): its preconditioner is the
