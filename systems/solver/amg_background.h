@@ -4,7 +4,8 @@
 // asynchronously, and the simulation does not wait for it). When the kept policy says the hierarchy
 // has aged (CG needs twice its first count, or it is solver.refactor_every steps old), the step
 // asks for a new one, built on the background thread (engine/background_threads.h) from copies of
-// that step's matrix, positions and held axes, and goes on with the old one. The new one is taken
+// that step's matrix, positions and held axes once that step has solved (its CG keeps both
+// threads), and goes on with the old one. The new one is taken
 // at the first solve of the step solver.renew_delay steps later: a fixed step, never "whenever the
 // thread finishes", so results do not depend on the machine's load. That step waits for it if it
 // is not ready, and the wait is measured (LinearSystem::step_wait_ms). The setup is

@@ -10,6 +10,8 @@
 //    factor is solver.refactor_every steps old, or when the augmented block holds 120 DOFs; the
 //    factor in use goes on meanwhile. It is renewed in the step only past 4x refactor_iterations,
 //    after a failed solve, or after a snapping remesh (no jump basis there).
+// It is started once the asking step has solved (from the same A: that step's CG keeps both threads,
+// where a job already running leaves the team one fewer).
 // The successor is computed on the background thread (engine/background_threads.h) from a copy of
 // the step's A (CHOLMOD's supernodal factor, under with_cholmod_blas: only that thread calls BLAS,
 // since the step solves through views of the supernodes, systems/solver/lower_factor.h) and taken

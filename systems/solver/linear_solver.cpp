@@ -190,16 +190,15 @@ public:
         // cheap, so it is asked for earlier, at half the growth (kAmgEarlyGrowth): the successor
         // arrives about when the kept one would have been renewed in the step.
         const bool aging = h && h->ok && h->last_iterations > kAmgEarlyGrowth * h->first_iterations + kAmgEarlySlack;
+        // Started after this step's solve (below), from the same A, as cholesky's successor is.
+        bool successor = false;
+        std::shared_ptr<LinearSystem> snapshot;
         if ((stale || aging) && h && h->ok && h->topology == A_.topology && !ratio_grew && !failed_off_step &&
             s.renew_delay > 0) {
-            if (!A_.pending_amg) {
-                A_.pending_amg = start_background_hierarchy(A_, h->snapshot, w_.nodes.position, mask_, ratio, w_.step,
-                                                            w_.step + s.renew_delay);
-                ++A_.background_builds;
-            }
+            if (!A_.pending_amg) successor = true, snapshot = h->snapshot;
             stale = false;
         }
-        if (A_.pending_amg) A_.step_preconditioner = std::max(A_.step_preconditioner, 1);
+        if (A_.pending_amg || successor) A_.step_preconditioner = std::max(A_.step_preconditioner, 1);
         const auto renew = [&] {
             const bool ok = build_hierarchy(w_, mask_, ratio);
             h = A_.amg.get();
@@ -226,6 +225,11 @@ public:
             h->last_iterations = iterations;
         };
         with_kept(stale, renew, [&] { return h && h->ok; }, solve, solved);
+        if (successor) {
+            A_.pending_amg = start_background_hierarchy(A_, snapshot, w_.nodes.position, mask_, ratio, w_.step,
+                                                        w_.step + s.renew_delay);
+            ++A_.background_builds;
+        }
     }
 
     /// Takes the hierarchy built off the step that is due at this step (waiting for it if it is
@@ -291,18 +295,18 @@ public:
         // (kFactorEarlyFraction): the successor arrives about when the kept one would have aged.
         const bool aging = f && f->last_iterations > kFactorEarlyFraction * s.refactor_iterations;
         const bool augment_grew = augmented && f->augment.columns() > kFactorAugmentLimit;
-        if (off_step && f && f->ok && (augment_grew || aged || aging || jumped) && !A_.pending_factor && !failed_off_step) {
-            A_.pending_factor = start_background_factor(A_, f->snapshot, built(now), w_.step, w_.step + s.factor_delay,
-                                                        single_precision_from(s.factor_precision));
-            ++A_.background_builds;
-        }
+        // Started after this step's solve (below), from the same A: the solve keeps the team's
+        // threads (while a job runs the team has one fewer: engine/background_threads.h).
+        const bool successor = off_step && f && f->ok && (augment_grew || aged || aging || jumped) && !A_.pending_factor &&
+                               !failed_off_step;
+        const std::shared_ptr<FactorSnapshot> snapshot = successor ? f->snapshot : nullptr;
         // Renewed in the step all the same when its successor would come too late: CG needed more
         // than kFactorInStepGrowth x refactor_iterations (a large step that turned the elements).
         const bool spent = f && f->last_iterations > kFactorInStepGrowth * s.refactor_iterations;
         const bool viewed = viewed_factor();  // a kept factor made without the views is made again
         const bool stale = !f || !f->ok || A_.method == "direct" || failed_off_step || (viewed && !f->lower) ||
                            (f->topology != A_.topology && !augmented) || ((aged || jumped) && !off_step) || spent;
-        if (A_.pending_factor) A_.step_preconditioner = std::max(A_.step_preconditioner, 1);
+        if (A_.pending_factor || successor) A_.step_preconditioner = std::max(A_.step_preconditioner, 1);
         if (augmented) ++A_.augmented_steps;
         // A term's block that moves (a blade carrying its tip) and the jumps since the factor was
         // made: one more augmented block on the factor in use, made again for each factor,
@@ -349,9 +353,7 @@ public:
                       return factor_cg(*f, augmented, beside);
                   },
                   solved);
-        const bool columns_due = A_.pending_factor && w_.step + kSuccessorColumnsLead >= A_.pending_factor->due_step;
-        if (columns_due && A_.beside_factor && A_.factor)
-            start_successor_columns(w_, *A_.pending_factor, A_.beside_factor->moving, *A_.factor);
+        start_successors(successor, snapshot, now);
     }
 
     /// cholesky / direct beside a term that gives its block (the crack tips): CG preconditioned by
@@ -414,6 +416,7 @@ public:
             retire_factor(std::move(f));
             return false;
         }
+        if (A_.factor) hand_on_columns(A_.factor->augment, f->augment);
         retire_factor(std::move(A_.factor));
         A_.factor = std::move(f);
         if (A_.beside_factor) take_successor_columns(*pending, *A_.factor, A_.beside_factor->moving, wait), record_wait(wait);
@@ -442,6 +445,21 @@ private:
         if (!same_block(built(j), f->jumps)) return true;
         f->jumps_key = j.key, f->jumps_keyed = true;
         return false;
+    }
+
+    /// After the step's solve: the successor factor, if asked for (A copied into `snapshot`, the
+    /// kept factor's storage), and the columns its moving block needs once it is
+    /// kSuccessorColumnsLead steps from due.
+    void start_successors(bool successor, std::shared_ptr<FactorSnapshot> snapshot, StepJumps& now) {
+        const SolverSettings& s = w_.solver;
+        if (successor) {
+            A_.pending_factor = start_background_factor(A_, std::move(snapshot), built(now), w_.step, w_.step + s.factor_delay,
+                                                        single_precision_from(s.factor_precision));
+            ++A_.background_builds;
+        }
+        const bool columns_due = A_.pending_factor && w_.step + kSuccessorColumnsLead >= A_.pending_factor->due_step;
+        if (columns_due && A_.beside_factor && A_.factor)
+            start_successor_columns(w_, *A_.pending_factor, A_.beside_factor->moving, *A_.factor);
     }
 
     /// A step's wait for a preconditioner computed off the step [ms].
