@@ -123,13 +123,13 @@ struct FactorAugment {
 };
 
 /// Gives `to`, a factor's block not yet extended, the storage of `from`'s columns (the block of the
-/// factor it replaces, emptied and no longer usable): the pages a cut's columns fill stay resident
-/// from factor to factor instead of being faulted in again by the next split step.
+/// factor it replaces, no longer usable after: ok false, freed with its factor off the step): the
+/// pages a cut's columns fill stay resident from factor to factor instead of being faulted in
+/// again by the next split step.
 inline void hand_on_columns(FactorAugment& from, FactorAugment& to) {
-    if (to.y_row.capacity() >= from.y_row.capacity()) return;
     std::swap(to.y_row, from.y_row), std::swap(to.y_value, from.y_value), std::swap(to.y_start, from.y_start);
     to.y_start.assign(1, 0), to.y_row.clear(), to.y_value.clear();
-    from.ok = false, from.parent.clear(), from.S.resize(0, 0);
+    from.ok = false;
 }
 
 /// Extends the augmented block to A's new DOFs (block rows [base/3, A.rows()) over the factor
