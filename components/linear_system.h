@@ -44,6 +44,22 @@ struct SolutionHistory {
     std::vector<Eigen::VectorXd> solutions;
 };
 
+/// What the block pattern was last built from, and storage kept between builds
+/// (systems/solver/linear_assembly.cpp): a split changes the rows of its elements' nodes only, and
+/// the others are carried over, their blocks shifted, instead of gathered and searched again.
+struct PatternBuild {
+    std::vector<std::array<int, 4>> elements;  ///< every element's node ids at the build
+    std::vector<int> virtual_offset;           ///< the virtual incidence's offsets at the build
+    int mesh_nodes = 0, mesh_elements = 0;
+    /// The previous pattern while a new one is made from it (swapped with LinearSystem's).
+    std::vector<int> row_offset, column, diagonal;
+    std::vector<std::array<int, 4>> virtual_slot;
+    std::vector<char> changed;                 ///< per block row: gathered again
+    /// Each gathered row's candidate columns in one flat buffer, and where its stretch starts.
+    std::vector<int> scratch, bound;
+    int carried = 0;                           ///< builds that carried rows over (a test's count)
+};
+
 struct LinearSystem {
     // Pattern: block rows are DOF nodes; columns the nodes they share an element with.
     std::vector<int> row_offset;        ///< block row i's blocks: [row_offset[i], row_offset[i+1])
@@ -55,9 +71,7 @@ struct LinearSystem {
     /// The same per entry of the quadratic elements' incidence, for their 10 nodes.
     std::vector<std::array<int, 10>> quadratic_slot;
     uint64_t topology = 0;              ///< hash of the element node ids the pattern was built for
-    /// Kept between pattern rebuilds (systems/solver/linear_assembly.cpp): each row's candidate
-    /// columns in one flat buffer, and where each row's stretch of it starts.
-    std::vector<int> pattern_scratch, pattern_bound;
+    PatternBuild pattern;               ///< what it was built from (a split rebuilds only its rows)
 
     // Values: 9 per block, row-major, [N/m s^2 ... ]: A's units are those of M (kg) when applied to dv.
     std::vector<double> value;

@@ -11,6 +11,7 @@
 #include <random>
 
 #include "engine/fragment_geometry.h"
+#include "engine/parallel.h"
 #include "engine/io/clipped_cells.h"
 #include "engine/io/scene.h"
 #include "engine/io/scene_checks.h"
@@ -29,6 +30,7 @@ namespace {
 
 using testing::cut_now;
 using testing::grid;
+using testing::world_from_mesh;
 
 constexpr uint32_t kBoth = (1u << kBoundBit) | (1u << (kBoundBit + 1));  // bounded by planes 0 and 1
 
