@@ -23,6 +23,7 @@ namespace xcut {
 /// are gathered and searched; the others keep their columns, their blocks shifted: the same pattern
 /// as one gathered whole (LinearPattern.*): 0.4-0.8 ms on the 1 mm skin and the 20k-tet block
 /// against 3 ms gathered whole. A remesh, quadratic elements or a first build gather every row.
+/// The values are left unset: assemble_step_matrix sets them.
 bool ensure_linear_pattern(World& world);
 
 /// Fills the values for this step's terms (systems/step_term.h: row terms, then the mass, then the
