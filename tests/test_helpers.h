@@ -38,6 +38,13 @@ inline constexpr bool kInstrumented = false;
 inline constexpr bool kInstrumented = false;
 #endif
 
+/// The X incision's second blade on the default skin (scenes/skin_slab.json), as a --set override:
+/// a scalpel that waits until the default incision is made, then crosses it at x = 0.016-0.046 m.
+inline const std::string kCrossingScalpel =
+    R"(tools+={"name": "cross", "blade": {"tip": [0, 0, -0.003], "heel": [0, 0, 0.004]},
+        "trajectory": [{"time": 0, "position": [0.016, 0.0203, 0.03]}, {"time": 1.25, "position": [0.016, 0.0203, 0.03]},
+                       {"time": 1.3, "position": [0.016, 0.0203, 0]}, {"time": 2.0, "position": [0.046, 0.0203, 0]}]})";
+
 /// FNV-1a over every DOF node's position and velocity (and the visual vertices when asked): two runs
 /// that should agree bit for bit have the same hash.
 inline uint64_t state_hash(const World& w, bool with_visual = false) {

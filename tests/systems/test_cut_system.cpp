@@ -248,9 +248,7 @@ TEST(CutSystem, ABladeAcrossAnEarlierWoundIsReported) {
     std::vector<int> recut;
     const std::string one = notes_of({}, 130, recut);
     EXPECT_EQ(one.find("already cut"), std::string::npos) << one;
-    const std::string x = notes_of({R"(tools+={"name": "cross", "blade": {"tip": [0, 0, -0.003], "heel": [0, 0, 0.004]},
-        "trajectory": [{"time": 0, "position": [0.016, 0.0203, 0.03]}, {"time": 1.25, "position": [0.016, 0.0203, 0.03]},
-                       {"time": 1.3, "position": [0.016, 0.0203, 0]}, {"time": 2.0, "position": [0.046, 0.0203, 0]}]})"},
+    const std::string x = notes_of({testing::kCrossingScalpel},
                                    210, recut);
     EXPECT_NE(x.find("tool \"cross\" crossed"), std::string::npos) << x;
     ASSERT_EQ(recut.size(), 2u);

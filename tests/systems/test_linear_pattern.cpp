@@ -9,6 +9,7 @@
 #include "engine/io/scene.h"
 #include "systems/pipeline.h"
 #include "systems/solver/linear_assembly.h"
+#include "tests/test_helpers.h"
 
 namespace xcut {
 namespace {
@@ -52,10 +53,7 @@ TEST(LinearPattern, RowsCarriedOverAtASplitEqualTheWholePattern) {
 // An X incision cut again where it crosses the first wound (cutter.recut): virtual elements whose
 // nodes change, not only new ones.
 TEST(LinearPattern, RowsCarriedOverAtARecutEqualTheWholePattern) {
-    const std::string cross = R"(tools+={"name": "cross", "blade": {"tip": [0, 0, -0.003], "heel": [0, 0, 0.004]},
-        "trajectory": [{"time": 0, "position": [0.016, 0.0203, 0.03]}, {"time": 1.25, "position": [0.016, 0.0203, 0.03]},
-                       {"time": 1.3, "position": [0.016, 0.0203, 0]}, {"time": 2.0, "position": [0.046, 0.0203, 0]}]})";
-    EXPECT_GE(compare_rebuilds({cross, "cutter.recut=true"}, 210), 20);
+    EXPECT_GE(compare_rebuilds({testing::kCrossingScalpel, "cutter.recut=true"}, 210), 20);
 }
 
 }  // namespace
