@@ -96,6 +96,11 @@ std::array<Vec3, 4> rest_corners(const World& w, int e);
 /// A point on a mesh edge of element e (barycentric b, two weights) near a cut's crossing of the
 /// edge is that crossing (within 1e-4 of the edge, or 1.5 times the misfit of the planes round it).
 void snap_to_crack(const World& w, int e, Eigen::Vector4d& b);
+/// A skin corner at barycentric b of element e (two weights: on a mesh edge) where a crack crosses
+/// that edge exactly: the surface placed the crossing off it (surface_edge_param), so the elements
+/// cut once round it show the corner on the side of the edge's lower-numbered node and the crossing
+/// past it. True then, with the crossing's barycentric coordinates and that node's local index.
+bool corner_on_crossing(const World& w, int e, const Eigen::Vector4d& b, Eigen::Vector4d& crossing, int& kept);
 /// A point on a face of element e (barycentric b, one weight zero) near two cuts' recorded traces
 /// there (e's and the element's across) is where they cross; `size`: e's longest edge [m].
 void snap_to_traces(const World& w, int e, double size, Eigen::Vector4d& b);

@@ -192,6 +192,46 @@ void add_fan(World& w, SurfaceMesh& s, int e, std::pair<int, int8_t> material, c
     for (size_t k = 0; k < ids.size(); ++k) add_piece(s, {mid, ids[k], ids[(k + 1) % ids.size()]}, e, cut);
 }
 
+/// A skin corner exactly where a plane crosses a mesh edge (poly[k], of fragment v of cut c, in
+/// `cut`: a wound face) is shown as the elements cut once round it show it (corner_on_crossing):
+/// there the corner stays on the side of the edge's lower-numbered node and the crossing lies just
+/// past it, one copy per side. So a wound face and the skin of the fragment past the corner take
+/// the crossing instead of it; the skin of the fragment on the corner's side takes the corner
+/// (`point`), and the crossing after it where its rim leaves the corner along a plane through it
+/// (the wound's rim starts there). Appends the points to `ids`; false (nothing appended) elsewhere.
+template <class Point>
+bool corner_ids(World& w, SurfaceMesh& s, int c, int v, const std::vector<Vec3>& poly, size_t k, bool cut, const Point& point,
+                std::vector<int>& ids) {
+    const int e = w.cuts.element[c];
+    const std::array<Vec3, 4> X = rest_corners(w, e);
+    const Vec3& p = poly[k];
+    Eigen::Vector4d at;
+    int kept = -1;
+    if (!s.base_vertex_at.contains(surface_place(p)) || !corner_on_crossing(w, e, bary_in_tet(X, p), at, kept)) return false;
+    const auto& lines = w.cuts.lines[c];
+    const int nl = static_cast<int>(lines.size());
+    const VirtualElements& ve = w.virtual_elements;
+    const int moved = shared_point(w, s, ve.element[v], ve.side[v], at, rest_of(w, e, at));
+    if (cut || !in_fragment(lines.data(), nl, ve.mask[v], p + 1e-3 * (X[kept] - p))) {
+        ids.push_back(moved);
+        return true;
+    }
+    double size = 0.0;
+    for (int a = 0; a < 4; ++a)
+        for (int b = a + 1; b < 4; ++b) size = std::max(size, (X[b] - X[a]).norm());
+    const double tiny = std::max(1e-9 * size, 2e-11);  // as fragment_pieces_3d's [m]
+    const auto on_plane = [&](const Vec3& q) {  // p -> q along a plane of the cut
+        for (const CutLine& l : lines)
+            if (std::abs((p - l.origin).dot(l.normal)) <= tiny && std::abs((q - l.origin).dot(l.normal)) <= tiny) return true;
+        return false;
+    };
+    ids.push_back(point(p));
+    const size_t m = poly.size();
+    if (on_plane(poly[(k + 1) % m])) ids.push_back(moved);
+    else if (on_plane(poly[(k + m - 1) % m])) ids.insert(ids.end() - 1, moved);
+    return true;
+}
+
 /// Cut element c's pieces in 3D (c having planes): per fragment, its element's skin triangles
 /// clipped to it, and its faces on its cut planes (the wound, oriented out of the fragment) with
 /// the skin's crossings on their rims inserted, fanned from their centre where any was (so no
@@ -238,7 +278,11 @@ void fragment_pieces_3d(World& w, SurfaceMesh& s, int c) {
             extra.insert(extra.end(), others.begin(), others.end());
             bool inserted = insert_on_edges(poly, extra, tiny) > 0;
             std::vector<int> ids;
-            for (const Vec3& p : poly) ids.push_back(point(p));
+            for (size_t k = 0; k < poly.size(); ++k) {
+                const size_t before = ids.size();
+                if (!corner_ids(w, s, c, v, poly, k, cut, point, ids)) ids.push_back(point(poly[k]));
+                inserted = inserted || ids.size() > before + 1;
+            }
             add_fan(w, s, e, {fe, ve.side[v]}, poly, ids, inserted, cut, tiny);
         };
         std::vector<Vec3> skin;  // the clipped skin's points: the rims of the cut faces pass through them

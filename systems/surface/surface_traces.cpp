@@ -116,6 +116,25 @@ void snap_to_crack(const World& w, int e, Eigen::Vector4d& b) {
     if (t > 0.0 && t < 1.0 && std::abs(t - b[j]) < within) b = on_edge(i, j, t);
 }
 
+bool corner_on_crossing(const World& w, int e, const Eigen::Vector4d& b, Eigen::Vector4d& crossing, int& kept) {
+    std::array<int, 4> on{};
+    int n = 0;
+    for (int a = 0; a < 4; ++a)
+        if (b[a] != 0.0) on[n++] = a;
+    if (n != 2) return false;
+    const int i = on[0], j = on[1];
+    const auto& en = w.elements.nodes[e];
+    const double moved = surface_edge_param(en[i], en[j], b[j]);
+    if (moved == b[j]) return false;
+    for (const double t : edge_crossings(w, en[i], en[j]))
+        if (std::abs(t - moved) <= 1e-12) {
+            crossing = on_edge(i, j, t);
+            kept = en[i] < en[j] ? i : j;  // moved toward the higher-numbered node: the corner is the other's side
+            return true;
+        }
+    return false;
+}
+
 /// A point on a face of element e (barycentric b, one weight zero) near the traces of two planes
 /// there (face_trace; the planes of e's cut and of the element across the face, each trace once;
 /// within 1e-4 of `size` [m], or 1.5 times the misfit of the element's planes: plane_misfit) is
