@@ -222,9 +222,9 @@ std::vector<std::pair<double, Vec3>> further_crossings(const World& w, int e, co
             const double da = lines[l].normal.dot(a - lines[l].origin), db = lines[l].normal.dot(b - lines[l].origin);
             if (!((da > tiny && db < -tiny) || (da < -tiny && db > tiny))) continue;
             double t = da / (da - db);
-            if (n_off == 2) {  // along the mesh edge on[0] -> on[1]: the cut's own point there
+            if (n_off == 2) {  // along the mesh edge on[0] -> on[1]: the cut's own point there, as the surface places it
                 const Vec3 &X0 = w.nodes.rest[on[0]], &X1 = w.nodes.rest[on[1]];
-                const double u = line_crossing(w, f, c, l, on[0], on[1]);
+                const double u = surface_edge_param(on[0], on[1], line_crossing(w, f, c, l, on[0], on[1]));
                 const double along = (X0 + u * (X1 - X0) - a).dot(b - a) / (b - a).squaredNorm();
                 if (u > 0.0 && u < 1.0 && along > 0.0 && along < 1.0) t = along;
             } else if (std::array<Vec3, 2> ends; face_trace(w, f, c, l, face_opposite(w, f, on), ends)) {
