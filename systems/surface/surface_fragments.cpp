@@ -199,11 +199,11 @@ void add_fan(World& w, SurfaceMesh& s, int e, std::pair<int, int8_t> material, c
 /// the crossing instead of it; the skin of the fragment on the corner's side takes the corner
 /// (`point`), and the crossing after it where its rim leaves the corner along a plane through it
 /// (the wound's rim starts there). Appends the points to `ids`; false (nothing appended) elsewhere.
+/// X: the element's rest corners; tiny [m]: fragment_pieces_3d's tolerance of a point on a plane.
 template <class Point>
-bool corner_ids(World& w, SurfaceMesh& s, int c, int v, const std::vector<Vec3>& poly, size_t k, bool cut, const Point& point,
-                std::vector<int>& ids) {
+bool corner_ids(World& w, SurfaceMesh& s, int c, int v, const std::array<Vec3, 4>& X, double tiny, const std::vector<Vec3>& poly,
+                size_t k, bool cut, const Point& point, std::vector<int>& ids) {
     const int e = w.cuts.element[c];
-    const std::array<Vec3, 4> X = rest_corners(w, e);
     const Vec3& p = poly[k];
     Eigen::Vector4d at;
     int kept = -1;
@@ -216,10 +216,6 @@ bool corner_ids(World& w, SurfaceMesh& s, int c, int v, const std::vector<Vec3>&
         ids.push_back(moved);
         return true;
     }
-    double size = 0.0;
-    for (int a = 0; a < 4; ++a)
-        for (int b = a + 1; b < 4; ++b) size = std::max(size, (X[b] - X[a]).norm());
-    const double tiny = std::max(1e-9 * size, 2e-11);  // as fragment_pieces_3d's [m]
     const auto on_plane = [&](const Vec3& q) {  // p -> q along a plane of the cut
         for (const CutLine& l : lines)
             if (std::abs((p - l.origin).dot(l.normal)) <= tiny && std::abs((q - l.origin).dot(l.normal)) <= tiny) return true;
@@ -280,7 +276,7 @@ void fragment_pieces_3d(World& w, SurfaceMesh& s, int c) {
             std::vector<int> ids;
             for (size_t k = 0; k < poly.size(); ++k) {
                 const size_t before = ids.size();
-                if (!corner_ids(w, s, c, v, poly, k, cut, point, ids)) ids.push_back(point(poly[k]));
+                if (!corner_ids(w, s, c, v, X, tiny, poly, k, cut, point, ids)) ids.push_back(point(poly[k]));
                 inserted = inserted || ids.size() > before + 1;
             }
             add_fan(w, s, e, {fe, ve.side[v]}, poly, ids, inserted, cut, tiny);

@@ -92,18 +92,30 @@ std::array<Vec3, 4> rest_corners(const World& w, int e) {
     return {w.nodes.rest[n[0]], w.nodes.rest[n[1]], w.nodes.rest[n[2]], w.nodes.rest[n[3]]};
 }
 
+namespace {
+
+/// Whether barycentric b (a tetrahedron's) weighs exactly two nodes, local i < j: a point on that
+/// mesh edge.
+bool on_mesh_edge(const Eigen::Vector4d& b, int& i, int& j) {
+    std::array<int, 4> on{};
+    int n = 0;
+    for (int a = 0; a < 4; ++a)
+        if (b[a] != 0.0) on[n++] = a;
+    if (n != 2) return false;
+    i = on[0], j = on[1];
+    return true;
+}
+
+}  // namespace
+
 /// A point on a mesh edge of element e (barycentric b, two weights) within 1e-4 of the edge (or
 /// 1.5 x the planes' misfit of the elements round it: plane_misfit) from where the crack crosses
 /// it as the surface places that crossing (edge_crossing) is that point: a plane fitted through a
 /// cut's points made on the moved tissue misses the fourth by a few micrometres at rest, and the
 /// neighbours' lips use the points themselves.
 void snap_to_crack(const World& w, int e, Eigen::Vector4d& b) {
-    std::array<int, 4> on{};
-    int n = 0;
-    for (int a = 0; a < 4; ++a)
-        if (b[a] != 0.0) on[n++] = a;
-    if (n != 2) return;
-    const int i = on[0], j = on[1];
+    int i = -1, j = -1;
+    if (!on_mesh_edge(b, i, j)) return;
     const auto& en = w.elements.nodes[e];
     double t = -1.0;  // the crossing nearest b, from en[i]
     for (const double u : edge_crossings(w, en[i], en[j]))
@@ -117,12 +129,8 @@ void snap_to_crack(const World& w, int e, Eigen::Vector4d& b) {
 }
 
 bool corner_on_crossing(const World& w, int e, const Eigen::Vector4d& b, Eigen::Vector4d& crossing, int& kept) {
-    std::array<int, 4> on{};
-    int n = 0;
-    for (int a = 0; a < 4; ++a)
-        if (b[a] != 0.0) on[n++] = a;
-    if (n != 2) return false;
-    const int i = on[0], j = on[1];
+    int i = -1, j = -1;
+    if (!on_mesh_edge(b, i, j)) return false;
     const auto& en = w.elements.nodes[e];
     const double moved = surface_edge_param(en[i], en[j], b[j]);
     if (moved == b[j]) return false;
